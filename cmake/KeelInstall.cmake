@@ -1,0 +1,66 @@
+# Install rules: `cmake --install build --prefix P` gives a relocatable tree
+#   P/bin/keel                    the CLI; RPATH $ORIGIN/../lib finds libkeel
+#   P/lib/libkeel.so*             the framework (with its soname links)
+#   P/lib/keel/*.so               keel's stock component libraries (found next to libkeel)
+#   P/include/keel/**             the public headers
+#   P/lib/cmake/keel/             the CMake package: find_package(keel CONFIG) gives keel::keel,
+#                                 keel::cli and keel_add_component()
+# "lib" above is ${CMAKE_INSTALL_LIBDIR}. Included at the end of the root CMakeLists, after every
+# target is defined. No absolute path of the build or source tree ends up in the install.
+include_guard(GLOBAL)
+include(GNUInstallDirs)
+include(CMakePackageConfigHelpers)
+
+set(KEEL_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/keel"
+    CACHE STRING "Where to install keel's CMake package, relative to the prefix")
+set(KEEL_INSTALL_COMPONENTDIR "${CMAKE_INSTALL_LIBDIR}/keel")
+
+# RPATHs relative to the installed file, so the prefix can be moved. CMake replaces the build
+# RPATH with these when it installs.
+file(RELATIVE_PATH _keel_bin_to_lib "/${CMAKE_INSTALL_BINDIR}" "/${CMAKE_INSTALL_LIBDIR}")
+set_target_properties(keel PROPERTIES INSTALL_RPATH "$ORIGIN")
+set_target_properties(keel_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_lib}"
+                                          EXPORT_NAME cli)
+
+install(TARGETS keel keel_cli
+  EXPORT keelTargets
+  RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT keel_runtime
+  LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT keel_runtime
+          NAMELINK_COMPONENT keel_development
+  INCLUDES DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}")
+
+install(DIRECTORY "${PROJECT_SOURCE_DIR}/include/keel"
+  DESTINATION "${CMAKE_INSTALL_INCLUDEDIR}" COMPONENT keel_development
+  FILES_MATCHING PATTERN "*.hpp" PATTERN "*.h" PATTERN "*.inl")
+
+# keel's own component libraries (keel_add_component outside tests/examples; see
+# cmake/KeelComponent.cmake). libkeel looks for them in <dir of libkeel.so>/keel.
+get_property(_keel_stock GLOBAL PROPERTY KEEL_STOCK_COMPONENTS)
+if(_keel_stock)
+  set_target_properties(${_keel_stock} PROPERTIES INSTALL_RPATH "$ORIGIN/..")
+  install(TARGETS ${_keel_stock}
+    LIBRARY DESTINATION "${KEEL_INSTALL_COMPONENTDIR}" COMPONENT keel_runtime)
+endif()
+
+# The CMake package.
+install(EXPORT keelTargets
+  NAMESPACE keel::
+  DESTINATION "${KEEL_INSTALL_CMAKEDIR}" COMPONENT keel_development)
+configure_package_config_file(
+  "${PROJECT_SOURCE_DIR}/cmake/keelConfig.cmake.in"
+  "${PROJECT_BINARY_DIR}/cmake/keelConfig.cmake"
+  INSTALL_DESTINATION "${KEEL_INSTALL_CMAKEDIR}"
+  PATH_VARS CMAKE_INSTALL_INCLUDEDIR KEEL_INSTALL_COMPONENTDIR CMAKE_INSTALL_BINDIR)
+# 0.x: a minor version may break the API, so only the same minor version is compatible.
+write_basic_package_version_file(
+  "${PROJECT_BINARY_DIR}/cmake/keelConfigVersion.cmake"
+  VERSION "${PROJECT_VERSION}"
+  COMPATIBILITY SameMinorVersion)
+install(FILES
+  "${PROJECT_BINARY_DIR}/cmake/keelConfig.cmake"
+  "${PROJECT_BINARY_DIR}/cmake/keelConfigVersion.cmake"
+  "${PROJECT_SOURCE_DIR}/cmake/KeelComponent.cmake"
+  DESTINATION "${KEEL_INSTALL_CMAKEDIR}" COMPONENT keel_development)
+
+unset(_keel_stock)
+unset(_keel_bin_to_lib)

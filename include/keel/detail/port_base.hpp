@@ -1,0 +1,96 @@
+// What every port has in common, as seen by the runtime: owner, name, kind, direction and data
+// type. Ports register themselves with their owning component on construction, which is how
+// the runtime checks code against the profile. Authors never name this header.
+// Thread-safety: identity fields are immutable after construction.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+#include <typeindex>
+
+namespace keel {
+class Component;
+}
+
+namespace keel::detail {
+
+enum class PortKind { Data, Event, Service };
+/// OPRoS queueing policies of an input data port.
+enum class QueuePolicy { Fifo, UFifo, Lifo, Last };
+enum class PortDirection { Input, Output };  // service: Provided = Input, Required = Output
+
+constexpr std::string_view toString(PortKind k) {
+  return k == PortKind::Data ? "data" : k == PortKind::Event ? "event" : "service";
+}
+
+class PortBase;
+class ConnectionBase;
+
+/// Registers `port` with `owner` (defined in libkeel).
+void registerPort(Component* owner, PortBase* port);
+
+class PortBase {
+ public:
+  PortBase(Component* owner, std::string name, PortKind kind, PortDirection direction,
+           std::type_index type, std::string type_name)
+      : owner_(owner), name_(std::move(name)), kind_(kind), direction_(direction), type_(type),
+        type_name_(std::move(type_name)) {
+    registerPort(owner, this);
+  }
+  virtual ~PortBase() = default;
+  PortBase(const PortBase&) = delete;
+  PortBase& operator=(const PortBase&) = delete;
+
+  Component& owner() const { return *owner_; }
+  const std::string& name() const { return name_; }
+  PortKind kind() const { return kind_; }
+  PortDirection direction() const { return direction_; }
+  std::type_index type() const { return type_; }
+  const std::string& typeName() const { return type_name_; }
+
+ private:
+  Component* owner_;
+  std::string name_;
+  PortKind kind_;
+  PortDirection direction_;
+  std::type_index type_;
+  std::string type_name_;
+};
+
+/// A link from one output port to one input port (data or event). The output holds a list of
+/// these; the target can be re-pointed atomically at run time (component replacement). This is
+/// the transport seam: an in-process connection delivers into the input port's queue; a
+/// remote transport implements the same interface.
+class ConnectionBase {
+ public:
+  virtual ~ConnectionBase() = default;
+  virtual std::type_index type() const = 0;
+};
+
+/// Input side of a data or event connection: the runtime creates connections from here.
+class InputPortBase : public PortBase {
+ public:
+  using PortBase::PortBase;
+  /// Applies the profile's queue policy and size (before the component starts).
+  virtual void configureQueue(QueuePolicy policy, std::size_t size) = 0;
+  /// Number of queued values.
+  virtual std::size_t queued() const = 0;
+  /// Values dropped because the queue was full (FIFO/LIFO) or overwritten (LAST).
+  virtual std::size_t dropped() const = 0;
+  virtual void clear() = 0;
+  /// A new connection whose sink is this port.
+  virtual std::unique_ptr<ConnectionBase> makeConnection() = 0;
+  /// Points an existing connection at this port (component replacement); false on type mismatch.
+  virtual bool retarget(ConnectionBase& connection) = 0;
+};
+
+/// Output side: attaches to connections of the same type.
+class OutputPortBase : public PortBase {
+ public:
+  using PortBase::PortBase;
+  /// Adds a connection; false if its type differs from this port's.
+  virtual bool attach(ConnectionBase& connection) = 0;
+};
+
+}  // namespace keel::detail

@@ -1,0 +1,5 @@
+// Convenience header: everything a component author uses.
+#pragma once
+
+#include "keel/component.hpp"
+#include "keel/fault_event.hpp"

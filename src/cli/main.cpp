@@ -1,0 +1,20 @@
+// keel: the command-line front end (SPEC §4).
+#include <iostream>
+
+#include "cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"keel: a component framework for robots, with fault tolerance built in"};
+  app.require_subcommand(1);
+  std::function<int()> run;
+  keel::cli::addRunCommand(app, run);
+  keel::cli::addValidateCommand(app, run);
+  keel::cli::addInspectCommand(app, run);
+  keel::cli::addGraphCommand(app, run);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  return run ? run() : 2;
+}

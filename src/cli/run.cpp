@@ -1,0 +1,95 @@
+// keel run PROFILE [--duration S] [--log FILE]: runs a package or system profile until the
+// duration ends or SIGINT/SIGTERM, then stops and destroys everything (exit 0) and prints a
+// one-screen summary.
+#include <fmt/format.h>
+#include <signal.h>
+
+#include <cmath>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/summary.hpp"
+#include "profile/loader.hpp"
+#include "runtime/engine.hpp"
+
+namespace keel::cli {
+namespace {
+
+struct RunOptions {
+  std::string profile;
+  double duration_s = 0;  // 0: until a signal
+  std::string log;
+};
+
+/// Blocks SIGINT/SIGTERM in this thread (and so in every thread created after), so that only
+/// waitForEnd receives them.
+sigset_t blockStopSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  return set;
+}
+
+/// Returns the signal that ended the wait, or 0 when the duration ran out.
+int waitForEnd(const sigset_t& set, double duration_s) {
+  if (duration_s <= 0) {
+    int sig = 0;
+    sigwait(&set, &sig);
+    return sig;
+  }
+  auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration_s);
+  for (;;) {
+    auto left = end - std::chrono::steady_clock::now();
+    if (left <= std::chrono::nanoseconds(0)) return 0;
+    auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
+    timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+    int sig = sigtimedwait(&set, nullptr, &ts);
+    if (sig > 0) return sig;
+    if (errno == EAGAIN) return 0;
+  }
+}
+
+int runProfile(const RunOptions& o) {
+  sigset_t stop_signals = blockStopSignals();
+  auto set = profile::load(o.profile);
+  if (!set) {
+    for (const auto& d : set.error()) std::cerr << d.str() << '\n';
+    return 2;
+  }
+  runtime::EngineOptions eo;
+  eo.log_path = o.log;
+  auto engine = runtime::Engine::create(std::move(*set), eo);
+  if (!engine) {
+    std::cerr << engine.error().message << '\n';
+    return 1;
+  }
+  if (auto r = (*engine)->start(); !r) {
+    std::cerr << r.error().message << '\n';
+    (*engine)->shutdown();
+    return 1;
+  }
+  auto t0 = std::chrono::steady_clock::now();
+  int sig = waitForEnd(stop_signals, o.duration_s);
+  double ran = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  (*engine)->log().write({{"event", "engine"}, {"phase", "stopping"},
+                          {"reason", sig == 0 ? "duration" : strsignal(sig)}});
+  printSummary(std::cout, **engine, ran);  // counters, before instances are destroyed
+  (*engine)->shutdown();
+  return 0;
+}
+
+}  // namespace
+
+void addRunCommand(CLI::App& app, std::function<int()>& run) {
+  auto opts = std::make_shared<RunOptions>();
+  CLI::App* cmd = app.add_subcommand("run", "Run a package or system profile");
+  cmd->add_option("profile", opts->profile, "package_profile or system_profile XML")->required();
+  cmd->add_option("--duration", opts->duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--log", opts->log, "write the fault log (JSON lines) to this file");
+  cmd->callback([opts, &run] { run = [opts] { return runProfile(*opts); }; });
+}
+
+}  // namespace keel::cli

@@ -1,0 +1,53 @@
+// keel validate FILE.xml... [--load]: exit 0, or `file:line: message` per problem and exit 2.
+// With --load, libraries are also loaded and every port of code checked against its profile
+// (nothing is initialized or run).
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "profile/loader.hpp"
+#include "runtime/engine.hpp"
+
+namespace keel::cli {
+namespace {
+
+struct ValidateOptions {
+  std::vector<std::string> files;
+  bool load = false;
+};
+
+int validateFiles(const ValidateOptions& o) {
+  int problems = 0;
+  for (const auto& f : o.files) {
+    auto set = profile::load(f);
+    if (!set) {
+      for (const auto& d : set.error()) std::cerr << d.str() << '\n';
+      problems += static_cast<int>(set.error().size());
+      continue;
+    }
+    bool runnable = set->root_kind == profile::RootKind::Package ||
+                    set->root_kind == profile::RootKind::System;
+    if (o.load && runnable) {
+      runtime::EngineOptions eo;
+      auto engine = runtime::Engine::create(std::move(*set), eo);
+      if (!engine) {
+        std::cerr << engine.error().message << '\n';
+        ++problems;
+        continue;
+      }
+    }
+    std::cout << f << ": ok\n";
+  }
+  return problems == 0 ? 0 : 2;
+}
+
+}  // namespace
+
+void addValidateCommand(CLI::App& app, std::function<int()>& run) {
+  auto opts = std::make_shared<ValidateOptions>();
+  CLI::App* cmd = app.add_subcommand("validate", "Check profiles (and what they reference)");
+  cmd->add_option("files", opts->files, "profiles to check")->required();
+  cmd->add_flag("--load", opts->load, "also load the libraries and check ports against code");
+  cmd->callback([opts, &run] { run = [opts] { return validateFiles(*opts); }; });
+}
+
+}  // namespace keel::cli

@@ -1,0 +1,43 @@
+// The fault log of SPEC §5: one JSON object per line, each written with a single write(2) as it
+// happens, so a crash loses at most the line being written. Every record gets `t_ns`
+// (steady clock, ns since the engine started) unless it carries one.
+// Thread-safety: write() may be called from any thread (one mutex around the write).
+#pragma once
+
+#include <cstdint>
+#include <mutex>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "keel/result.hpp"
+
+namespace keel::fault {
+
+class FaultLog {
+ public:
+  FaultLog();
+  ~FaultLog();
+  FaultLog(const FaultLog&) = delete;
+  FaultLog& operator=(const FaultLog&) = delete;
+
+  /// Opens (truncates) `path`. Without a successful open, write() does nothing.
+  Result<void> open(const std::string& path);
+  bool enabled() const { return fd_ >= 0; }
+
+  /// ns since the log's epoch (the engine's start) for a steady-clock time in ns.
+  std::int64_t sinceStart(std::int64_t steady_ns) const { return steady_ns - epoch_ns_; }
+  std::int64_t now() const;
+
+  void write(nlohmann::json record);
+
+ private:
+  std::int64_t epoch_ns_;
+  int fd_ = -1;
+  std::mutex mutex_;
+};
+
+/// steady-clock now in ns (the clock of every time in keel).
+std::int64_t steadyNowNs();
+
+}  // namespace keel::fault

@@ -1,0 +1,208 @@
+// load(): reads the root profile and, depth first, every profile it references (each file
+// once, keyed by its absolute normalised path), detects reference cycles, then runs the
+// cross-file validation (validate.hpp). Nothing is thrown out of load(). See loader.hpp.
+#include "profile/loader.hpp"
+
+#include <algorithm>
+#include <exception>
+#include <filesystem>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "profile/field_reader.hpp"
+#include "profile/parsers.hpp"
+#include "profile/validate.hpp"
+
+namespace keel::profile {
+
+std::string Diagnostic::str() const {
+  if (where.file.empty()) return message;
+  if (where.line <= 0) return fmt::format("{}: {}", where.file, message);
+  return fmt::format("{}:{}: {}", where.file, where.line, message);
+}
+
+const PackageProfile* ProfileSet::rootPackage() const {
+  if (root_kind != RootKind::Package) return nullptr;
+  const auto it = packages.find(root);
+  return it == packages.end() ? nullptr : &it->second;
+}
+
+namespace detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::optional<RootKind> rootKindOf(std::string_view element) {
+  if (element == "component_profile") return RootKind::Component;
+  if (element == "composite_component_profile") return RootKind::Composite;
+  if (element == "package_profile" || element == "application_profile") return RootKind::Package;
+  if (element == "system_profile") return RootKind::System;
+  return std::nullopt;
+}
+
+std::string kindList(const std::vector<RootKind>& kinds) {
+  std::string out;
+  for (std::size_t i = 0; i < kinds.size(); ++i) {
+    if (i > 0) out += (i + 1 == kinds.size()) ? " or " : ", ";
+    out += fmt::format("<{}>", name(kinds[i]));
+  }
+  return out;
+}
+
+std::string absolutePath(const std::string& path) {
+  std::error_code ec;
+  fs::path abs = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  if (ec) abs = fs::path(path).lexically_normal();
+  return abs.string();
+}
+
+class Loader {
+ public:
+  Result<ProfileSet, Diagnostics> run(const std::string& path);
+
+ private:
+  std::optional<RootKind> loadFile(const std::string& abs, const std::string& display,
+                                   const Reference* from);
+  std::optional<RootKind> parseRoot(Ctx& ctx, pugi::xml_node root, const std::string& abs);
+  void follow(const Reference& ref);
+  std::string cycleText(const std::string& abs) const;
+
+  ProfileSet set_;
+  Diagnostics diags_;
+  std::map<std::string, std::optional<RootKind>> kinds_;  // nullopt: could not be read
+  std::vector<std::pair<std::string, std::string>> stack_;  // (abs, display) being loaded
+  bool cycle_ = false;
+};
+
+Result<ProfileSet, Diagnostics> Loader::run(const std::string& path) {
+  set_.root = absolutePath(path);
+  const std::string display = fs::path(path).lexically_normal().string();
+  const auto kind = loadFile(set_.root, display, nullptr);
+  if (kind) set_.root_kind = *kind;
+  if (kind && !cycle_) validate(set_, diags_);
+  if (!diags_.empty()) return diags_;
+  return std::move(set_);
+}
+
+std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::string& display,
+                                         const Reference* from) {
+  if (const auto it = kinds_.find(abs); it != kinds_.end()) return it->second;
+  kinds_[abs] = std::nullopt;
+  std::string open_error;
+  Diagnostic syntax;
+  const auto file = XmlFile::read(abs, display, open_error, syntax);
+  if (!file && !open_error.empty()) {
+    if (from == nullptr) {
+      diags_.push_back(Diagnostic{Where{display, 0}, "cannot open: " + open_error});
+    } else {
+      diags_.push_back(Diagnostic{
+          from->where, fmt::format("{}: cannot open '{}': {}", from->who, from->written, open_error)});
+    }
+    return std::nullopt;
+  }
+  if (!file) {
+    diags_.push_back(std::move(syntax));
+    return std::nullopt;
+  }
+  Ctx ctx(*file, abs, diags_);
+  const auto kind = parseRoot(ctx, file->root(), abs);
+  kinds_[abs] = kind;
+  if (!kind) return std::nullopt;
+  stack_.emplace_back(abs, display);
+  for (const Reference& ref : ctx.references()) follow(ref);
+  stack_.pop_back();
+  return kind;
+}
+
+std::optional<RootKind> Loader::parseRoot(Ctx& ctx, pugi::xml_node root, const std::string& abs) {
+  for (pugi::xml_node extra = root.next_sibling(); extra; extra = extra.next_sibling()) {
+    if (extra.type() == pugi::node_element) {
+      ctx.error(extra, fmt::format("second root element {} (a profile has one)", tag(extra)));
+    }
+  }
+  const auto kind = rootKindOf(root.name());
+  if (!kind) {
+    ctx.error(root, fmt::format("unknown root element {} (expected {})", tag(root),
+                                kindList({RootKind::Component, RootKind::Composite,
+                                          RootKind::Package, RootKind::System})));
+    return std::nullopt;
+  }
+  switch (*kind) {
+    case RootKind::Component: {
+      auto& c = set_.components[abs];
+      c.file = abs;
+      parseComponentProfile(ctx, root, c);
+      break;
+    }
+    case RootKind::Composite: {
+      auto& c = set_.composites[abs];
+      c.file = abs;
+      parseCompositeProfile(ctx, root, c);
+      break;
+    }
+    case RootKind::Package: {
+      auto& p = set_.packages[abs];
+      p.file = abs;
+      parsePackageProfile(ctx, root, p);
+      break;
+    }
+    case RootKind::System: {
+      SystemProfile s;
+      s.file = abs;
+      parseSystemProfile(ctx, root, s);
+      if (!set_.system) set_.system = std::move(s);  // only a root can be a system profile
+      break;
+    }
+  }
+  return kind;
+}
+
+void Loader::follow(const Reference& ref) {
+  const bool in_progress = std::any_of(stack_.begin(), stack_.end(),
+                                       [&](const auto& e) { return e.first == ref.path; });
+  const auto kind = in_progress ? kinds_[ref.path] : loadFile(ref.path, ref.display, &ref);
+  if (!kind) return;
+  const bool accepted =
+      std::find(ref.accepted.begin(), ref.accepted.end(), *kind) != ref.accepted.end();
+  if (!accepted) {
+    diags_.push_back(Diagnostic{ref.where, fmt::format("{}: '{}' is a <{}>, expected {}", ref.who,
+                                                       ref.written, name(*kind),
+                                                       kindList(ref.accepted))});
+  } else if (in_progress) {
+    cycle_ = true;
+    diags_.push_back(Diagnostic{
+        ref.where, fmt::format("{}: circular reference: {}", ref.who, cycleText(ref.path))});
+  } else if (ref.declared && *ref.declared != *kind) {
+    diags_.push_back(Diagnostic{
+        ref.where, fmt::format("{} has <type> {} but '{}' is a <{}>", ref.who,
+                               *ref.declared == RootKind::Component ? "atomic" : "composite",
+                               ref.written, name(*kind))});
+  }
+}
+
+std::string Loader::cycleText(const std::string& abs) const {
+  std::string out;
+  bool in_cycle = false;
+  for (const auto& [path, display] : stack_) {
+    in_cycle = in_cycle || path == abs;
+    if (in_cycle) out += display + " -> ";
+  }
+  for (const auto& [path, display] : stack_) {
+    if (path == abs) return out + display;
+  }
+  return out;
+}
+
+}  // namespace
+}  // namespace detail
+
+Result<ProfileSet, Diagnostics> load(const std::string& path) {
+  try {
+    return detail::Loader().run(path);
+  } catch (const std::exception& e) {  // bad_alloc and the like: still no throw out of load()
+    return Diagnostics{Diagnostic{Where{path, 0}, fmt::format("internal error: {}", e.what())}};
+  }
+}
+
+}  // namespace keel::profile

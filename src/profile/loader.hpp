@@ -1,0 +1,44 @@
+// Reads a profile file and everything it references (component, composite, package and system
+// profiles, SPEC §3) and validates the whole before anything runs. Every problem found is
+// reported, each as `file:line: message`. Knows nothing of threads or dlopen.
+// Thread-safety: free functions over their own data; safe to call concurrently.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "keel/result.hpp"
+#include "profile/model.hpp"
+
+namespace keel::profile {
+
+/// One problem in a profile.
+struct Diagnostic {
+  Where where;
+  std::string message;
+  /// "file:line: message" (line omitted when 0).
+  std::string str() const;
+};
+
+enum class RootKind { Component, Composite, Package, System };
+
+/// Everything reachable from one root profile, keyed by absolute file path.
+struct ProfileSet {
+  RootKind root_kind = RootKind::Package;
+  std::string root;  // absolute path of the root file
+  std::map<std::string, ComponentProfile> components;
+  std::map<std::string, CompositeProfile> composites;
+  std::map<std::string, PackageProfile> packages;
+  std::optional<SystemProfile> system;
+
+  const PackageProfile* rootPackage() const;
+};
+
+using Diagnostics = std::vector<Diagnostic>;
+
+/// Loads and validates `path` and all it references. On failure, every problem found.
+Result<ProfileSet, Diagnostics> load(const std::string& path);
+
+}  // namespace keel::profile

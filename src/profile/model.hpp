@@ -1,0 +1,223 @@
+// Plain, validated structs that profiles (SPEC §3) are read into.
+// Produced by profile/loader.hpp, consumed by runtime/plan.hpp; knows nothing of threads or
+// dlopen. Every struct that came from XML carries the `Where` it came from, so that later
+// stages (the plan, the loader) can still report `file:line`.
+// Thread-safety: plain values; immutable once loaded.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "keel/property.hpp"
+
+namespace keel::profile {
+
+/// Where an element was read: file path as given (or resolved) and 1-based line.
+struct Where {
+  std::string file;
+  int line = 0;
+};
+
+enum class ExecutionType { Periodic, Aperiodic, Passive };
+enum class SchedPolicy { Other, Fifo, RoundRobin };
+enum class Usage { Input, Output };               // data and event ports
+enum class ServiceUsage { Provided, Required };   // service ports
+enum class QueuePolicy { Fifo, UFifo, Lifo, Last };
+enum class PortType { Data, Event, Service };     // port_connection@port_type
+
+/// Severity of a fault policy (paper §5.2).
+enum class Severity { Ignore, Reset, Stop, Emergency };
+/// Containment scope of a fault (paper §5.2 <dependency>).
+enum class Scope { Component, Executor, System };
+
+/// A property value, typed by the profile's `type` attribute.
+/// Types: bool, int (int64), double, string, and vector<double> ("double[]").
+using PropertyValue = keel::PropertyValue;
+
+struct Property {
+  std::string name;
+  std::string type;  // as written, normalised: "bool" "int" "double" "string" "double[]"
+  PropertyValue value;
+  Where where;
+};
+
+struct Execution {
+  ExecutionType type = ExecutionType::Periodic;
+  double period_ms = 100.0;  // periodic only; fractions allowed (sub-millisecond periods)
+  int priority = 0;          // 0 = do not change; 1..99 for Fifo/RoundRobin
+  SchedPolicy policy = SchedPolicy::Other;
+  Where where;
+};
+
+/// Signal-model rule of paper §5.1.2. One bound applies to every element of an array;
+/// several bounds (space separated) apply element-wise.
+struct Validity {
+  std::vector<double> min;  // empty: no lower bound
+  std::vector<double> max;  // empty: no upper bound
+  Where where;
+};
+
+struct DataPort {
+  std::string name;
+  Usage usage = Usage::Input;
+  std::string data_type;
+  QueuePolicy queue_policy = QueuePolicy::Fifo;
+  std::size_t queue_size = 10;
+  std::optional<Validity> validity;
+  Where where;
+};
+
+struct EventPort {
+  std::string name;
+  Usage usage = Usage::Input;
+  std::string data_type;
+  std::size_t queue_size = 64;
+  Where where;
+};
+
+struct ServicePort {
+  std::string name;
+  std::string type;  // the service (interface) name; both ends of a connection must agree
+  ServiceUsage usage = ServiceUsage::Provided;
+  double timeout_ms = 1000.0;  // required side: default call timeout
+  Where where;
+};
+
+/// root <component_profile>
+struct ComponentProfile {
+  std::string file;  // absolute path of the profile
+  std::string name;  // the registered class
+  std::string description;
+  std::string library_name;  // as written; resolved by the runtime loader
+  Execution execution;
+  std::vector<Property> properties;
+  std::vector<DataPort> data_ports;
+  std::vector<EventPort> event_ports;
+  std::vector<ServicePort> service_ports;
+  Where where;
+};
+
+struct Alternative {
+  std::string reference;  // resolved absolute path of a component profile
+  bool preload = false;
+  Where where;
+};
+
+struct Restart {
+  int intensity = 3;
+  double period_ms = 10000.0;
+};
+
+/// The paper's rule tags for one subcomponent (SPEC §3). Defaults documented in docs/profiles.md.
+struct FaultPolicy {
+  Severity severity = Severity::Reset;
+  std::map<std::string, Severity> severity_by_kind;  // kind (signal, range, ...) -> severity
+  Scope dependency = Scope::Component;
+  std::optional<double> heartbeat_timeout_ms;
+  std::optional<double> deadline_ms;
+  std::optional<double> checkpoint_period_ms;
+  std::optional<Alternative> alternative;
+  Restart restart;
+  Where where;
+};
+
+struct Endpoint {
+  std::string component;  // subcomponent instance name
+  std::string port;
+};
+
+struct Connection {
+  PortType port_type = PortType::Data;
+  Endpoint source;
+  Endpoint target;
+  Where where;
+  /// false when the profile left out port_type (OPRoS tools do): validation then sets
+  /// port_type from the kind of the connected ports.
+  bool port_type_given = true;
+};
+
+/// A subcomponent's reference is either an atomic component or a composite.
+struct CompositeProfile;
+
+struct Subcomponent {
+  std::string name;       // instance name, unique within its package/composite
+  std::string reference;  // resolved absolute path of the referenced profile
+  std::map<std::string, Property> property_overrides;  // typed against the component profile
+  std::optional<FaultPolicy> fault_policy;
+  Where where;
+};
+
+/// <export_ports><export_port name=".." component=".." port=".."/></export_ports>
+struct ExportedPort {
+  std::string name;  // the composite's port name
+  Endpoint inner;    // the subcomponent port it stands for
+  Where where;
+};
+
+/// root <composite_component_profile>
+struct CompositeProfile {
+  std::string file;
+  std::string name;
+  std::string description;
+  std::vector<Subcomponent> subcomponents;
+  std::vector<Connection> connections;
+  std::vector<ExportedPort> exported_ports;
+  Where where;
+};
+
+struct Task {
+  std::string name;
+  double period_ms = 100.0;
+  int priority = 0;
+  SchedPolicy policy = SchedPolicy::Other;
+  std::vector<std::string> members;  // subcomponent names, in execution order
+  Where where;
+};
+
+struct Depends {
+  std::string source;  // source depends on target
+  std::string target;
+  Where where;
+};
+
+/// root <package_profile> (or <application_profile>)
+struct PackageProfile {
+  std::string file;
+  std::string name;
+  std::string description;
+  std::vector<Subcomponent> subcomponents;
+  std::vector<Connection> connections;
+  std::vector<Task> tasks;
+  std::vector<Depends> depends;
+  Where where;
+};
+
+/// One component an application needs, and how many of its duplicates must stay healthy.
+struct Requirement {
+  std::vector<std::string> components;  // instance names (duplicates of one role)
+  int min_healthy = 1;
+  Where where;
+};
+
+struct Application {
+  std::string name;
+  std::string reference;  // resolved absolute path of a package profile
+  std::vector<std::string> depends_on;  // other application names
+  std::vector<Requirement> requires_;   // empty: every component of the package is needed
+  Where where;
+};
+
+/// root <system_profile> (paper §5.2, Fig. 7)
+struct SystemProfile {
+  std::string file;
+  std::string name;
+  std::string description;
+  std::vector<Application> applications;
+  Where where;
+};
+
+}  // namespace keel::profile

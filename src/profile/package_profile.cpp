@@ -1,0 +1,95 @@
+// <package_profile> (alias <application_profile>): subcomponents, connections, tasks (the
+// paper's executors) and coordination dependencies (SPEC §3). Name checks across these lists
+// are in validate_assembly.cpp.
+#include <fmt/format.h>
+
+#include "profile/field_reader.hpp"
+#include "profile/parsers.hpp"
+
+namespace keel::profile::detail {
+namespace {
+
+void readMember(Ctx& ctx, pugi::xml_node n, Task& task) {
+  const std::string text = leafText(ctx, n, {"component"});
+  const auto attr = attribute(n, "component");
+  if (attr && !text.empty()) {
+    ctx.error(n, fmt::format("<member> of task '{}' names a component both as attribute and as "
+                             "text",
+                             task.name));
+    return;
+  }
+  std::string member = attr ? std::string(trim(*attr)) : text;
+  if (member.empty()) {
+    ctx.error(n, fmt::format("<member> of task '{}' names no component", task.name));
+    return;
+  }
+  task.members.push_back(std::move(member));
+}
+
+void readTask(Ctx& ctx, pugi::xml_node node, std::vector<Task>& out) {
+  Task t;
+  t.where = ctx.where(node);
+  t.name = attribute(node, "name").value_or("");  // read first: member messages name the task
+  readChildren(ctx, node, {{"member", [&](pugi::xml_node n) { readMember(ctx, n, t); }, true}},
+               {"name", "period", "priority", "policy"});
+  if (!requiredAttribute(ctx, node, "name")) return;
+  const std::string owner = fmt::format("task '{}'", t.name);
+  if (auto period = requiredAttribute(ctx, node, "period")) {
+    if (auto v = readPositive(ctx, node, *period, "period of " + owner)) t.period_ms = *v;
+  }
+  const auto priority = attribute(node, "priority");
+  const auto p = priority ? readIntIn(ctx, node, *priority, "priority of " + owner, 0, 99)
+                          : std::optional<int>(0);
+  t.priority = p.value_or(0);
+  if (auto policy = attribute(node, "policy")) {
+    t.policy = readWord(ctx, node, *policy, "policy of " + owner, schedPolicies()).value_or(t.policy);
+  }
+  if (p) {
+    checkRealtimePriority(ctx, node, t.policy, t.priority, priority.has_value(),
+                          "priority of " + owner, owner);
+  }
+  if (t.members.empty() && !node.child("member")) {
+    ctx.error(node, fmt::format("{} has no <member>", owner));
+  }
+  out.push_back(std::move(t));
+}
+
+std::vector<Task> parseTasks(Ctx& ctx, pugi::xml_node node) {
+  std::vector<Task> out;
+  readChildren(ctx, node, {{"task", [&](pugi::xml_node n) { readTask(ctx, n, out); }, true}});
+  return out;
+}
+
+std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node) {
+  std::vector<Depends> out;
+  readChildren(ctx, node,
+               {{"depends",
+                 [&](pugi::xml_node n) {
+                   readChildren(ctx, n, {}, {"source", "target"});
+                   const auto source = requiredAttribute(ctx, n, "source");
+                   const auto target = requiredAttribute(ctx, n, "target");
+                   if (source && target) out.push_back(Depends{*source, *target, ctx.where(n)});
+                 },
+                 true}});
+  return out;
+}
+
+}  // namespace
+
+void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
+  out.where = ctx.where(root);
+  readChildren(
+      ctx, root,
+      {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
+       {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
+       {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
+       {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
+       {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
+       {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
+       {"id", {}},
+       {"version", {}},
+       {"copyright", {}}});
+  if (out.name.empty()) reportMissing(ctx, root, "name");
+}
+
+}  // namespace keel::profile::detail

@@ -1,0 +1,41 @@
+// The per-file profile parsers: one XML root element in, one plain struct out (model.hpp),
+// every problem of that file reported through the Ctx, references to other profiles recorded
+// in the Ctx for the loader to follow. Checks that need another file live in validate.hpp.
+// Called by loader.cpp. Thread-safety: functions of their arguments.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "profile/model.hpp"
+#include "profile/xml_reader.hpp"
+
+namespace keel::profile::detail {
+
+// Roots (component_profile.cpp, composite_profile.cpp, package_profile.cpp, system_profile.cpp).
+void parseComponentProfile(Ctx& ctx, pugi::xml_node root, ComponentProfile& out);
+void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out);
+void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out);
+void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out);
+
+// Pieces shared by several roots.
+/// <execution_semantics> (component_profile.cpp).
+Execution parseExecution(Ctx& ctx, pugi::xml_node node, const std::string& owner);
+/// <properties> of a component profile: name, type and typed value (component_profile.cpp).
+std::vector<Property> parseProperties(Ctx& ctx, pugi::xml_node node, const std::string& owner);
+/// <ports> (ports.cpp).
+void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out);
+/// <subcomponents> (subcomponents.cpp). Override values stay untyped strings (type "" unless
+/// the attribute gave one) until validation types them against the referenced component.
+std::vector<Subcomponent> parseSubcomponents(Ctx& ctx, pugi::xml_node node);
+/// <port_connections> (subcomponents.cpp).
+std::vector<Connection> parseConnections(Ctx& ctx, pugi::xml_node node);
+/// <fault_policy> of subcomponent `owner` (fault_policy.cpp).
+FaultPolicy parseFaultPolicy(Ctx& ctx, pugi::xml_node node, const std::string& owner);
+
+/// The text of a required child that was not given: "missing <name> in <data_port>".
+void reportMissing(Ctx& ctx, pugi::xml_node parent, std::string_view child,
+                   const std::string& owner = {});
+
+}  // namespace keel::profile::detail

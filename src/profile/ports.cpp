@@ -1,0 +1,182 @@
+// <ports> of a component profile: data, event and service ports, and the signal-model rule
+// <validity> of paper §5.1.2 (SPEC §3).
+#include <fmt/format.h>
+
+#include "profile/field_reader.hpp"
+#include "profile/parsers.hpp"
+
+namespace keel::profile::detail {
+namespace {
+
+/// min/max: one bound for every element, or element-wise; min <= max where both apply.
+void checkBounds(Ctx& ctx, pugi::xml_node at, const Validity& v, const std::string& owner) {
+  if (v.min.empty() || v.max.empty()) return;
+  if (v.min.size() != v.max.size() && v.min.size() != 1 && v.max.size() != 1) {
+    ctx.error(at, fmt::format("<validity> of {}: <min> has {} values but <max> has {}", owner,
+                              v.min.size(), v.max.size()));
+    return;
+  }
+  const std::size_t n = std::max(v.min.size(), v.max.size());
+  for (std::size_t i = 0; i < n; ++i) {
+    const double lo = v.min[v.min.size() == 1 ? 0 : i];
+    const double hi = v.max[v.max.size() == 1 ? 0 : i];
+    if (lo <= hi) continue;
+    const std::string index = n == 1 ? "" : fmt::format("[{}]", i);
+    ctx.error(at, fmt::format("<validity> of {}: min{} {} is greater than max{} {}", owner, index,
+                              lo, index, hi));
+  }
+}
+
+Validity readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
+  Validity v;
+  v.where = ctx.where(node);
+  auto bound = [&](std::vector<double>& into) {
+    return [&ctx, &into, &owner](pugi::xml_node n) {
+      const std::string text = leafText(ctx, n);
+      auto list = parseDoubleList(text, true);
+      if (!list || list->empty()) {
+        ctx.error(n, fmt::format("<{}> of {} must be a number or a list of numbers, got '{}'",
+                                 n.name(), owner, text));
+        return;
+      }
+      into = std::move(*list);
+    };
+  };
+  readChildren(ctx, node, {{"min", bound(v.min)}, {"max", bound(v.max)}});
+  checkBounds(ctx, node, v, owner);
+  return v;
+}
+
+/// The port's name read ahead, so that messages about earlier children can name the port.
+std::string portName(pugi::xml_node node) {
+  return std::string(trim(node.child("name").child_value()));
+}
+
+void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
+  DataPort p;
+  p.where = ctx.where(node);
+  p.name = portName(node);
+  const std::string owner = fmt::format("data port '{}'", p.name);
+  bool usage = false, policy = false;
+  auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
+  auto queue_policy = [&](pugi::xml_node n) {
+    if (policy) {
+      ctx.error(n, fmt::format("both <queueing_policy> and <queuing_policy> in {}", owner));
+      return;
+    }
+    policy = true;
+    if (auto v = readWord(ctx, n, text(n), fmt::format("{} of {}", tag(n), owner), queuePolicies())) {
+      p.queue_policy = *v;
+    }
+  };
+  readChildren(
+      ctx, node,
+      {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
+       {"usage",
+        [&](pugi::xml_node n) {
+          usage = true;
+          if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
+        }},
+       {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
+       {"queueing_policy", queue_policy},
+       {"queuing_policy", queue_policy},
+       {"queue_size",
+        [&](pugi::xml_node n) {
+          if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
+        }},
+       {"validity", [&](pugi::xml_node n) { p.validity = readValidity(ctx, n, owner); }},
+       {"description", {}},
+       {"reference", {}},
+       {"layout", {}}});
+  if (p.name.empty()) return reportMissing(ctx, node, "name");
+  if (!usage) reportMissing(ctx, node, "usage", owner);
+  if (p.data_type.empty()) reportMissing(ctx, node, "data_type", owner);
+  out.data_ports.push_back(std::move(p));
+}
+
+void readEventPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
+  EventPort p;
+  p.where = ctx.where(node);
+  p.name = portName(node);
+  const std::string owner = fmt::format("event port '{}'", p.name);
+  bool usage = false;
+  auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
+  readChildren(
+      ctx, node,
+      {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
+       {"usage",
+        [&](pugi::xml_node n) {
+          usage = true;
+          if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
+        }},
+       {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
+       {"queue_size",
+        [&](pugi::xml_node n) {
+          if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
+        }},
+       {"description", {}},
+       {"reference", {}},
+       {"layout", {}}});
+  if (p.name.empty()) return reportMissing(ctx, node, "name");
+  if (!usage) reportMissing(ctx, node, "usage", owner);
+  out.event_ports.push_back(std::move(p));
+}
+
+void readServicePort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
+  ServicePort p;
+  p.where = ctx.where(node);
+  p.name = portName(node);
+  const std::string owner = fmt::format("service port '{}'", p.name);
+  bool usage = false;
+  auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
+  readChildren(
+      ctx, node,
+      {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
+       {"type", [&](pugi::xml_node n) { p.type = text(n); }},
+       {"usage",
+        [&](pugi::xml_node n) {
+          usage = true;
+          if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, serviceUsages())) p.usage = *v;
+        }},
+       {"timeout",
+        [&](pugi::xml_node n) {
+          if (auto v = readPositive(ctx, n, text(n), "<timeout> of " + owner)) p.timeout_ms = *v;
+        }},
+       {"description", {}},
+       {"reference", {}},
+       {"layout", {}}});
+  if (p.name.empty()) return reportMissing(ctx, node, "name");
+  if (!usage) reportMissing(ctx, node, "usage", owner);
+  if (p.type.empty()) reportMissing(ctx, node, "type", owner);
+  out.service_ports.push_back(std::move(p));
+}
+
+/// Port names are unique across the three kinds: a connection names a port by name alone.
+void checkUniqueNames(Ctx& ctx, const ComponentProfile& c) {
+  std::vector<std::pair<std::string, Where>> seen;
+  auto add = [&](const std::string& port, const Where& w) {
+    for (const auto& [name, first] : seen) {
+      if (name == port) {
+        ctx.error(w, fmt::format("duplicate port '{}' in component '{}' (first at line {})", port,
+                                 c.name, first.line));
+        return;
+      }
+    }
+    seen.emplace_back(port, w);
+  };
+  for (const auto& p : c.data_ports) add(p.name, p.where);
+  for (const auto& p : c.event_ports) add(p.name, p.where);
+  for (const auto& p : c.service_ports) add(p.name, p.where);
+}
+
+}  // namespace
+
+void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
+  readChildren(ctx, node,
+               {{"data_port", [&](pugi::xml_node n) { readDataPort(ctx, n, out); }, true},
+                {"event_port", [&](pugi::xml_node n) { readEventPort(ctx, n, out); }, true},
+                {"service_port", [&](pugi::xml_node n) { readServicePort(ctx, n, out); }, true}});
+  checkUniqueNames(ctx, out);
+}
+
+}  // namespace keel::profile::detail

@@ -1,0 +1,128 @@
+// <subcomponents> and <port_connections>, shared by package and composite profiles (SPEC §3).
+// Property overrides are kept as text here; validate_assembly.cpp types them against the
+// referenced component once it is loaded.
+#include <fmt/format.h>
+
+#include "profile/field_reader.hpp"
+#include "profile/parsers.hpp"
+
+namespace keel::profile::detail {
+namespace {
+
+const std::vector<std::pair<std::string_view, RootKind>>& subcomponentTypes() {
+  static const std::vector<std::pair<std::string_view, RootKind>> t = {
+      {"atomic", RootKind::Component}, {"composite", RootKind::Composite}};
+  return t;
+}
+
+std::map<std::string, Property> readOverrides(Ctx& ctx, pugi::xml_node node,
+                                              const std::string& owner) {
+  std::map<std::string, Property> out;
+  readChildren(
+      ctx, node,
+      {{"property",
+        [&](pugi::xml_node n) {
+          Property p;
+          p.where = ctx.where(n);
+          const std::string text = leafText(ctx, n, {"name", "type", "description"});
+          const auto prop = requiredAttribute(ctx, n, "name");
+          if (!prop) return;
+          p.name = *prop;
+          if (auto written = attribute(n, "type")) {
+            auto type = normalisePropertyType(*written);
+            if (!type) {
+              ctx.error(n, fmt::format("property '{}' of {} has unknown type '{}' (types: {})",
+                                       p.name, owner, *written, kPropertyTypes));
+              return;
+            }
+            p.type = *type;
+          }
+          p.value = text;  // typed by validation
+          const auto [it, inserted] = out.emplace(p.name, p);
+          if (!inserted) {
+            ctx.error(n, fmt::format("duplicate property '{}' in {} (first at line {})", p.name,
+                                     owner, it->second.where.line));
+          }
+        },
+        true}});
+  return out;
+}
+
+void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& out) {
+  Subcomponent s;
+  s.where = ctx.where(node);
+  s.name = std::string(trim(node.child("name").child_value()));
+  const std::string owner = fmt::format("subcomponent '{}'", s.name);
+  pugi::xml_node reference;
+  std::optional<RootKind> declared;
+  readChildren(
+      ctx, node,
+      {{"name", [&](pugi::xml_node n) { s.name = leafText(ctx, n); }},
+       {"reference", [&](pugi::xml_node n) { reference = n; }},
+       {"type",
+        [&](pugi::xml_node n) {
+          declared = readWord(ctx, n, leafText(ctx, n), "<type> of " + owner, subcomponentTypes());
+        }},
+       {"properties", [&](pugi::xml_node n) { s.property_overrides = readOverrides(ctx, n, owner); }},
+       {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
+       {"id", {}},
+       {"version", {}},
+       {"node_id", {}},
+       {"layout", {}}});
+  if (s.name.empty()) return reportMissing(ctx, node, "name");
+  if (!reference) return reportMissing(ctx, node, "reference", owner);
+  s.reference = ctx.reference(reference, leafText(ctx, reference), owner,
+                              {RootKind::Component, RootKind::Composite}, declared);
+  out.push_back(std::move(s));
+}
+
+std::optional<Endpoint> readEndpoint(Ctx& ctx, pugi::xml_node node) {
+  readChildren(ctx, node, {}, {"component_name", "port_name"});
+  const auto component = requiredAttribute(ctx, node, "component_name");
+  const auto port = requiredAttribute(ctx, node, "port_name");
+  if (!component || !port) return std::nullopt;
+  return Endpoint{*component, *port};
+}
+
+void readConnection(Ctx& ctx, pugi::xml_node node, std::vector<Connection>& out) {
+  Connection c;
+  c.where = ctx.where(node);
+  std::optional<Endpoint> source, target;
+  readChildren(ctx, node,
+               {{"source", [&](pugi::xml_node n) { source = readEndpoint(ctx, n); }},
+                {"target", [&](pugi::xml_node n) { target = readEndpoint(ctx, n); }},
+                {"bend_point", {}, true}},
+               {"port_type"});
+  bool ok = true;
+  if (auto type = attribute(node, "port_type")) {
+    const auto t = readWord(ctx, node, *type, "port_type of <port_connection>", portTypes());
+    ok = t.has_value();
+    c.port_type = t.value_or(PortType::Data);
+  } else {
+    c.port_type_given = false;
+  }
+  if (!node.child("source")) reportMissing(ctx, node, "source");
+  if (!node.child("target")) reportMissing(ctx, node, "target");
+  if (!ok || !source || !target) return;
+  c.source = std::move(*source);
+  c.target = std::move(*target);
+  out.push_back(std::move(c));
+}
+
+}  // namespace
+
+std::vector<Subcomponent> parseSubcomponents(Ctx& ctx, pugi::xml_node node) {
+  std::vector<Subcomponent> out;
+  readChildren(ctx, node,
+               {{"subcomponent", [&](pugi::xml_node n) { readSubcomponent(ctx, n, out); }, true}});
+  return out;
+}
+
+std::vector<Connection> parseConnections(Ctx& ctx, pugi::xml_node node) {
+  std::vector<Connection> out;
+  readChildren(ctx, node,
+               {{"port_connection", [&](pugi::xml_node n) { readConnection(ctx, n, out); }, true}});
+  return out;
+}
+
+}  // namespace keel::profile::detail

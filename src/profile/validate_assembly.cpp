@@ -1,0 +1,154 @@
+// Checks of an assembly (package or composite): unique subcomponent names, property overrides
+// typed against the referenced component, tasks and coordination dependencies.
+#include <fmt/format.h>
+
+#include "profile/field_reader.hpp"
+#include "profile/validate.hpp"
+
+namespace keel::profile::detail {
+namespace {
+
+void error(Diagnostics& diags, const Where& where, std::string message) {
+  diags.push_back(Diagnostic{where, std::move(message)});
+}
+
+/// Types the override `o` of subcomponent `sub` against the declaration in `component`.
+void typeOverride(const ComponentProfile& component, const Subcomponent& sub, Property& o,
+                  Diagnostics& diags) {
+  const Property* decl = nullptr;
+  std::vector<std::string> names;
+  for (const Property& p : component.properties) {
+    names.push_back(p.name);
+    if (p.name == o.name) decl = &p;
+  }
+  if (decl == nullptr) {
+    return error(diags, o.where,
+                 fmt::format("subcomponent '{}': component '{}' has no property '{}' (properties: {})",
+                             sub.name, component.name, o.name, nameList(names)));
+  }
+  if (decl->type.empty()) return;  // its declaration is broken and already reported
+  if (!o.type.empty() && o.type != decl->type) {
+    return error(diags, o.where,
+                 fmt::format("property '{}' of subcomponent '{}' has type '{}' but component '{}' "
+                             "declares it '{}'",
+                             o.name, sub.name, o.type, component.name, decl->type));
+  }
+  const auto* text = std::get_if<std::string>(&o.value);
+  if (text == nullptr) return;  // already typed
+  auto value = parsePropertyValue(decl->type, *text);
+  if (!value) {
+    return error(diags, o.where,
+                 fmt::format("property '{}' of subcomponent '{}' must be {}, got '{}'", o.name,
+                             sub.name, describeType(decl->type), *text));
+  }
+  o.type = decl->type;
+  o.value = std::move(*value);
+}
+
+void checkOverrides(const ProfileSet& set, Subcomponent& sub, Diagnostics& diags) {
+  if (sub.property_overrides.empty()) return;
+  if (const auto c = set.components.find(sub.reference); c != set.components.end()) {
+    for (auto& [name, o] : sub.property_overrides) typeOverride(c->second, sub, o, diags);
+    return;
+  }
+  if (const auto c = set.composites.find(sub.reference); c != set.composites.end()) {
+    for (const auto& [name, o] : sub.property_overrides) {
+      error(diags, o.where,
+            fmt::format("subcomponent '{}': composite '{}' has no property '{}' (properties: none)",
+                        sub.name, c->second.name, name));
+    }
+  }
+}
+
+const ComponentProfile* componentOf(const ProfileSet& set, const PackageProfile& pkg,
+                                    const std::string& member) {
+  const Subcomponent* sub = findSubcomponent(pkg.subcomponents, member);
+  if (sub == nullptr) return nullptr;
+  const auto c = set.components.find(sub->reference);
+  return c == set.components.end() ? nullptr : &c->second;
+}
+
+}  // namespace
+
+void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagnostics& diags) {
+  for (std::size_t i = 0; i < subs.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (subs[j].name == subs[i].name) {
+        error(diags, subs[i].where, fmt::format("duplicate subcomponent '{}' (first at line {})",
+                                                subs[i].name, subs[j].where.line));
+        break;
+      }
+    }
+    checkOverrides(set, subs[i], diags);
+  }
+}
+
+void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& diags) {
+  std::map<std::string, const Task*> task_of;  // member -> its task
+  for (std::size_t i = 0; i < pkg.tasks.size(); ++i) {
+    const Task& t = pkg.tasks[i];
+    for (std::size_t j = 0; j < i; ++j) {
+      if (pkg.tasks[j].name == t.name) {
+        error(diags, t.where, fmt::format("duplicate task '{}' (first at line {})", t.name,
+                                          pkg.tasks[j].where.line));
+      }
+    }
+    for (const std::string& m : t.members) {
+      if (findSubcomponent(pkg.subcomponents, m) == nullptr) {
+        error(diags, t.where, fmt::format("task '{}': no subcomponent '{}' (subcomponents: {})",
+                                          t.name, m, subcomponentNames(pkg.subcomponents)));
+        continue;
+      }
+      const auto [it, inserted] = task_of.emplace(m, &t);
+      if (!inserted) {
+        error(diags, t.where,
+              it->second == &t
+                  ? fmt::format("task '{}' lists member '{}' twice", t.name, m)
+                  : fmt::format("task '{}': subcomponent '{}' is already in task '{}' (line {})",
+                                t.name, m, it->second->name, it->second->where.line));
+        continue;
+      }
+      const ComponentProfile* c = componentOf(set, pkg, m);
+      if (c != nullptr && c->execution.type == ExecutionType::Passive) {
+        error(diags, t.where,
+              fmt::format("task '{}': subcomponent '{}' is passive (component '{}') and cannot be "
+                          "a task member",
+                          t.name, m, c->name));
+      }
+    }
+  }
+}
+
+void checkDepends(const PackageProfile& pkg, Diagnostics& diags) {
+  Graph graph;
+  for (const Subcomponent& s : pkg.subcomponents) graph.emplace_back(s.name, std::vector<Edge>{});
+  for (std::size_t i = 0; i < pkg.depends.size(); ++i) {
+    const Depends& d = pkg.depends[i];
+    bool ok = true;
+    for (const std::string* end : {&d.source, &d.target}) {
+      if (findSubcomponent(pkg.subcomponents, *end) != nullptr) continue;
+      ok = false;
+      error(diags, d.where, fmt::format("depends: no subcomponent '{}' (subcomponents: {})", *end,
+                                        subcomponentNames(pkg.subcomponents)));
+    }
+    if (ok && d.source == d.target) {
+      ok = false;
+      error(diags, d.where, fmt::format("depends: subcomponent '{}' cannot depend on itself", d.source));
+    }
+    for (std::size_t j = 0; ok && j < i; ++j) {
+      const Depends& e = pkg.depends[j];
+      if (e.source == d.source && e.target == d.target) {
+        ok = false;
+        error(diags, d.where, fmt::format("duplicate depends '{}' -> '{}' (first at line {})",
+                                          d.source, d.target, e.where.line));
+      }
+    }
+    if (!ok) continue;
+    for (auto& [node, edges] : graph) {
+      if (node == d.source) edges.push_back(Edge{d.target, d.where});
+    }
+  }
+  reportCycles(graph, diags);
+}
+
+}  // namespace keel::profile::detail

@@ -1,0 +1,87 @@
+// Checks of a system profile (paper §5.2, Fig. 7): unique application names, depends_on
+// naming applications, no circular dependency (printed), and <requires> naming components of
+// the application's package. A package that failed to load is not checked again here.
+#include <algorithm>
+
+#include <fmt/format.h>
+
+#include "profile/validate.hpp"
+
+namespace keel::profile::detail {
+namespace {
+
+void error(Diagnostics& diags, const Where& where, std::string message) {
+  diags.push_back(Diagnostic{where, std::move(message)});
+}
+
+const Application* findApplication(const SystemProfile& system, const std::string& name) {
+  for (const Application& a : system.applications) {
+    if (a.name == name) return &a;
+  }
+  return nullptr;
+}
+
+std::string applicationNames(const SystemProfile& system) {
+  std::vector<std::string> names;
+  for (const Application& a : system.applications) names.push_back(a.name);
+  return nameList(names);
+}
+
+/// Checks the depends_on of `app`; returns the edges to keep for the cycle search.
+std::vector<Edge> checkDependsOn(const SystemProfile& system, const Application& app,
+                                 Diagnostics& diags) {
+  std::vector<Edge> edges;
+  for (std::size_t i = 0; i < app.depends_on.size(); ++i) {
+    const std::string& dep = app.depends_on[i];
+    if (dep == app.name) {
+      error(diags, app.where, fmt::format("application '{}' cannot depend on itself", app.name));
+    } else if (findApplication(system, dep) == nullptr) {
+      error(diags, app.where,
+            fmt::format("application '{}': depends_on '{}' is not an application (applications: "
+                        "{})",
+                        app.name, dep, applicationNames(system)));
+    } else if (std::find(app.depends_on.begin(), app.depends_on.begin() + static_cast<long>(i),
+                         dep) != app.depends_on.begin() + static_cast<long>(i)) {
+      error(diags, app.where,
+            fmt::format("application '{}' lists depends_on '{}' twice", app.name, dep));
+    } else {
+      edges.push_back(Edge{dep, app.where});
+    }
+  }
+  return edges;
+}
+
+void checkRequires(const ProfileSet& set, const Application& app, Diagnostics& diags) {
+  const auto pkg = set.packages.find(app.reference);
+  if (pkg == set.packages.end()) return;
+  for (const Requirement& r : app.requires_) {
+    for (const std::string& c : r.components) {
+      if (findSubcomponent(pkg->second.subcomponents, c) != nullptr) continue;
+      error(diags, r.where,
+            fmt::format("application '{}' requires component '{}', which package '{}' does not "
+                        "have (subcomponents: {})",
+                        app.name, c, pkg->second.name, subcomponentNames(pkg->second.subcomponents)));
+    }
+  }
+}
+
+}  // namespace
+
+void checkSystem(const ProfileSet& set, const SystemProfile& system, Diagnostics& diags) {
+  Graph graph;
+  const auto& apps = system.applications;
+  for (std::size_t i = 0; i < apps.size(); ++i) {
+    for (std::size_t j = 0; j < i; ++j) {
+      if (apps[j].name == apps[i].name) {
+        error(diags, apps[i].where, fmt::format("duplicate application '{}' (first at line {})",
+                                                apps[i].name, apps[j].where.line));
+        break;
+      }
+    }
+    graph.emplace_back(apps[i].name, checkDependsOn(system, apps[i], diags));
+    checkRequires(set, apps[i], diags);
+  }
+  reportCycles(graph, diags);
+}
+
+}  // namespace keel::profile::detail

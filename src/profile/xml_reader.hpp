@@ -1,0 +1,114 @@
+// pugixml helpers for the profile parsers: an XML file read with its line table (pugixml gives
+// offsets, we give `file:line`), and `Ctx`, the per-file parse context that collects
+// diagnostics and the references to other profiles found while parsing.
+// Used by the profile parsers and the loader. Thread-safety: an XmlFile and a Ctx belong to one
+// load() call; nothing is shared between calls.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <pugixml.hpp>
+
+#include "profile/loader.hpp"
+#include "profile/model.hpp"
+
+namespace keel::profile::detail {
+
+/// Profiles larger than this are rejected before parsing (a profile is a few kB).
+inline constexpr std::size_t kMaxProfileBytes = 16u << 20;
+
+/// One XML file, parsed, with the byte offset of each line start.
+class XmlFile {
+ public:
+  /// Reads and parses `path`; `display` is the name used in messages. On failure returns
+  /// null and either `open_error` (why the file cannot be read, e.g. "No such file or
+  /// directory") or, for malformed XML, `syntax_error` (file:line: XML syntax error: ...).
+  static std::unique_ptr<XmlFile> read(const std::string& path, std::string display,
+                                       std::string& open_error, Diagnostic& syntax_error);
+
+  pugi::xml_node root() const { return doc_.document_element(); }
+  const pugi::xml_document& document() const { return doc_; }
+  const std::string& display() const { return display_; }
+  int lineOf(std::ptrdiff_t offset) const;
+  Where where(pugi::xml_node node) const;
+
+ private:
+  pugi::xml_document doc_;
+  std::vector<std::size_t> line_starts_;
+  std::string display_;
+};
+
+/// A reference from one profile to another, found while parsing, followed by the loader.
+struct Reference {
+  std::string written;   // as in the file
+  std::string path;      // absolute, normalised
+  std::string display;   // for messages: the referencing file's display directory + written
+  Where where;           // the element that holds the reference
+  std::string who;       // "subcomponent 'sonar'", for messages
+  std::vector<RootKind> accepted;
+  std::optional<RootKind> declared;  // a subcomponent's <type>, when given
+};
+
+/// Parse context of one file.
+class Ctx {
+ public:
+  Ctx(const XmlFile& file, const std::string& abs_path, Diagnostics& diags);
+
+  const XmlFile& file() const { return file_; }
+  Where where(pugi::xml_node node) const { return file_.where(node); }
+  void error(pugi::xml_node at, std::string message);
+  void error(const Where& at, std::string message);
+  std::size_t errorCount() const { return diags_.size(); }
+
+  /// Resolves `written` against this file's directory and records the reference.
+  /// Returns the absolute path, or an empty string (after reporting) if `written` is empty.
+  std::string reference(pugi::xml_node at, std::string_view written, std::string who,
+                        std::vector<RootKind> accepted,
+                        std::optional<RootKind> declared = std::nullopt);
+  std::vector<Reference>& references() { return refs_; }
+
+ private:
+  const XmlFile& file_;
+  std::filesystem::path abs_dir_;
+  std::filesystem::path display_dir_;
+  Diagnostics& diags_;
+  std::vector<Reference> refs_;
+};
+
+/// How one child element of a container is read.
+struct Child {
+  std::string_view name;
+  std::function<void(pugi::xml_node)> read;  // empty: accepted and ignored (OPRoS extras)
+  bool repeat = false;                       // may appear more than once
+};
+
+/// Reads the children of `parent` by `children`: unknown elements, repeated singletons, stray
+/// text and attributes of `parent` not in `attributes` are reported.
+void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> children,
+                  std::initializer_list<std::string_view> attributes = {});
+
+/// Reports every attribute of `node` not in `allowed` (namespace declarations and prefixed
+/// attributes such as xsi:schemaLocation are always allowed).
+void checkAttributes(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::string_view> allowed);
+
+/// The text content of a leaf element, trimmed. Child elements and attributes are reported.
+std::string leafText(Ctx& ctx, pugi::xml_node node,
+                     std::initializer_list<std::string_view> allowed_attributes = {});
+
+/// The attribute's value, or nullopt if absent.
+std::optional<std::string> attribute(pugi::xml_node node, const char* name);
+
+/// The attribute's value; reports "missing attribute 'x' of <element>" if absent.
+std::optional<std::string> requiredAttribute(Ctx& ctx, pugi::xml_node node, const char* name);
+
+/// "<name>" of an element, for messages.
+std::string tag(pugi::xml_node node);
+
+}  // namespace keel::profile::detail

@@ -1,0 +1,79 @@
+// The runtime's side of a component instance: its name, state, ports, properties, critical
+// memory, the executor that runs it and the hooks that report what happens to it. Allocated by
+// Component's constructor (so ports can register while the derived class is built) and owned
+// by the Component. Only src/runtime and src/fault include this header.
+// Thread-safety: `state` and the counters are atomic; everything else is set before start.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "keel/component.hpp"
+#include "keel/fault_event.hpp"
+
+namespace keel::runtime {
+class Executor;
+
+/// What the runtime is told about a component. Implemented by the engine.
+class RuntimeHooks {
+ public:
+  virtual ~RuntimeHooks() = default;
+  virtual void stateChanged(Component& c, State from, State to) = 0;
+  /// A fault was detected in `c` (or raised by it). Called on the thread that noticed it.
+  virtual void faultDetected(Component& c, const FaultEvent& fault) = 0;
+};
+
+struct CriticalRegion {
+  void* addr;
+  std::size_t len;
+};
+}  // namespace keel::runtime
+
+namespace keel::detail {
+
+class ComponentCore {
+ public:
+  std::string instance_name;
+  std::string class_name;
+  std::atomic<State> state{State::Created};
+  std::atomic<bool> emergency{false};
+  std::vector<PortBase*> ports;
+  std::map<std::string, PropertyValue, std::less<>> properties;
+  std::vector<runtime::CriticalRegion> critical;
+  runtime::Executor* executor = nullptr;      // null: passive
+  runtime::RuntimeHooks* hooks = nullptr;     // null: not yet managed by a runtime
+  std::recursive_timed_mutex passive_mutex;   // serialises callbacks of passive components
+  std::atomic<bool> event_pending{false};     // an input event port has something queued
+  std::atomic<bool> input_pending{false};     // an input data port received a value
+
+  // counters, read by the engine's summary and the watchdog
+  std::atomic<std::uint64_t> executions{0};
+  std::atomic<std::uint64_t> faults{0};
+  std::atomic<std::uint64_t> deadline_overruns{0};
+
+  PortBase* findPort(std::string_view name) const {
+    for (PortBase* p : ports)
+      if (p->name() == name) return p;
+    return nullptr;
+  }
+};
+
+/// The runtime's way in to a Component's private core.
+struct ComponentAccess {
+  static ComponentCore& core(Component& c) { return *c.core_; }
+  static const ComponentCore& core(const Component& c) { return *c.core_; }
+};
+
+}  // namespace keel::detail
+
+namespace keel::runtime {
+inline detail::ComponentCore& coreOf(Component& c) { return detail::ComponentAccess::core(c); }
+inline const detail::ComponentCore& coreOf(const Component& c) {
+  return detail::ComponentAccess::core(c);
+}
+}  // namespace keel::runtime

@@ -1,0 +1,152 @@
+#include "runtime/engine.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+#include "runtime/guard.hpp"
+#include "runtime/invoke.hpp"
+
+namespace keel::runtime {
+
+Engine::Engine(EngineOptions options)
+    : options_(std::move(options)), loader_(options_.search_path) {}
+
+Engine::~Engine() { shutdown(); }
+
+Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOptions options) {
+  std::unique_ptr<Engine> engine(new Engine(std::move(options)));
+  engine->set_ = std::move(set);
+  auto plan = makePlan(engine->set_);
+  if (!plan) return plan.error();
+  engine->plan_ = std::move(*plan);
+  if (!engine->options_.log_path.empty()) {
+    if (auto r = engine->log_.open(engine->options_.log_path); !r) return r.error();
+  }
+  engine->log_.write({{"event", "engine"}, {"phase", "load"}, {"profile", engine->set_.root},
+                      {"instances", engine->plan_.instances.size()}});
+  if (auto r = engine->instantiate(); !r) return r.error();
+  return engine;
+}
+
+Component* Engine::find(std::string_view instance) const {
+  for (const auto& i : instances_)
+    if (i.plan->name == instance) return i.component.get();
+  return nullptr;
+}
+
+void Engine::warn(const std::string& message) {
+  log_.write({{"event", "warning"}, {"message", message}});
+  if (options_.warn) options_.warn(message);
+  else std::cerr << "keel: warning: " << message << '\n';
+}
+
+void Engine::buildExecutors() {
+  for (const auto& pe : plan_.executors) {
+    ExecutorConfig cfg;
+    cfg.name = pe.name;
+    cfg.kind = pe.periodic ? ExecutorKind::Periodic : ExecutorKind::Aperiodic;
+    cfg.period = std::chrono::nanoseconds(static_cast<std::int64_t>(pe.period_ms * 1e6));
+    cfg.priority = pe.priority;
+    cfg.policy = pe.policy == profile::SchedPolicy::Fifo         ? Policy::Fifo
+                 : pe.policy == profile::SchedPolicy::RoundRobin ? Policy::RoundRobin
+                                                                 : Policy::Other;
+    auto ex = std::make_unique<Executor>(cfg, [this](const std::string& m) { warn(m); });
+    for (const auto& m : pe.members) {
+      for (auto& inst : instances_) {
+        if (inst.plan->name != m) continue;
+        ex->add(*inst.component);
+        inst.executor = ex.get();
+      }
+    }
+    executors_.push_back(std::move(ex));
+  }
+}
+
+Result<void> Engine::start() {
+  installSignalHandlers();
+  for (auto& inst : instances_) {
+    if (transition(*inst.component, Transition::Initialize)) continue;
+    const auto& w = inst.plan->where;
+    return fail(fmt::format("{}:{}: component '{}' failed to initialize (see the log for the fault)",
+                            w.file, w.line, inst.plan->name));
+  }
+  if (auto r = connect(); !r) return r;
+  buildExecutors();
+  for (auto& inst : instances_) {
+    if (inst.executor) continue;  // passive: started here, under its lock
+    std::lock_guard lock(coreOf(*inst.component).passive_mutex);
+    transition(*inst.component, Transition::Start);
+  }
+  for (auto& ex : executors_) ex->start();
+  started_ = true;
+  log_.write({{"event", "engine"}, {"phase", "started"}, {"executors", executors_.size()}});
+  return {};
+}
+
+void Engine::shutdown() {
+  if (shut_down_) return;
+  shut_down_ = true;
+  for (auto& ex : executors_) ex->requestStop();
+  std::vector<const Executor*> abandoned;
+  for (auto& ex : executors_) {
+    if (ex->join(options_.stop_timeout)) continue;
+    abandoned.push_back(ex.get());
+    warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components",
+                     ex->config().name, options_.stop_timeout.count()));
+  }
+  auto isAbandoned = [&abandoned](const Instance& i) {
+    return std::find(abandoned.begin(), abandoned.end(), i.executor) != abandoned.end();
+  };
+  for (auto& inst : instances_) {
+    if (inst.executor) continue;
+    std::lock_guard lock(coreOf(*inst.component).passive_mutex);
+    transition(*inst.component, Transition::Stop);
+  }
+  for (auto it = instances_.rbegin(); it != instances_.rend(); ++it)
+    if (!isAbandoned(*it)) transition(*it->component, Transition::Destroy);
+  if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
+  // A hung thread still uses its components: they are left allocated (the process is ending).
+  for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
+    if (isAbandoned(*it)) (void)it->component.release();
+    else it->component.reset();
+  }
+  for (auto& ex : executors_)
+    if (std::find(abandoned.begin(), abandoned.end(), ex.get()) != abandoned.end()) (void)ex.release();
+}
+
+void Engine::stateChanged(Component& c, State from, State to) {
+  log_.write({{"event", "state"},
+              {"component", c.instanceName()},
+              {"from", toString(from)},
+              {"to", toString(to)}});
+}
+
+void Engine::faultDetected(Component& c, const FaultEvent& fault) {
+  std::uint64_t id = next_fault_id_.fetch_add(1, std::memory_order_relaxed);
+  std::string who = fault.component[0] ? std::string(fault.componentName()) : c.instanceName();
+  std::string kind(toString(fault.kind));
+  log_.write({{"event", "detected"},
+              {"fault_id", id},
+              {"component", who},
+              {"kind", kind},
+              {"detail", fault.detailText()},
+              {"state", toString(c.state())}});
+  std::lock_guard lock(counts_mutex_);
+  for (auto& fc : counts_) {
+    if (fc.component == who && fc.kind == kind) {
+      ++fc.count;
+      return;
+    }
+  }
+  counts_.push_back({who, kind, std::string(fault.detailText()), 1});
+}
+
+std::vector<FaultCount> Engine::faultCounts() const {
+  std::lock_guard lock(counts_mutex_);
+  return counts_;
+}
+
+}  // namespace keel::runtime

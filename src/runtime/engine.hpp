@@ -1,0 +1,97 @@
+// The engine carries a plan out (ARCHITECTURE.md "How data flows", step 3): load libraries and
+// create instances, check their ports against the profiles, initialize, connect, start the
+// executors; at the end stop and destroy everything in reverse order. It is also the runtime's
+// RuntimeHooks: state changes and faults reach the fault log from here.
+// Thread-safety: build/start/stop from one thread; hooks are called from executor threads.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "fault/fault_log.hpp"
+#include "keel/component.hpp"
+#include "keel/result.hpp"
+#include "profile/loader.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/executor.hpp"
+#include "runtime/loader.hpp"
+#include "runtime/plan.hpp"
+
+namespace keel::runtime {
+
+struct EngineOptions {
+  std::string log_path;  // empty: no log file
+  std::vector<std::string> search_path = Loader::defaultSearchPath();
+  /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
+  std::function<void(const std::string&)> warn;
+  std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
+};
+
+/// One running instance and what the plan says of it.
+struct Instance {
+  const PlannedInstance* plan = nullptr;
+  std::unique_ptr<Component> component;
+  Executor* executor = nullptr;  // null: passive
+};
+
+struct FaultCount {
+  std::string component;
+  std::string kind;
+  std::string detail;  // the first one
+  std::uint64_t count = 0;
+};
+
+class Engine final : public RuntimeHooks {
+ public:
+  /// Plans, loads and instantiates; checks every port of code against its profile.
+  static Result<std::unique_ptr<Engine>> create(profile::ProfileSet set, EngineOptions options);
+  ~Engine() override;
+
+  /// initialize → connect → start executors. On failure, what failed and why.
+  Result<void> start();
+  /// Stops executors (members get onStop), then destroys instances in reverse order.
+  /// Idempotent; called by the destructor if not before.
+  void shutdown();
+
+  Component* find(std::string_view instance) const;
+  const Plan& plan() const { return plan_; }
+  const std::vector<Instance>& instances() const { return instances_; }
+  const std::vector<std::unique_ptr<Executor>>& executors() const { return executors_; }
+  fault::FaultLog& log() { return log_; }
+  std::vector<FaultCount> faultCounts() const;
+
+  // RuntimeHooks
+  void stateChanged(Component& c, State from, State to) override;
+  void faultDetected(Component& c, const FaultEvent& fault) override;
+
+ private:
+  explicit Engine(EngineOptions options);
+  Result<void> instantiate();
+  Result<void> checkPorts(const Instance& inst) const;
+  Result<void> connect();
+  void buildExecutors();
+  void warn(const std::string& message);
+
+  EngineOptions options_;
+  profile::ProfileSet set_;  // owned: the plan points into it
+  Plan plan_;
+  Loader loader_;
+  fault::FaultLog log_;
+  std::vector<Instance> instances_;
+  std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
+  std::vector<std::unique_ptr<Executor>> executors_;
+  std::atomic<std::uint64_t> next_fault_id_{1};
+  mutable std::mutex counts_mutex_;
+  std::vector<FaultCount> counts_;
+  bool started_ = false;
+  bool shut_down_ = false;
+};
+
+}  // namespace keel::runtime

@@ -1,0 +1,164 @@
+// Engine: creating instances from the plan, checking their ports against their profiles, and
+// connecting them. Every mismatch is an error naming the profile's file:line.
+#include <fmt/format.h>
+
+#include <filesystem>
+
+#include "runtime/engine.hpp"
+#include "runtime/registry.hpp"
+
+namespace keel::runtime {
+namespace {
+
+using detail::PortDirection;
+using detail::PortKind;
+
+std::string at(const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); }
+
+struct ExpectedPort {
+  std::string name;
+  PortKind kind;
+  PortDirection direction;
+  std::string type;  // empty: not checked (service ports are checked by signature at connect)
+  profile::Where where;
+};
+
+std::vector<ExpectedPort> expectedPorts(const profile::ComponentProfile& p) {
+  std::vector<ExpectedPort> out;
+  auto dir = [](profile::Usage u) { return u == profile::Usage::Input ? PortDirection::Input : PortDirection::Output; };
+  for (const auto& d : p.data_ports) out.push_back({d.name, PortKind::Data, dir(d.usage), d.data_type, d.where});
+  for (const auto& e : p.event_ports) out.push_back({e.name, PortKind::Event, dir(e.usage), e.data_type, e.where});
+  for (const auto& s : p.service_ports)
+    out.push_back({s.name, PortKind::Service,
+                   s.usage == profile::ServiceUsage::Provided ? PortDirection::Input : PortDirection::Output,
+                   "", s.where});
+  return out;
+}
+
+std::string describe(PortKind k, PortDirection d) {
+  if (k == PortKind::Service) return d == PortDirection::Input ? "provided service port" : "required service port";
+  return fmt::format("{} {} port", d == PortDirection::Input ? "input" : "output", toString(k));
+}
+
+}  // namespace
+
+Result<void> Engine::instantiate() {
+  std::string errors;
+  for (const auto& pi : plan_.instances) {
+    const profile::ComponentProfile& cp = *pi.profile;
+    std::string dir = std::filesystem::path(cp.file).parent_path().string();
+    Result<std::string> lib = loader_.resolve(cp.library_name, dir);
+    std::string library = lib ? *lib : std::string();
+    if (!lib && !Registry::instance().find(cp.name, "")) {
+      errors += fmt::format("{}: component '{}' ({}): {}\n", at(cp.where), pi.name, cp.name, lib.error().message);
+      continue;
+    }
+    auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
+      return Registry::instance().find(cp.name, "")->factory();
+    }() : loader_.create(cp.name, library);
+    if (!created) {
+      errors += fmt::format("{}: component '{}': {}\n", at(cp.where), pi.name, created.error().message);
+      continue;
+    }
+    Instance inst{&pi, std::move(*created), nullptr};
+    detail::ComponentCore& core = coreOf(*inst.component);
+    core.instance_name = pi.name;
+    core.class_name = cp.name;
+    core.hooks = this;
+    for (const auto& [k, v] : pi.properties) core.properties[k] = v;
+    if (auto r = checkPorts(inst); !r) {
+      errors += r.error().message;
+      continue;
+    }
+    for (const auto& d : cp.data_ports) {
+      if (d.usage != profile::Usage::Input) continue;
+      auto* port = static_cast<detail::InputPortBase*>(core.findPort(d.name));
+      port->configureQueue(static_cast<detail::QueuePolicy>(d.queue_policy), d.queue_size);
+    }
+    for (const auto& e : cp.event_ports) {
+      if (e.usage != profile::Usage::Input) continue;
+      auto* port = static_cast<detail::InputPortBase*>(core.findPort(e.name));
+      port->configureQueue(detail::QueuePolicy::Fifo, e.queue_size);
+    }
+    for (const auto& s : cp.service_ports) {
+      if (s.usage != profile::ServiceUsage::Required) continue;
+      auto* port = static_cast<ServicePortBase*>(core.findPort(s.name));
+      port->setTimeout(std::chrono::nanoseconds(static_cast<std::int64_t>(s.timeout_ms * 1e6)));
+    }
+    instances_.push_back(std::move(inst));
+  }
+  if (!errors.empty()) {
+    errors.pop_back();
+    return fail(errors);
+  }
+  return {};
+}
+
+Result<void> Engine::checkPorts(const Instance& inst) const {
+  const profile::ComponentProfile& cp = *inst.plan->profile;
+  const detail::ComponentCore& core = coreOf(*inst.component);
+  std::string errors;
+  auto expected = expectedPorts(cp);
+  for (const auto& e : expected) {
+    detail::PortBase* p = core.findPort(e.name);
+    if (!p) {
+      errors += fmt::format("{}: component '{}': the profile declares {} '{}' but class '{}' has no such port\n",
+                            at(e.where), inst.plan->name, describe(e.kind, e.direction), e.name, cp.name);
+    } else if (p->kind() != e.kind || p->direction() != e.direction) {
+      errors += fmt::format("{}: component '{}': port '{}' is an {} in the profile but an {} in class '{}'\n",
+                            at(e.where), inst.plan->name, e.name, describe(e.kind, e.direction),
+                            describe(p->kind(), p->direction()), cp.name);
+    } else if (!e.type.empty() && canonicalTypeName(e.type) != canonicalTypeName(p->typeName())) {
+      errors += fmt::format("{}: component '{}': port '{}' carries '{}' in the profile but '{}' in class '{}'\n",
+                            at(e.where), inst.plan->name, e.name, e.type, p->typeName(), cp.name);
+    }
+  }
+  for (const detail::PortBase* p : core.ports) {
+    bool declared = false;
+    for (const auto& e : expected) declared |= e.name == p->name();
+    if (!declared)
+      errors += fmt::format("{}: component '{}': class '{}' has {} '{}' ({}) that the profile does not declare\n",
+                            at(cp.where), inst.plan->name, cp.name, describe(p->kind(), p->direction()),
+                            p->name(), p->typeName());
+  }
+  if (!errors.empty()) return fail(errors);
+  return {};
+}
+
+Result<void> Engine::connect() {
+  auto port = [this](const profile::Endpoint& e) -> detail::PortBase* {
+    Component* c = find(e.component);
+    return c ? coreOf(*c).findPort(e.port) : nullptr;
+  };
+  std::string errors;
+  for (const auto& pc : plan_.connections) {
+    detail::PortBase* src = port(pc.source);
+    detail::PortBase* dst = port(pc.target);
+    if (!src || !dst) {
+      errors += fmt::format("{}: port_connection {}.{} -> {}.{}: no such port\n", at(pc.where),
+                            pc.source.component, pc.source.port, pc.target.component, pc.target.port);
+      continue;
+    }
+    bool ok = false;
+    if (src->kind() == PortKind::Service) {
+      ok = static_cast<ServicePortBase*>(src)->bind(*static_cast<ServicePortBase*>(dst));
+    } else if (src->kind() == dst->kind() && dst->direction() == PortDirection::Input &&
+               src->direction() == PortDirection::Output) {
+      auto conn = static_cast<detail::InputPortBase*>(dst)->makeConnection();
+      ok = static_cast<detail::OutputPortBase*>(src)->attach(*conn);
+      if (ok) connections_.push_back(std::move(conn));
+    }
+    if (!ok)
+      errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n",
+                            at(pc.where), pc.source.component, pc.source.port, toString(src->kind()),
+                            src->typeName(), pc.target.component, pc.target.port, toString(dst->kind()),
+                            dst->typeName());
+  }
+  if (!errors.empty()) {
+    errors.pop_back();
+    return fail(errors);
+  }
+  return {};
+}
+
+}  // namespace keel::runtime

@@ -1,0 +1,157 @@
+#include "runtime/executor.hpp"
+
+#include <fmt/format.h>
+#include <pthread.h>
+#include <sched.h>
+#include <sys/prctl.h>
+
+#include <cstring>
+
+#include "runtime/component_core.hpp"
+#include "runtime/guard.hpp"
+#include "runtime/invoke.hpp"
+
+namespace keel::runtime {
+
+namespace {
+std::int64_t nowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+}  // namespace
+
+Executor::Executor(ExecutorConfig config, Warn warn)
+    : config_(std::move(config)), warn_(std::move(warn)) {}
+
+Executor::~Executor() {
+  if (thread_.joinable()) {
+    requestStop();
+    if (exited_.load()) thread_.join();
+    else thread_.detach();  // a hung thread cannot be joined; the process is ending
+  }
+}
+
+void Executor::add(Component& c) {
+  members_.push_back(&c);
+  coreOf(c).executor = this;
+}
+
+void Executor::start() {
+  thread_ = std::thread([this] { threadMain(); });
+  while (!started_.load(std::memory_order_acquire) && !exited_.load()) std::this_thread::yield();
+}
+
+void Executor::requestStop() {
+  stop_.store(true, std::memory_order_release);
+  signal_.notify();
+}
+
+bool Executor::join(std::chrono::nanoseconds timeout) {
+  if (!thread_.joinable()) return true;
+  auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (!exited_.load(std::memory_order_acquire)) {
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  thread_.join();
+  return true;
+}
+
+void Executor::post(std::function<void()> job) {
+  {
+    std::lock_guard lock(mail_mutex_);
+    mail_.push_back(std::move(job));
+  }
+  has_mail_.store(true, std::memory_order_release);
+  signal_.notify();
+}
+
+void Executor::runMail() {
+  if (!has_mail_.exchange(false, std::memory_order_acq_rel)) return;
+  std::vector<std::function<void()>> jobs;
+  {
+    std::lock_guard lock(mail_mutex_);
+    jobs.swap(mail_);
+  }
+  for (auto& job : jobs) job();
+}
+
+void Executor::setUpThread() {
+  thread_id_.store(std::this_thread::get_id());
+  pthread_setname_np(pthread_self(), config_.name.substr(0, 15).c_str());
+  prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);  // 1 ns slack: sub-millisecond periods stay precise
+  installAltStack();
+  if (config_.policy == Policy::Other && config_.priority == 0) return;
+  sched_param sp{};
+  int policy = config_.policy == Policy::Fifo         ? SCHED_FIFO
+               : config_.policy == Policy::RoundRobin ? SCHED_RR
+                                                      : SCHED_OTHER;
+  sp.sched_priority = policy == SCHED_OTHER ? 0 : config_.priority;
+  if (int err = pthread_setschedparam(pthread_self(), policy, &sp); err != 0 && warn_) {
+    warn_(fmt::format("executor '{}': cannot set scheduling policy {} priority {}: {} "
+                      "(running with the default policy; needs CAP_SYS_NICE or an rtprio limit)",
+                      config_.name, policy == SCHED_FIFO ? "fifo" : policy == SCHED_RR ? "rr" : "other",
+                      config_.priority, std::strerror(err)));
+  }
+}
+
+void Executor::threadMain() {
+  setUpThread();
+  for (Component* c : members_) transition(*c, Transition::Start);
+  started_.store(true, std::memory_order_release);
+  if (config_.kind == ExecutorKind::Periodic) runPeriodic();
+  else runAperiodic();
+  serviceBetweenCycles();
+  for (auto it = members_.rbegin(); it != members_.rend(); ++it) transition(**it, Transition::Stop);
+  runMail();  // answer calls that arrived meanwhile (they fail fast: provider not active)
+  exited_.store(true, std::memory_order_release);
+}
+
+void Executor::serviceBetweenCycles() {
+  runMail();
+  for (Component* c : members_) dispatchEvents(*c);
+}
+
+void Executor::cycle() {
+  for (Component* c : members_) {
+    if (c->state() != State::Active) continue;
+    coreOf(*c).input_pending.store(false, std::memory_order_relaxed);
+    if (invoke(*c, Callback::Execute)) coreOf(*c).executions.fetch_add(1, std::memory_order_relaxed);
+  }
+  for (Component* c : members_)
+    if (c->state() == State::Active) invoke(*c, Callback::Updated);
+  cycles_.fetch_add(1, std::memory_order_relaxed);
+  last_cycle_ns_.store(nowNs(), std::memory_order_relaxed);
+}
+
+void Executor::runPeriodic() {
+  using Clock = std::chrono::steady_clock;
+  const auto period = config_.period;
+  auto next = Clock::now();
+  while (!stop_.load(std::memory_order_acquire)) {
+    cycle();
+    next += period;
+    auto now = Clock::now();
+    if (now > next) {  // overran: count it and skip the releases already missed
+      overruns_.fetch_add(1, std::memory_order_relaxed);
+      auto missed = (now - next) / period + 1;
+      next += missed * period;
+    }
+    while (!stop_.load(std::memory_order_acquire) && signal_.waitUntil(next)) serviceBetweenCycles();
+    serviceBetweenCycles();
+  }
+}
+
+void Executor::runAperiodic() {
+  last_cycle_ns_.store(nowNs(), std::memory_order_relaxed);
+  while (!stop_.load(std::memory_order_acquire)) {
+    signal_.wait();
+    serviceBetweenCycles();
+    bool input = false;
+    for (Component* c : members_) input |= coreOf(*c).input_pending.load(std::memory_order_acquire);
+    if (input && !stop_.load(std::memory_order_acquire)) cycle();
+  }
+}
+
+}  // namespace keel::runtime

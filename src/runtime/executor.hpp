@@ -1,0 +1,103 @@
+// Executors decide *when* components run (Orocos's activity; OPRoS's executor). The only place
+// keel makes threads for components:
+//  - Periodic: one thread; every period (absolute-time sleeps, sub-millisecond allowed) runs
+//    onExecute of each member in declared order, then onUpdated of each. One member is a
+//    component with its own executor; several are the paper's task.
+//  - Aperiodic: one thread that blocks until an input data port of a member receives a value,
+//    then runs onExecute/onUpdated; never spins.
+// Events are delivered to onEvent on this thread as they arrive; lifecycle transitions of the
+// members (start at thread start, stop at thread end) and service calls run here too, so one
+// component's callbacks never overlap. Overruns of the period are counted.
+// Thread-safety: start/requestStop/join from the engine; wake/post from any thread.
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "keel/component.hpp"
+#include "runtime/wake_signal.hpp"
+
+namespace keel::runtime {
+
+enum class ExecutorKind { Periodic, Aperiodic };
+enum class Policy { Other, Fifo, RoundRobin };
+
+struct ExecutorConfig {
+  std::string name;
+  ExecutorKind kind = ExecutorKind::Periodic;
+  std::chrono::nanoseconds period{std::chrono::milliseconds(100)};
+  int priority = 0;  // 0: leave as is
+  Policy policy = Policy::Other;
+};
+
+struct ExecutorStats {
+  std::uint64_t cycles = 0;
+  std::uint64_t overruns = 0;  // cycles that ended after the next release time
+};
+
+class Executor {
+ public:
+  using Warn = std::function<void(const std::string&)>;
+
+  explicit Executor(ExecutorConfig config, Warn warn = {});
+  ~Executor();
+  Executor(const Executor&) = delete;
+  Executor& operator=(const Executor&) = delete;
+
+  /// Adds a member (before start); it runs in the order added.
+  void add(Component& c);
+  const std::vector<Component*>& members() const { return members_; }
+  const ExecutorConfig& config() const { return config_; }
+
+  /// Starts the thread; it starts its members (onStart) and returns once they have.
+  void start();
+  /// Asks the thread to finish its cycle, stop its members (onStop) and exit.
+  void requestStop();
+  /// Waits for the thread to exit; false if it did not within `timeout` (it is then left).
+  bool join(std::chrono::nanoseconds timeout);
+
+  /// Wakes the thread (input arrived, an event, mail).
+  void wake() { signal_.notify(); }
+  /// Runs `job` on this executor's thread, between callbacks.
+  void post(std::function<void()> job);
+  bool onThisThread() const { return std::this_thread::get_id() == thread_id_.load(); }
+
+  ExecutorStats stats() const {
+    return {cycles_.load(std::memory_order_relaxed), overruns_.load(std::memory_order_relaxed)};
+  }
+  /// steady-clock ns of the last completed cycle (the watchdog's heartbeat).
+  std::int64_t lastCycleNs() const { return last_cycle_ns_.load(std::memory_order_relaxed); }
+
+ private:
+  void threadMain();
+  void setUpThread();
+  void runPeriodic();
+  void runAperiodic();
+  void cycle();
+  void serviceBetweenCycles();  // mail and events
+  void runMail();
+
+  ExecutorConfig config_;
+  Warn warn_;
+  std::vector<Component*> members_;
+  std::thread thread_;
+  std::atomic<std::thread::id> thread_id_{};
+  WakeSignal signal_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> started_{false};
+  std::atomic<bool> exited_{false};
+  std::mutex mail_mutex_;
+  std::vector<std::function<void()>> mail_;
+  std::atomic<bool> has_mail_{false};
+  std::atomic<std::uint64_t> cycles_{0};
+  std::atomic<std::uint64_t> overruns_{0};
+  std::atomic<std::int64_t> last_cycle_ns_{0};
+};
+
+}  // namespace keel::runtime

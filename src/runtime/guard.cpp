@@ -1,0 +1,127 @@
+#include "runtime/guard.hpp"
+
+#include <fmt/format.h>
+#include <signal.h>
+#include <sys/mman.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <mutex>
+
+namespace keel::runtime {
+namespace {
+
+constexpr int kCaught[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
+
+// initial-exec: libkeel is linked at start-up, and this is read inside a signal handler, where
+// a lazily allocated TLS block would not be safe.
+thread_local guard_detail::GuardFrame* t_frame __attribute__((tls_model("initial-exec"))) = nullptr;
+
+void onSignal(int signo, siginfo_t* info, void*) {
+  guard_detail::GuardFrame* frame = t_frame;
+  if (frame == nullptr) {
+    // Not inside a guarded callback: a framework bug or a foreign thread. Do not swallow it.
+    struct sigaction dfl {};
+    dfl.sa_handler = SIG_DFL;
+    sigemptyset(&dfl.sa_mask);
+    sigaction(signo, &dfl, nullptr);
+    raise(signo);
+    return;
+  }
+  frame->signo = signo;
+  frame->addr = info ? info->si_addr : nullptr;
+  siglongjmp(frame->env, 1);
+}
+
+const char* signalName(int signo) {
+  switch (signo) {
+    case SIGSEGV: return "SIGSEGV";
+    case SIGBUS: return "SIGBUS";
+    case SIGFPE: return "SIGFPE";
+    case SIGILL: return "SIGILL";
+    case SIGABRT: return "SIGABRT";
+    default: return "signal";
+  }
+}
+
+}  // namespace
+
+guard_detail::GuardFrame*& guard_detail::currentFrame() noexcept { return t_frame; }
+
+void guard_detail::recordException(GuardOutcome& out, const std::exception* e) noexcept {
+  out.kind = GuardOutcome::Kind::Exception;
+  const char* what = e ? e->what() : "unknown exception (not derived from std::exception)";
+  std::strncpy(out.what.data(), what, out.what.size() - 1);
+  out.what.back() = '\0';
+}
+
+FaultKind GuardOutcome::faultKind() const {
+  switch (kind) {
+    case Kind::Signal: return FaultKind::Signal;
+    case Kind::Exception: return FaultKind::Exception;
+    default: return FaultKind::ErrorCode;
+  }
+}
+
+void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
+  fault.kind = faultKind();
+  auto& d = fault.detail;
+  fmt::format_to_n_result<char*> r{};
+  switch (kind) {
+    case Kind::Signal:
+      r = fmt::format_to_n(d.data(), d.size() - 1, "{} in {} (address {})", signalName(signo),
+                           callback, addr);
+      break;
+    case Kind::Exception:
+      r = fmt::format_to_n(d.data(), d.size() - 1, "exception in {}: {}", callback, what.data());
+      break;
+    case Kind::ErrorCode:
+      r = fmt::format_to_n(d.data(), d.size() - 1, "{} returned {} ({})", callback,
+                           static_cast<int>(rc), toString(rc));
+      break;
+    case Kind::Ok:
+      r = fmt::format_to_n(d.data(), d.size() - 1, "{} ok", callback);
+      break;
+  }
+  *r.out = '\0';
+}
+
+void installSignalHandlers() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    struct sigaction sa {};
+    sa.sa_sigaction = onSignal;
+    sigemptyset(&sa.sa_mask);
+    // NODEFER: the signal stays unblocked after we jump out of the handler, so no mask has to
+    // be saved or restored on the fast path. ONSTACK: survive a stack overflow.
+    sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
+    for (int s : kCaught) sigaction(s, &sa, nullptr);
+  });
+}
+
+void installAltStack() {
+  thread_local struct AltStack {
+    void* mem = nullptr;
+    std::size_t size = 0;
+    ~AltStack() {
+      if (!mem) return;
+      stack_t off{};
+      off.ss_flags = SS_DISABLE;
+      sigaltstack(&off, nullptr);
+      munmap(mem, size);
+    }
+  } alt;
+  if (alt.mem) return;
+  alt.size = 64 * 1024;
+  alt.mem = mmap(nullptr, alt.size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+  if (alt.mem == MAP_FAILED) {
+    alt.mem = nullptr;
+    return;
+  }
+  stack_t ss{};
+  ss.ss_sp = alt.mem;
+  ss.ss_size = alt.size;
+  sigaltstack(&ss, nullptr);
+}
+
+}  // namespace keel::runtime

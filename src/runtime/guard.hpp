@@ -1,0 +1,81 @@
+// Guarded invocation: runs one component callback so that whatever goes wrong inside becomes a
+// value instead of taking the process down (paper §5.1.1). C++ exceptions are caught; a non-Ok
+// return code is reported; SIGSEGV, SIGBUS, SIGFPE, SIGILL and SIGABRT raised on this thread
+// inside the callback jump back here (sigsetjmp/siglongjmp, the handler on the thread's
+// sigaltstack). A signal outside any guarded call gets its default action (re-raised).
+// What this cannot promise (docs/faults.md): memory or locks the callback held when it
+// faulted are not released; a fault inside malloc or another lock-holding library call may
+// leave that library unusable. Process isolation is the safe tier for such components.
+// Thread-safety: each thread has its own guard frames.
+#pragma once
+
+#include <setjmp.h>
+
+#include <array>
+#include <cstdint>
+#include <exception>
+
+#include "keel/fault_event.hpp"
+#include "keel/return_code.hpp"
+
+namespace keel::runtime {
+
+struct GuardOutcome {
+  enum class Kind : std::uint8_t { Ok, ErrorCode, Exception, Signal };
+  Kind kind = Kind::Ok;
+  ReturnCode rc = ReturnCode::Ok;
+  int signo = 0;
+  const void* addr = nullptr;        // faulting address for SIGSEGV/SIGBUS
+  std::array<char, 120> what{};      // exception message (truncated)
+
+  bool ok() const { return kind == Kind::Ok; }
+  FaultKind faultKind() const;
+  /// Fills `fault` (kind and detail) from this outcome; `callback` names where it happened.
+  void describe(FaultEvent& fault, const char* callback) const;
+};
+
+namespace guard_detail {
+struct GuardFrame {
+  sigjmp_buf env;
+  volatile int signo = 0;
+  const void* volatile addr = nullptr;
+  GuardFrame* prev = nullptr;
+};
+GuardFrame*& currentFrame() noexcept;  // this thread's innermost frame
+void recordException(GuardOutcome& out, const std::exception* e) noexcept;
+}  // namespace guard_detail
+
+/// Installs the process-wide handlers (idempotent). The engine calls it before any callback.
+void installSignalHandlers();
+
+/// Gives the calling thread an alternate signal stack, so that a stack overflow inside a
+/// callback can still be caught. Executors call it when their thread starts.
+void installAltStack();
+
+/// Runs `f` (returning ReturnCode) under the guard.
+template <class F>
+[[gnu::noinline]] GuardOutcome guarded(F&& f) noexcept {
+  GuardOutcome out;
+  guard_detail::GuardFrame frame;
+  guard_detail::GuardFrame*& top = guard_detail::currentFrame();
+  frame.prev = top;
+  top = &frame;
+  if (sigsetjmp(frame.env, 0) == 0) {  // 0: do not save the mask (no syscall on this path)
+    try {
+      out.rc = f();
+      if (out.rc != ReturnCode::Ok) out.kind = GuardOutcome::Kind::ErrorCode;
+    } catch (const std::exception& e) {
+      guard_detail::recordException(out, &e);
+    } catch (...) {
+      guard_detail::recordException(out, nullptr);
+    }
+  } else {
+    out.kind = GuardOutcome::Kind::Signal;
+    out.signo = frame.signo;
+    out.addr = frame.addr;
+  }
+  guard_detail::currentFrame() = frame.prev;
+  return out;
+}
+
+}  // namespace keel::runtime

@@ -1,0 +1,116 @@
+#include "runtime/invoke.hpp"
+
+#include <mutex>
+
+#include "runtime/component_core.hpp"
+
+namespace keel::runtime {
+
+const char* callbackName(Callback cb) {
+  switch (cb) {
+    case Callback::Initialize: return "onInitialize";
+    case Callback::Start: return "onStart";
+    case Callback::Stop: return "onStop";
+    case Callback::Destroy: return "onDestroy";
+    case Callback::Execute: return "onExecute";
+    case Callback::Updated: return "onUpdated";
+    case Callback::Event: return "onEvent";
+    case Callback::Service: return "a service call";
+    case Callback::Error: return "onError";
+    case Callback::Reset: return "onReset";
+    case Callback::Recover: return "onRecover";
+    case Callback::EmergencyStop: return "onEmergencyStop";
+  }
+  return "?";
+}
+
+namespace {
+
+ReturnCode call(Component& c, Callback cb) {
+  switch (cb) {
+    case Callback::Initialize: return c.onInitialize();
+    case Callback::Start: return c.onStart();
+    case Callback::Stop: return c.onStop();
+    case Callback::Destroy: return c.onDestroy();
+    case Callback::Execute: return c.onExecute();
+    case Callback::Updated: return c.onUpdated();
+    case Callback::Event:    // see dispatchEvents
+    case Callback::Service:  // see service.cpp
+      return ReturnCode::Ok;
+    case Callback::Error: return c.onError();
+    case Callback::Reset: return c.onReset();
+    case Callback::Recover: return c.onRecover();
+    case Callback::EmergencyStop: return c.onEmergencyStop();
+  }
+  return ReturnCode::Unsupported;
+}
+
+}  // namespace
+
+void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
+  detail::ComponentCore& core = coreOf(c);
+  FaultEvent ev;
+  FaultEvent::copyInto(ev.component, core.instance_name);
+  out.describe(ev, callbackName(cb));
+  core.faults.fetch_add(1, std::memory_order_relaxed);
+  State s = core.state.load(std::memory_order_acquire);
+  if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
+  if (core.hooks) core.hooks->faultDetected(c, ev);
+}
+
+void setState(Component& c, State to) {
+  detail::ComponentCore& core = coreOf(c);
+  State from = core.state.exchange(to, std::memory_order_acq_rel);
+  if (from != to && core.hooks) core.hooks->stateChanged(c, from, to);
+}
+
+void reportFault(Component& c, const FaultEvent& ev) {
+  detail::ComponentCore& core = coreOf(c);
+  core.faults.fetch_add(1, std::memory_order_relaxed);
+  if (core.hooks) core.hooks->faultDetected(c, ev);
+}
+
+bool invoke(Component& c, Callback cb) {
+  GuardOutcome out = guarded([&c, cb] { return call(c, cb); });
+  if (out.ok()) return true;
+  recordFault(c, out, cb);
+  return false;
+}
+
+bool transition(Component& c, Transition t) {
+  State from = c.state();
+  if (!allowed(from, t)) return false;
+  Callback cb = Callback::Initialize;
+  switch (t) {
+    case Transition::Initialize: cb = Callback::Initialize; break;
+    case Transition::Start: cb = Callback::Start; break;
+    case Transition::Stop: cb = Callback::Stop; break;
+    case Transition::Destroy: cb = Callback::Destroy; break;
+    case Transition::Recover: cb = Callback::Recover; break;
+    case Transition::Fault: setState(c, State::Error); return true;
+  }
+  bool ok = invoke(c, cb);
+  if (ok || t == Transition::Destroy) setState(c, target(t));
+  return ok;
+}
+
+void dispatchEvents(Component& c) {
+  detail::ComponentCore& core = coreOf(c);
+  if (!core.event_pending.exchange(false, std::memory_order_acq_rel)) return;
+  for (detail::PortBase* p : core.ports) {
+    if (p->kind() != detail::PortKind::Event || p->direction() != detail::PortDirection::Input)
+      continue;
+    auto& port = static_cast<InputEventPortBase&>(*p);
+    while (c.state() == State::Active && port.takeNext()) {
+      GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); });
+      if (!out.ok()) recordFault(c, out, Callback::Event);
+    }
+  }
+}
+
+void dispatchEventsPassive(Component& c) {
+  std::lock_guard lock(coreOf(c).passive_mutex);
+  dispatchEvents(c);
+}
+
+}  // namespace keel::runtime

@@ -1,0 +1,47 @@
+// Running one component's callbacks: each under the guard (runtime/guard.hpp), a failure
+// turned into a FaultEvent, the component moved to Error and the fault reported to the
+// runtime hooks. Lifecycle transitions check the OPRoS table (keel/lifecycle.hpp) first.
+// Called by executors (on their thread) and by the engine for passive components and for
+// initialize/destroy, which happen while no executor runs the component.
+// Thread-safety: the caller guarantees that no other callback of `c` runs at the same time.
+#pragma once
+
+#include <cstdint>
+
+#include "keel/component.hpp"
+#include "runtime/guard.hpp"
+
+namespace keel::runtime {
+
+enum class Callback : std::uint8_t {
+  Initialize, Start, Stop, Destroy, Execute, Updated, Event, Service, Error, Reset, Recover,
+  EmergencyStop
+};
+
+const char* callbackName(Callback cb);
+
+/// Runs `cb` on `c` under the guard. On failure the fault is recorded and reported, and `c`
+/// goes to Error. Returns true on success.
+bool invoke(Component& c, Callback cb);
+
+/// Performs a lifecycle transition: checks the table, runs the callback, sets the state.
+/// Returns false when the transition is not allowed from the current state or its callback
+/// failed (then the component is in Error, except for Destroy which always ends Destroyed).
+bool transition(Component& c, Transition t);
+
+/// Delivers every queued event of every input event port of `c` to onEvent.
+void dispatchEvents(Component& c);
+
+/// Passive components: delivers queued events on the calling thread, under the component's lock.
+void dispatchEventsPassive(Component& c);
+
+/// Sets the state and tells the hooks (runtime only: Error is entered here, never by authors).
+void setState(Component& c, State to);
+
+/// Records a failed guarded call of `cb`: counts it, moves `c` to Error, reports it.
+void recordFault(Component& c, const GuardOutcome& out, Callback cb);
+
+/// Reports a fault detected outside a callback (port validity, watchdog, ...).
+void reportFault(Component& c, const FaultEvent& fault);
+
+}  // namespace keel::runtime

@@ -1,0 +1,169 @@
+#include "runtime/plan.hpp"
+
+#include <fmt/format.h>
+
+#include <set>
+
+namespace keel::runtime {
+namespace {
+
+using profile::Endpoint;
+using profile::ProfileSet;
+
+// (instance, exported port) -> inner endpoint, for every composite instance.
+using ExportMap = std::map<std::pair<std::string, std::string>, Endpoint>;
+
+class Planner {
+ public:
+  explicit Planner(const ProfileSet& set) : set_(set) {}
+
+  Result<void> addPackage(const std::string& prefix, const std::string& app,
+                          const std::vector<profile::Subcomponent>& subs,
+                          const std::vector<profile::Connection>& connections) {
+    for (const auto& sub : subs)
+      if (auto r = addSubcomponent(prefix, app, sub); !r) return r;
+    for (const auto& c : connections) {
+      plan_.connections.push_back(
+          {c.port_type, resolve(prefix, c.source), resolve(prefix, c.target), c.where});
+    }
+    return {};
+  }
+
+  void addTasks(const std::string& prefix, const std::vector<profile::Task>& tasks) {
+    for (const auto& t : tasks) {
+      PlannedExecutor ex{prefix + t.name, true, t.period_ms, t.priority, t.policy, {}};
+      for (const auto& m : t.members) {
+        for (const auto& inst : membersOf(prefix + m)) {
+          ex.members.push_back(inst);
+          in_task_.insert(inst);
+        }
+      }
+      plan_.executors.push_back(std::move(ex));
+    }
+  }
+
+  void addDepends(const std::string& prefix, const std::vector<profile::Depends>& deps) {
+    for (const auto& d : deps) plan_.depends.push_back({prefix + d.source, prefix + d.target, d.where});
+  }
+
+  Plan finish(std::string name) {
+    for (const auto& inst : plan_.instances) {
+      const auto& e = inst.profile->execution;
+      if (in_task_.count(inst.name) || e.type == profile::ExecutionType::Passive) continue;
+      plan_.executors.push_back({inst.name, e.type == profile::ExecutionType::Periodic, e.period_ms,
+                                 e.priority, e.policy, {inst.name}});
+    }
+    plan_.name = std::move(name);
+    return std::move(plan_);
+  }
+
+  Result<void> addComponentRoot(const profile::ComponentProfile& cp) {
+    PlannedInstance inst;
+    inst.name = cp.name;
+    inst.profile = &cp;
+    for (const auto& p : cp.properties) inst.properties[p.name] = p.value;
+    inst.where = cp.where;
+    plan_.instances.push_back(std::move(inst));
+    return {};
+  }
+
+ private:
+  Result<void> addSubcomponent(const std::string& prefix, const std::string& app,
+                               const profile::Subcomponent& sub) {
+    const std::string name = prefix + sub.name;
+    if (auto it = set_.components.find(sub.reference); it != set_.components.end()) {
+      PlannedInstance inst;
+      inst.name = name;
+      inst.profile = &it->second;
+      for (const auto& p : it->second.properties) inst.properties[p.name] = p.value;
+      for (const auto& [k, p] : sub.property_overrides) inst.properties[k] = p.value;
+      inst.policy = sub.fault_policy;
+      inst.application = app;
+      inst.where = sub.where;
+      plan_.instances.push_back(std::move(inst));
+      members_[name] = {name};
+      return {};
+    }
+    auto cit = set_.composites.find(sub.reference);
+    if (cit == set_.composites.end())
+      return fail(fmt::format("{}:{}: subcomponent '{}': '{}' is not a loaded component or composite",
+                              sub.where.file, sub.where.line, sub.name, sub.reference));
+    const profile::CompositeProfile& comp = cit->second;
+    std::size_t first = plan_.instances.size();
+    if (auto r = addPackage(name + ".", app, comp.subcomponents, comp.connections); !r) return r;
+    std::vector<std::string> inner;
+    for (std::size_t i = first; i < plan_.instances.size(); ++i) {
+      if (!plan_.instances[i].policy) plan_.instances[i].policy = sub.fault_policy;
+      inner.push_back(plan_.instances[i].name);
+    }
+    members_[name] = inner;
+    for (const auto& e : comp.exported_ports)
+      exports_[{name, e.name}] = resolve(name + ".", e.inner);
+    return {};
+  }
+
+  Endpoint resolve(const std::string& prefix, const Endpoint& e) const {
+    Endpoint out{prefix + e.component, e.port};
+    for (auto it = exports_.find({out.component, out.port}); it != exports_.end();
+         it = exports_.find({out.component, out.port}))
+      out = it->second;
+    return out;
+  }
+
+  std::vector<std::string> membersOf(const std::string& name) const {
+    auto it = members_.find(name);
+    return it == members_.end() ? std::vector<std::string>{name} : it->second;
+  }
+
+  const ProfileSet& set_;
+  Plan plan_;
+  ExportMap exports_;
+  std::map<std::string, std::vector<std::string>> members_;
+  std::set<std::string> in_task_;
+};
+
+}  // namespace
+
+const PlannedInstance* Plan::find(std::string_view instance) const {
+  for (const auto& i : instances)
+    if (i.name == instance) return &i;
+  return nullptr;
+}
+
+Result<Plan> makePlan(const ProfileSet& set) {
+  Planner planner(set);
+  switch (set.root_kind) {
+    case profile::RootKind::Package: {
+      const auto& pkg = set.packages.at(set.root);
+      if (auto r = planner.addPackage("", "", pkg.subcomponents, pkg.connections); !r) return r.error();
+      planner.addTasks("", pkg.tasks);
+      planner.addDepends("", pkg.depends);
+      return planner.finish(pkg.name);
+    }
+    case profile::RootKind::System: {
+      for (const auto& app : set.system->applications) {
+        const auto& pkg = set.packages.at(app.reference);
+        const std::string prefix = app.name + ".";
+        if (auto r = planner.addPackage(prefix, app.name, pkg.subcomponents, pkg.connections); !r)
+          return r.error();
+        planner.addTasks(prefix, pkg.tasks);
+        planner.addDepends(prefix, pkg.depends);
+      }
+      return planner.finish(set.system->name);
+    }
+    case profile::RootKind::Component: {
+      const auto& cp = set.components.at(set.root);
+      if (auto r = planner.addComponentRoot(cp); !r) return r.error();
+      return planner.finish(cp.name);
+    }
+    case profile::RootKind::Composite: {
+      const auto& comp = set.composites.at(set.root);
+      if (auto r = planner.addPackage("", "", comp.subcomponents, comp.connections); !r)
+        return r.error();
+      return planner.finish(comp.name);
+    }
+  }
+  return fail("unknown profile kind");
+}
+
+}  // namespace keel::runtime

@@ -1,0 +1,59 @@
+// The plan: what the engine will do, made from validated profiles before anything is loaded.
+// Composites are flattened (an inner instance is named "composite.inner", connections to
+// exported ports are resolved to the inner ports); a system profile's applications are
+// prefixed with their name ("app.instance"); each instance gets its executor: the task that
+// lists it, or its own from its profile; passive instances get none.
+// Thread-safety: plain values.
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "keel/property.hpp"
+#include "keel/result.hpp"
+#include "profile/loader.hpp"
+#include "profile/model.hpp"
+
+namespace keel::runtime {
+
+struct PlannedInstance {
+  std::string name;  // qualified instance name
+  const profile::ComponentProfile* profile = nullptr;
+  std::map<std::string, PropertyValue, std::less<>> properties;  // defaults + overrides
+  std::optional<profile::FaultPolicy> policy;
+  std::string application;  // system profiles: the application it belongs to
+  profile::Where where;     // its <subcomponent>
+};
+
+struct PlannedConnection {
+  profile::PortType type = profile::PortType::Data;
+  profile::Endpoint source;  // qualified instance names
+  profile::Endpoint target;
+  profile::Where where;
+};
+
+struct PlannedExecutor {
+  std::string name;
+  bool periodic = true;
+  double period_ms = 100.0;
+  int priority = 0;
+  profile::SchedPolicy policy = profile::SchedPolicy::Other;
+  std::vector<std::string> members;  // in execution order
+};
+
+struct Plan {
+  std::string name;
+  std::vector<PlannedInstance> instances;
+  std::vector<PlannedConnection> connections;
+  std::vector<PlannedExecutor> executors;
+  std::vector<profile::Depends> depends;  // qualified names
+
+  const PlannedInstance* find(std::string_view instance) const;
+};
+
+/// Makes the plan for the root of `set` (a package, a system, or a single component).
+Result<Plan> makePlan(const profile::ProfileSet& set);
+
+}  // namespace keel::runtime

@@ -1,0 +1,235 @@
+#!/usr/bin/env python3
+"""What an outside component author does with an installed keel, end to end.
+
+1. `cmake --install <keel build> --prefix <work>/staged`, then move the tree to <work>/prefix
+   (the install must be relocatable), and check its layout, RUNPATHs and CMake package.
+2. Configure and build tests/package/project (two components in one library) with
+   CMAKE_PREFIX_PATH=<prefix>: find_package(keel) and keel_add_component().
+3. `<prefix>/bin/keel inspect libgreeters.so` lists both components and their ports.
+4. `<prefix>/bin/keel run app.xml --duration 1 --log run.jsonl` in the project's build dir;
+   the log shows both instances reaching Active and then Destroyed, and no fault.
+5. `cmake --install` of the project puts libgreeters.so into <prefix>/lib/keel; the same
+   application run from the installed profiles finds it there, through libkeel's location.
+
+Exits non-zero, naming the step and showing the command's output, on any failure.
+Called by CTest (tests/package/CMakeLists.txt); runnable by hand with the same arguments.
+"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+COMPONENTS = {"Greeter": ["greeting"], "Counter": ["greetings", "count"]}
+INSTANCES = ["greeter", "counter"]
+
+
+class Failure(Exception):
+    pass
+
+
+def run(step, cmd, cwd=None, timeout=600):
+    """Runs cmd; returns its combined output, raises Failure with it on a non-zero exit."""
+    printable = " ".join(str(c) for c in cmd)
+    print(f"-- {step}: {printable}", flush=True)
+    try:
+        proc = subprocess.run([str(c) for c in cmd], cwd=cwd, stdin=subprocess.DEVNULL,
+                              stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                              timeout=timeout)
+    except subprocess.TimeoutExpired as e:
+        raise Failure(f"{step}: timed out after {timeout} s\n$ {printable}\n{e.output or ''}")
+    except OSError as e:
+        raise Failure(f"{step}: cannot run: {e}\n$ {printable}")
+    if proc.returncode != 0:
+        raise Failure(f"{step}: exit code {proc.returncode}\n$ {printable}\n{proc.stdout}")
+    return proc.stdout
+
+
+def expect(condition, message):
+    if not condition:
+        raise Failure(message)
+
+
+def install_keel(args, work):
+    staged, prefix = work / "staged", work / "prefix"
+    cmd = [args.cmake, "--install", args.keel_build, "--prefix", staged]
+    if args.config:
+        cmd += ["--config", args.config]
+    run("install keel", cmd)
+    staged.rename(prefix)  # relocation: nothing may point into the staged path
+    return prefix, staged
+
+
+def find_libdir(prefix):
+    found = sorted(prefix.glob("lib*/**/libkeel.so"))
+    expect(found, f"install layout: no libkeel.so under {prefix}/lib*")
+    return found[0].parent
+
+
+def check_layout(prefix, libdir):
+    cmakedir = libdir / "cmake" / "keel"
+    wanted = [prefix / "bin" / "keel", prefix / "include" / "keel" / "component.hpp",
+              prefix / "include" / "keel" / "keel.hpp"]
+    wanted += [cmakedir / f for f in ("keelConfig.cmake", "keelConfigVersion.cmake",
+                                      "keelTargets.cmake", "KeelComponent.cmake")]
+    for path in wanted:
+        expect(path.exists(), f"install layout: missing {path}")
+    expect(os.access(prefix / "bin" / "keel", os.X_OK), "install layout: bin/keel not executable")
+    expect(list(libdir.glob("libkeel.so.*")), f"install layout: no libkeel.so.<version> in {libdir}")
+    return cmakedir
+
+
+def check_no_absolute_paths(cmakedir, forbidden):
+    for f in sorted(cmakedir.glob("*.cmake")):
+        text = f.read_text(errors="replace")
+        for path in forbidden:
+            expect(str(path) not in text, f"relocatable install: {f} contains '{path}'")
+
+
+def runpath(readelf, binary):
+    out = run(f"read RUNPATH of {binary.name}", [readelf, "-d", binary])
+    for line in out.splitlines():
+        if "(RUNPATH)" in line or "(RPATH)" in line:
+            return line.split("[", 1)[1].rsplit("]", 1)[0]
+    return ""
+
+
+def check_runpaths(prefix, libdir, forbidden):
+    """Every RUNPATH is $ORIGIN-relative; bin/keel's leads to the installed libkeel."""
+    readelf = shutil.which("readelf")
+    if not readelf:
+        print("-- RUNPATH check skipped: readelf not found", flush=True)
+        return
+    keel = prefix / "bin" / "keel"
+    binaries = [keel, libdir / "libkeel.so"] + sorted((libdir / "keel").glob("*.so"))
+    for binary in binaries:
+        rp = runpath(readelf, binary.resolve())
+        for entry in filter(None, rp.split(":")):
+            expect(entry.startswith("$ORIGIN"),
+                   f"relocatable install: {binary} has RUNPATH entry '{entry}' (want $ORIGIN...)")
+        for path in forbidden:
+            expect(str(path) not in rp, f"relocatable install: {binary} RUNPATH mentions {path}")
+    dirs = [Path(e.replace("$ORIGIN", str(keel.parent))).resolve()
+            for e in runpath(readelf, keel).split(":") if e]
+    expect(libdir.resolve() in dirs, f"bin/keel: RUNPATH {dirs} does not lead to {libdir}")
+
+
+def build_project(args, work, prefix, cmakedir):
+    build = work / "project-build"
+    cmd = [args.cmake, "-S", args.project, "-B", build, "-G", args.generator,
+           f"-DCMAKE_PREFIX_PATH={prefix}", f"-DCMAKE_INSTALL_PREFIX={prefix}",
+           "-DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF"]
+    for var, value in (("CMAKE_CXX_COMPILER", args.cxx_compiler),
+                       ("CMAKE_MAKE_PROGRAM", args.make_program),
+                       ("CMAKE_BUILD_TYPE", args.build_type),
+                       ("CMAKE_CXX_FLAGS", args.cxx_flags)):
+        if value:
+            cmd.append(f"-D{var}={value}")
+    run("configure the component project", cmd)
+    cache = (build / "CMakeCache.txt").read_text()
+    keel_dir = next((l.split("=", 1)[1] for l in cache.splitlines() if l.startswith("keel_DIR:")), "")
+    expect(keel_dir and Path(keel_dir).resolve() == cmakedir.resolve(),
+           f"find_package(keel) found '{keel_dir}', not the installed {cmakedir}")
+    cmd = [args.cmake, "--build", build, "--parallel", "2"]
+    if args.config:
+        cmd += ["--config", args.config]
+    run("build the component project", cmd)
+    libs = sorted(build.rglob("libgreeters.so"))
+    expect(libs, f"keel_add_component: no libgreeters.so under {build}")
+    expect(libs[0].parent == build or args.config,
+           f"keel_add_component: library built in {libs[0].parent}, not the author's build dir")
+    return build, libs[0]
+
+
+def check_inspect(keel, lib):
+    out = run("keel inspect", [keel, "inspect", lib], timeout=60)
+    for component, ports in COMPONENTS.items():
+        expect(component in out, f"keel inspect {lib.name}: component {component} not listed:\n{out}")
+        for port in ports:
+            expect(port in out, f"keel inspect {lib.name}: port {component}.{port} not listed:\n{out}")
+
+
+def check_log(log):
+    expect(log.exists(), f"keel run: no log written at {log}")
+    states = {name: [] for name in INSTANCES}
+    faults = []
+    for number, line in enumerate(log.read_text().splitlines(), 1):
+        if not line.strip():
+            continue
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError as e:
+            raise Failure(f"{log}:{number}: not JSON ({e}): {line}")
+        expect(isinstance(record, dict) and "event" in record and "t_ns" in record,
+               f"{log}:{number}: a record needs 'event' and 't_ns': {line}")
+        if record["event"] == "state" and record.get("component") in states:
+            states[record["component"]].append(record.get("to", record.get("state")))
+        elif record["event"] == "detected":
+            faults.append(line)
+    expect(not faults, f"{log}: faults were detected:\n" + "\n".join(faults))
+    for name, seen in states.items():
+        expect("Active" in seen, f"{log}: '{name}' never reached Active (states: {seen})")
+        expect(seen and seen[-1] == "Destroyed" and seen.index("Active") < len(seen) - 1,
+               f"{log}: '{name}' did not end Destroyed after Active (states: {seen})")
+
+
+def check_run(keel, profile, cwd, log):
+    run(f"keel run {profile}", [keel, "run", profile, "--duration", "1", "--log", log],
+        cwd=cwd, timeout=120)
+    check_log(cwd / log)  # `log` may be relative to cwd or absolute
+
+
+def check_installed_run(args, work, prefix, libdir, build):
+    run("install the component project", [args.cmake, "--install", build]
+        + (["--config", args.config] if args.config else []))
+    expect((libdir / "keel" / "libgreeters.so").exists(),
+           f"keel_add_component(INSTALL): libgreeters.so not installed into {libdir / 'keel'}")
+    profile = prefix / "share" / "greeters" / "app.xml"
+    expect(profile.exists(), f"component project: {profile} not installed")
+    elsewhere = work / "elsewhere"
+    elsewhere.mkdir()
+    check_run(prefix / "bin" / "keel", profile, elsewhere, elsewhere / "installed-run.jsonl")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cmake", required=True)
+    parser.add_argument("--keel-build", required=True, type=Path, help="keel's build tree")
+    parser.add_argument("--keel-source", required=True, type=Path, help="keel's source tree")
+    parser.add_argument("--project", required=True, type=Path, help="the component project")
+    parser.add_argument("--work", required=True, type=Path, help="scratch dir (wiped)")
+    parser.add_argument("--generator", required=True)
+    parser.add_argument("--make-program", default="")
+    parser.add_argument("--cxx-compiler", default="")
+    parser.add_argument("--cxx-flags", default="")
+    parser.add_argument("--build-type", default="")
+    parser.add_argument("--config", default="", help="configuration (multi-config generators)")
+    args = parser.parse_args()
+
+    os.environ.pop("KEEL_COMPONENT_PATH", None)  # keel must find its libraries unaided
+    work = args.work.resolve()
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    try:
+        prefix, staged = install_keel(args, work)
+        libdir = find_libdir(prefix)
+        cmakedir = check_layout(prefix, libdir)
+        forbidden = [args.keel_build.resolve(), args.keel_source.resolve(), staged]
+        check_no_absolute_paths(cmakedir, forbidden)
+        check_runpaths(prefix, libdir, forbidden)
+        build, lib = build_project(args, work, prefix, cmakedir)
+        keel = prefix / "bin" / "keel"
+        check_inspect(keel, lib)
+        check_run(keel, "app.xml", lib.parent, "run.jsonl")
+        check_installed_run(args, work, prefix, libdir, build)
+    except Failure as e:
+        print(f"FAILED: {e}", file=sys.stderr, flush=True)
+        return 1
+    print("-- package test passed", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

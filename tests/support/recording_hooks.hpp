@@ -1,0 +1,76 @@
+// Test support: RuntimeHooks that record every state change and fault, for assertions, and
+// helpers to name and wire components without profiles.
+// Thread-safety: records under a mutex; may be called from executor threads.
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "runtime/component_core.hpp"
+
+namespace keel::test {
+
+struct StateRecord {
+  std::string component;
+  State from;
+  State to;
+};
+
+class RecordingHooks : public runtime::RuntimeHooks {
+ public:
+  void stateChanged(Component& c, State from, State to) override {
+    std::lock_guard lock(mutex_);
+    states_.push_back({c.instanceName(), from, to});
+  }
+  void faultDetected(Component& c, const FaultEvent& fault) override {
+    std::lock_guard lock(mutex_);
+    FaultEvent f = fault;
+    if (f.component[0] == '\0') FaultEvent::copyInto(f.component, c.instanceName());
+    faults_.push_back(f);
+  }
+  std::vector<StateRecord> states() const {
+    std::lock_guard lock(mutex_);
+    return states_;
+  }
+  std::vector<FaultEvent> faults() const {
+    std::lock_guard lock(mutex_);
+    return faults_;
+  }
+
+ private:
+  mutable std::mutex mutex_;
+  std::vector<StateRecord> states_;
+  std::vector<FaultEvent> faults_;
+};
+
+/// Names `c` and attaches `hooks`, as the engine does.
+inline void manage(Component& c, const std::string& name, runtime::RuntimeHooks& hooks) {
+  auto& core = runtime::coreOf(c);
+  core.instance_name = name;
+  core.hooks = &hooks;
+}
+
+/// Connects an output port to an input port in-process; the connection is kept in `keep`.
+inline void wire(detail::OutputPortBase& out, detail::InputPortBase& in,
+                 std::vector<std::unique_ptr<detail::ConnectionBase>>& keep) {
+  auto c = in.makeConnection();
+  if (!out.attach(*c)) throw std::runtime_error("wire: type mismatch");
+  keep.push_back(std::move(c));
+}
+
+/// Polls `pred` until true or `timeout` (generous: for behaviour, not for timing).
+template <class Pred>
+bool eventually(Pred pred, std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+  auto end = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < end) {
+    if (pred()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return pred();
+}
+
+}  // namespace keel::test

@@ -1,0 +1,246 @@
+#include "runtime/executor.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "keel/component.hpp"
+#include "runtime/guard.hpp"
+#include "runtime/invoke.hpp"
+#include "support/crash.hpp"
+#include "support/recording_hooks.hpp"
+
+namespace keel::runtime {
+namespace {
+
+using namespace std::chrono_literals;
+using test::eventually;
+
+/// Records the order of its callbacks into a shared trace, and the threads they ran on.
+class Tracer : public Component {
+ public:
+  Tracer(std::vector<std::string>* trace, std::mutex* m) : trace_(trace), mutex_(m) {}
+  ReturnCode onStart() override { return note("start"); }
+  ReturnCode onStop() override { return note("stop"); }
+  ReturnCode onExecute() override {
+    executions.fetch_add(1);
+    return note("execute");
+  }
+  ReturnCode onUpdated() override { return note("updated"); }
+  std::atomic<int> executions{0};
+  std::atomic<std::thread::id> last_thread{};
+
+ private:
+  ReturnCode note(const char* what) {
+    last_thread = std::this_thread::get_id();
+    std::lock_guard lock(*mutex_);
+    if (trace_->size() < 64) trace_->push_back(instanceName() + "." + what);
+    return ReturnCode::Ok;
+  }
+  std::vector<std::string>* trace_;
+  std::mutex* mutex_;
+};
+
+class ExecutorTest : public ::testing::Test {
+ protected:
+  void SetUp() override { installSignalHandlers(); }
+  template <class C>
+  void ready(C& c, const std::string& name) {
+    test::manage(c, name, hooks_);
+    ASSERT_TRUE(transition(c, Transition::Initialize));
+  }
+  test::RecordingHooks hooks_;
+  std::vector<std::string> trace_;
+  std::mutex trace_mutex_;
+};
+
+TEST_F(ExecutorTest, ATaskRunsItsMembersInDeclaredOrderExecuteThenUpdated) {
+  Tracer a(&trace_, &trace_mutex_), b(&trace_, &trace_mutex_);
+  ready(a, "a");
+  ready(b, "b");
+  Executor ex({"task", ExecutorKind::Periodic, 2ms, 0, Policy::Other});
+  ex.add(a);
+  ex.add(b);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return b.executions.load() >= 2; }));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  std::lock_guard lock(trace_mutex_);
+  ASSERT_GE(trace_.size(), 6u);
+  EXPECT_EQ(std::vector<std::string>(trace_.begin(), trace_.begin() + 6),
+            (std::vector<std::string>{"a.start", "b.start", "a.execute", "b.execute", "a.updated",
+                                      "b.updated"}));
+  EXPECT_EQ(trace_.back(), "a.stop");  // stopped in reverse order
+  EXPECT_EQ(a.state(), State::Inactive);
+  EXPECT_EQ(b.state(), State::Inactive);
+}
+
+TEST_F(ExecutorTest, PeriodicExecutorKeepsItsRateOverTime) {
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  Executor ex({"p", ExecutorKind::Periodic, 5ms, 0, Policy::Other});
+  ex.add(a);
+  ex.start();
+  std::this_thread::sleep_for(500ms);
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  // 100 releases in 500 ms; absolute-time sleeps do not drift. Generous: a busy CI machine.
+  EXPECT_GE(a.executions.load(), 50);
+  EXPECT_LE(a.executions.load(), 102);
+}
+
+TEST_F(ExecutorTest, AllCallbacksOfAMemberRunOnTheExecutorThread) {
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  Executor ex({"p", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  ex.add(a);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return a.executions.load() > 0; }));
+  EXPECT_NE(a.last_thread.load(), std::this_thread::get_id());
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  EXPECT_NE(a.last_thread.load(), std::this_thread::get_id());  // onStop too
+}
+
+class Consumer : public Component {
+ public:
+  InputDataPort<int> in{this, "in"};
+  InputEventPort<Event> events{this, "events"};
+  ReturnCode onExecute() override {
+    while (auto v = in.pop()) sum += *v;
+    executions.fetch_add(1);
+    return ReturnCode::Ok;
+  }
+  ReturnCode onEvent(InputEventPortBase& port) override {
+    if (&port == &events) {
+      event_names.push_back(events.current().name);
+      event_thread = std::this_thread::get_id();
+      event_count.fetch_add(1);
+    }
+    return ReturnCode::Ok;
+  }
+  std::atomic<int> sum{0};
+  std::atomic<int> executions{0};
+  std::atomic<int> event_count{0};
+  std::vector<std::string> event_names;
+  std::atomic<std::thread::id> event_thread{};
+};
+
+class Producer : public Component {
+ public:
+  OutputDataPort<int> out{this, "out"};
+  OutputEventPort<Event> events{this, "events"};
+};
+
+TEST_F(ExecutorTest, AperiodicExecutorRunsOnlyWhenInputArrives) {
+  Consumer c;
+  Producer p;
+  ready(c, "c");
+  std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
+  test::wire(p.out, c.in, keep);
+  Executor ex({"aperiodic", ExecutorKind::Aperiodic, 0ms, 0, Policy::Other});
+  ex.add(c);
+  ex.start();
+  std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(c.executions.load(), 0) << "ran without input: spinning";
+  p.out.push(5);
+  ASSERT_TRUE(eventually([&] { return c.sum.load() == 5; }));
+  p.out.push(7);
+  ASSERT_TRUE(eventually([&] { return c.sum.load() == 12; }));
+  std::this_thread::sleep_for(50ms);
+  EXPECT_LE(c.executions.load(), 2);
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+}
+
+TEST_F(ExecutorTest, EventsAreDeliveredToOnEventOnTheReceiversExecutorInOrder) {
+  Consumer c;
+  Producer p;
+  ready(c, "c");
+  std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
+  test::wire(p.events, c.events, keep);
+  Executor ex({"slow", ExecutorKind::Periodic, 200ms, 0, Policy::Other});
+  ex.add(c);
+  ex.start();
+  for (const char* n : {"one", "two", "three"}) p.events.send(Event{n, 0, 0});
+  // Delivered as they arrive, not at the next 200 ms release.
+  ASSERT_TRUE(eventually([&] { return c.event_count.load() == 3; }, 150ms));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  EXPECT_EQ(c.event_names, (std::vector<std::string>{"one", "two", "three"}));
+  EXPECT_NE(c.event_thread.load(), std::this_thread::get_id());
+}
+
+class Crasher : public Component {
+ public:
+  ReturnCode onExecute() override {
+    if (++n == 3) test::segfault();
+    return ReturnCode::Ok;
+  }
+  int n = 0;
+};
+
+TEST_F(ExecutorTest, AFaultingMemberGoesToErrorAndTheOthersKeepRunning) {
+  Crasher bad;
+  Tracer good(&trace_, &trace_mutex_);
+  ready(bad, "bad");
+  ready(good, "good");
+  Executor ex({"task", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  ex.add(bad);
+  ex.add(good);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return bad.state() == State::Error; }));
+  int before = good.executions.load();
+  ASSERT_TRUE(eventually([&] { return good.executions.load() > before + 20; }));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  EXPECT_EQ(bad.n, 3) << "a component in Error must not be executed";
+  auto faults = hooks_.faults();
+  ASSERT_EQ(faults.size(), 1u);
+  EXPECT_EQ(faults[0].kind, FaultKind::Signal);
+  EXPECT_EQ(std::string(faults[0].componentName()), "bad");
+}
+
+TEST_F(ExecutorTest, AnOverrunIsCounted) {
+  class Slow : public Component {
+   public:
+    ReturnCode onExecute() override {
+      if (++n == 2) std::this_thread::sleep_for(30ms);
+      return ReturnCode::Ok;
+    }
+    int n = 0;
+  } slow;
+  ready(slow, "slow");
+  Executor ex({"p", ExecutorKind::Periodic, 5ms, 0, Policy::Other});
+  ex.add(slow);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return ex.stats().overruns >= 1; }));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+}
+
+TEST_F(ExecutorTest, ARefusedSchedulingPolicyIsAWarningNotAFailure) {
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  std::vector<std::string> warnings;
+  std::mutex wm;
+  Executor ex({"rt", ExecutorKind::Periodic, 1ms, 99, Policy::Fifo},
+              [&](const std::string& w) {
+                std::lock_guard lock(wm);
+                warnings.push_back(w);
+              });
+  ex.add(a);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return a.executions.load() > 3; }));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  // As root SCHED_FIFO is granted; otherwise a warning names the executor and the policy.
+  std::lock_guard lock(wm);
+  for (const auto& w : warnings) EXPECT_NE(w.find("executor 'rt': cannot set scheduling policy fifo"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace keel::runtime

@@ -1,0 +1,130 @@
+#include "runtime/guard.hpp"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <thread>
+
+#include "support/crash.hpp"
+
+namespace keel::runtime {
+namespace {
+
+class Guard : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    installSignalHandlers();
+    installAltStack();
+  }
+};
+
+TEST_F(Guard, PassesOkThrough) {
+  GuardOutcome out = guarded([] { return ReturnCode::Ok; });
+  EXPECT_TRUE(out.ok());
+}
+
+TEST_F(Guard, ReportsANonOkReturnCode) {
+  GuardOutcome out = guarded([] { return ReturnCode::InputOutOfRange; });
+  EXPECT_EQ(out.kind, GuardOutcome::Kind::ErrorCode);
+  EXPECT_EQ(out.rc, ReturnCode::InputOutOfRange);
+  FaultEvent f;
+  out.describe(f, "onExecute");
+  EXPECT_EQ(f.kind, FaultKind::ErrorCode);
+  EXPECT_EQ(std::string(f.detailText()), "onExecute returned 402 (input out of range)");
+}
+
+TEST_F(Guard, CatchesAnExceptionWithItsMessage) {
+  GuardOutcome out = guarded([]() -> ReturnCode { throw std::runtime_error("sensor gone"); });
+  EXPECT_EQ(out.kind, GuardOutcome::Kind::Exception);
+  FaultEvent f;
+  out.describe(f, "onExecute");
+  EXPECT_EQ(std::string(f.detailText()), "exception in onExecute: sensor gone");
+}
+
+TEST_F(Guard, CatchesAnExceptionNotDerivedFromStdException) {
+  GuardOutcome out = guarded([]() -> ReturnCode { throw 42; });
+  EXPECT_EQ(out.kind, GuardOutcome::Kind::Exception);
+}
+
+TEST_F(Guard, CatchesASegmentationFault) {
+  GuardOutcome out = guarded([] {
+    test::segfault();
+    return ReturnCode::Ok;
+  });
+  ASSERT_EQ(out.kind, GuardOutcome::Kind::Signal);
+  EXPECT_EQ(out.signo, SIGSEGV);
+  EXPECT_EQ(out.addr, reinterpret_cast<const void*>(0x10));
+  FaultEvent f;
+  out.describe(f, "onExecute");
+  EXPECT_EQ(f.kind, FaultKind::Signal);
+  EXPECT_NE(std::string(f.detailText()).find("SIGSEGV in onExecute"), std::string::npos);
+}
+
+TEST_F(Guard, CatchesADivideByZero) {
+  GuardOutcome out = guarded([] {
+    test::divideByZero();
+    return ReturnCode::Ok;
+  });
+  ASSERT_EQ(out.kind, GuardOutcome::Kind::Signal);
+  EXPECT_EQ(out.signo, SIGFPE);
+}
+
+TEST_F(Guard, CatchesAbort) {
+  GuardOutcome out = guarded([]() -> ReturnCode { std::abort(); });
+  ASSERT_EQ(out.kind, GuardOutcome::Kind::Signal);
+  EXPECT_EQ(out.signo, SIGABRT);
+}
+
+TEST_F(Guard, KeepsCatchingAfterManyFaultsOnOneThread) {
+  for (int i = 0; i < 200; ++i) {
+    GuardOutcome out = guarded([] {
+      test::segfault();
+      return ReturnCode::Ok;
+    });
+    ASSERT_EQ(out.signo, SIGSEGV) << "iteration " << i;
+  }
+  EXPECT_TRUE(guarded([] { return ReturnCode::Ok; }).ok());
+}
+
+TEST_F(Guard, NestedGuardsReportToTheInnermost) {
+  GuardOutcome inner;
+  GuardOutcome outer = guarded([&inner] {
+    inner = guarded([] {
+      test::segfault();
+      return ReturnCode::Ok;
+    });
+    return ReturnCode::Ok;
+  });
+  EXPECT_EQ(inner.signo, SIGSEGV);
+  EXPECT_TRUE(outer.ok());
+}
+
+TEST_F(Guard, CatchesOnEveryThread) {
+  GuardOutcome out;
+  std::thread t([&out] {
+    installAltStack();
+    out = guarded([] {
+      test::segfault();
+      return ReturnCode::Ok;
+    });
+  });
+  t.join();
+  EXPECT_EQ(out.signo, SIGSEGV);
+}
+
+using GuardDeathTest = Guard;
+
+TEST_F(GuardDeathTest, ASignalOutsideAGuardedCallIsNotSwallowed) {
+  EXPECT_DEATH(
+      {
+        installSignalHandlers();
+        test::segfault();
+      },
+      "");
+}
+
+}  // namespace
+}  // namespace keel::runtime
