@@ -34,6 +34,7 @@ class InputDataPort final : public detail::InputPortBase, private detail::Sink<T
   void configureQueue(detail::QueuePolicy policy, std::size_t size) override {
     queue_.configure(policy, size);
   }
+  std::size_t capacity() const override { return queue_.capacity(); }
   std::size_t queued() const override { return queue_.size(); }
   std::size_t dropped() const override { return queue_.dropped(); }
   void clear() override { queue_.clear(); }

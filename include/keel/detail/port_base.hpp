@@ -74,6 +74,8 @@ class InputPortBase : public PortBase {
   using PortBase::PortBase;
   /// Applies the profile's queue policy and size (before the component starts).
   virtual void configureQueue(QueuePolicy policy, std::size_t size) = 0;
+  /// Queue capacity (1 for LAST; grows for UFIFO).
+  virtual std::size_t capacity() const = 0;
   /// Number of queued values.
   virtual std::size_t queued() const = 0;
   /// Values dropped because the queue was full (FIFO/LIFO) or overwritten (LAST).

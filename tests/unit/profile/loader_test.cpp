@@ -75,7 +75,9 @@ TEST(ProfileLoader, NeverThrowsOnMalformedInput) {
   for (const std::string& input : inputs) {
     Result<ProfileSet, Diagnostics> result = Diagnostics{};
     EXPECT_NO_THROW(result = loadText(input));
-    if (!result.ok()) EXPECT_THAT(result.error(), Not(IsEmpty()));
+    if (!result.ok()) {
+      EXPECT_THAT(result.error(), Not(IsEmpty()));
+    }
   }
 }
 

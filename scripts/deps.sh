@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# Installs what keel needs to build, test and benchmark on Debian 12 (bookworm).
+# Quiet and offline when everything is already installed, so scripts/test.sh can call it
+# every time. Runs apt-get as root, through sudo when not root.
+set -euo pipefail
+
+packages=(
+  cmake ninja-build g++
+  libgtest-dev libgmock-dev libpugixml-dev libcli11-dev libfmt-dev nlohmann-json3-dev
+  libbenchmark-dev
+  python3 python3-matplotlib
+  stress-ng
+)
+
+if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
+  echo "deps.sh: not a Debian system (no dpkg/apt-get); install these yourself:" >&2
+  echo "  ${packages[*]}" >&2
+  exit 0
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  if [[ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null || true)" != "install ok installed" ]]; then
+    missing+=("$p")
+  fi
+done
+((${#missing[@]} == 0)) && exit 0
+
+if [[ $(id -u) -eq 0 ]]; then
+  as_root=()
+elif command -v sudo >/dev/null 2>&1; then
+  as_root=(sudo)
+else
+  echo "deps.sh: need root to install: ${missing[*]} (run as root, or install sudo)" >&2
+  exit 1
+fi
+
+echo "deps.sh: installing ${missing[*]}"
+"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
+"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
+  apt-get install -y --no-install-recommends "${missing[@]}"

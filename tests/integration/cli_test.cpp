@@ -1,0 +1,98 @@
+// The keel command as a user runs it: run, validate, inspect, graph.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "support/log_reader.hpp"
+#include "support/process.hpp"
+
+namespace keel {
+namespace {
+
+using namespace std::chrono_literals;
+
+std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/" + name; }
+
+class Cli : public ::testing::Test {
+ protected:
+  void TearDown() override { std::filesystem::remove(log_); }
+  std::string log_ = (std::filesystem::temp_directory_path() /
+                      ("keel_cli_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+};
+
+TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("pipeline.xml"), "--duration", "0.5", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("keel: 'pipeline' ran"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("summer"), std::string::npos);
+  auto log = test::readLog(log_);
+  ASSERT_FALSE(log.empty());
+  EXPECT_EQ(test::statesOf(log, "counter"),
+            (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+  for (const auto& rec : log) {
+    EXPECT_TRUE(rec.contains("t_ns"));
+    EXPECT_TRUE(rec.contains("event"));
+  }
+  auto stopping = test::eventsOf(log, "engine");
+  ASSERT_FALSE(stopping.empty());
+}
+
+TEST_F(Cli, RunStopsCleanlyOnSigterm) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("pipeline.xml"), "--log", log_}, 500ms);
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto log = test::readLog(log_);
+  bool saw_reason = false;
+  for (const auto& e : test::eventsOf(log, "engine"))
+    if (e.value("phase", "") == "stopping") saw_reason = e.value("reason", "").find("Terminated") != std::string::npos;
+  EXPECT_TRUE(saw_reason);
+  EXPECT_EQ(test::statesOf(log, "summer").back(), "Destroyed");
+}
+
+TEST_F(Cli, RunReportsFaultsInItsSummary) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("crash.xml"), "--duration", "0.5", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("faults:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("crasher"), std::string::npos);
+  EXPECT_NE(r.out.find("signal"), std::string::npos);
+}
+
+TEST_F(Cli, RunRejectsABadProfileWithFileAndLine) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("wrong_type.xml"), "--duration", "0.1"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("CounterDouble.xml:9: component 'counter': port 'count' carries 'double'"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST_F(Cli, ValidateAcceptsGoodProfilesAndNamesEveryProblemInBadOnes) {
+  auto good = test::runProcess({KEEL_CLI, "validate", profile("pipeline.xml"), profile("crash.xml")});
+  EXPECT_EQ(good.status, 0) << good.err;
+  auto bad = test::runProcess({KEEL_CLI, "validate", "--load", profile("wrong_type.xml")});
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_NE(bad.err.find("CounterDouble.xml:9:"), std::string::npos) << bad.err;
+  auto missing = test::runProcess({KEEL_CLI, "validate", profile("no_such_file.xml")});
+  EXPECT_EQ(missing.status, 2);
+  EXPECT_NE(missing.err.find("no_such_file.xml"), std::string::npos) << missing.err;
+}
+
+TEST_F(Cli, InspectListsEveryComponentOfALibraryWithItsPorts) {
+  auto r = test::runProcess({KEEL_CLI, "inspect", std::string(KEEL_TEST_COMPONENTS) + "/libkeel_test_components.so",
+                             "--profiles", KEEL_TEST_PROFILES});
+  ASSERT_EQ(r.status, 0) << r.err;
+  for (const char* name : {"Counter", "Summer", "EventLogger", "Crasher", "Doubler", "Caller"})
+    EXPECT_NE(r.out.find(std::string("\n") + name + "\n"), std::string::npos) << name << "\n" << r.out;
+  EXPECT_NE(r.out.find("count"), std::string::npos);
+  EXPECT_NE(r.out.find("property gain"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("twice"), std::string::npos);
+}
+
+TEST_F(Cli, GraphPrintsTheStructureAsDot) {
+  auto r = test::runProcess({KEEL_CLI, "graph", profile("crash.xml")});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("digraph \"crash\" {", 0), 0u) << r.out;
+  EXPECT_NE(r.out.find("\"counter\" -> \"summer\""), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("together (5 ms)"), std::string::npos) << r.out;
+}
+
+}  // namespace
+}  // namespace keel

@@ -1,0 +1,38 @@
+// Test support: reads a keel fault log (JSON lines) and finds records in it.
+#pragma once
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace keel::test {
+
+inline std::vector<nlohmann::json> readLog(const std::string& path) {
+  std::vector<nlohmann::json> out;
+  std::ifstream in(path);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+/// The `to` states of `component`'s state records, in order.
+inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log,
+                                         const std::string& component) {
+  std::vector<std::string> out;
+  for (const auto& r : log)
+    if (r.value("event", "") == "state" && r.value("component", "") == component)
+      out.push_back(r.value("to", ""));
+  return out;
+}
+
+inline std::vector<nlohmann::json> eventsOf(const std::vector<nlohmann::json>& log,
+                                            const std::string& event) {
+  std::vector<nlohmann::json> out;
+  for (const auto& r : log)
+    if (r.value("event", "") == event) out.push_back(r);
+  return out;
+}
+
+}  // namespace keel::test
