@@ -72,7 +72,7 @@ Result<std::string> Loader::resolve(const std::string& library_name,
     if (auto f = tryDir(d); !f.empty()) return f;
   std::string msg = fmt::format("library '{}' not found; tried:", library_name);
   for (const auto& t : tried) msg += "\n  " + t;
-  if (search_path_.empty()) msg += "\n  (KEEL_COMPONENT_PATH is not set)";
+  if (!std::getenv("KEEL_COMPONENT_PATH")) msg += "\n  (KEEL_COMPONENT_PATH is not set)";
   return fail(msg);
 }
 

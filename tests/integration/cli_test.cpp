@@ -94,5 +94,28 @@ TEST_F(Cli, GraphPrintsTheStructureAsDot) {
   EXPECT_NE(r.out.find("together (5 ms)"), std::string::npos) << r.out;
 }
 
+TEST_F(Cli, TheHelloExampleRunsAndDeliversEvents) {
+  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/01_hello_component/app.xml",
+                             "--duration", "0.6", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("[listener] milestone: 5"), std::string::npos) << r.out;
+  EXPECT_TRUE(test::eventsOf(test::readLog(log_), "detected").empty());
+}
+
+TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
+  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml",
+                             "--duration", "2", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto log = test::readLog(log_);
+  auto detected = test::eventsOf(log, "detected");
+  ASSERT_GE(detected.size(), 3u);
+  EXPECT_EQ(detected[0]["component"], "sonar_left");
+  EXPECT_EQ(detected[0]["kind"], "signal");
+  EXPECT_EQ(test::statesOf(log, "sonar_left"),
+            (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "avoider"),
+            (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+}
+
 }  // namespace
 }  // namespace keel
