@@ -67,10 +67,12 @@ class Loader {
   std::optional<RootKind> parseRoot(Ctx& ctx, pugi::xml_node root, const std::string& abs);
   void follow(const Reference& ref);
   std::string cycleText(const std::string& abs) const;
+  void sortByFileAndLine();
 
   ProfileSet set_;
   Diagnostics diags_;
   std::map<std::string, std::optional<RootKind>> kinds_;  // nullopt: could not be read
+  std::map<std::string, std::size_t> file_order_;          // display path -> load order
   std::vector<std::pair<std::string, std::string>> stack_;  // (abs, display) being loaded
   bool cycle_ = false;
 };
@@ -81,7 +83,10 @@ Result<ProfileSet, Diagnostics> Loader::run(const std::string& path) {
   const auto kind = loadFile(set_.root, display, nullptr);
   if (kind) set_.root_kind = *kind;
   if (kind && !cycle_) validate(set_, diags_);
-  if (!diags_.empty()) return diags_;
+  if (!diags_.empty()) {
+    sortByFileAndLine();
+    return diags_;
+  }
   return std::move(set_);
 }
 
@@ -105,7 +110,8 @@ std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::stri
     diags_.push_back(std::move(syntax));
     return std::nullopt;
   }
-  Ctx ctx(*file, abs, diags_);
+  file_order_.emplace(display, file_order_.size());
+  Ctx ctx(*file, diags_);
   const auto kind = parseRoot(ctx, file->root(), abs);
   kinds_[abs] = kind;
   if (!kind) return std::nullopt;
@@ -179,6 +185,16 @@ void Loader::follow(const Reference& ref) {
                                *ref.declared == RootKind::Component ? "atomic" : "composite",
                                ref.written, name(*kind))});
   }
+}
+
+/// Files in load order (the root first), each file's problems in line order.
+void Loader::sortByFileAndLine() {
+  auto rank = [&](const Diagnostic& d) {
+    const auto it = file_order_.find(d.where.file);
+    return std::pair{it == file_order_.end() ? file_order_.size() : it->second, d.where.line};
+  };
+  std::stable_sort(diags_.begin(), diags_.end(),
+                   [&](const Diagnostic& a, const Diagnostic& b) { return rank(a) < rank(b); });
 }
 
 std::string Loader::cycleText(const std::string& abs) const {

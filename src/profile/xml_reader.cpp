@@ -87,11 +87,11 @@ int XmlFile::lineOf(std::ptrdiff_t offset) const {
 
 Where XmlFile::where(pugi::xml_node node) const { return Where{display_, lineOf(node.offset_debug())}; }
 
-Ctx::Ctx(const XmlFile& file, const std::string& abs_path, Diagnostics& diags)
-    : file_(file),
-      abs_dir_(fs::path(abs_path).parent_path()),
-      display_dir_(fs::path(file.display()).parent_path()),
-      diags_(diags) {}
+Ctx::Ctx(const XmlFile& file, Diagnostics& diags)
+    : file_(file), display_dir_(fs::path(file.display()).parent_path()), diags_(diags) {
+  std::error_code ec;
+  abs_dir_ = fs::absolute(fs::path(file.display()), ec).parent_path();
+}
 
 void Ctx::error(pugi::xml_node at, std::string message) { error(where(at), std::move(message)); }
 

@@ -59,7 +59,9 @@ struct Reference {
 /// Parse context of one file.
 class Ctx {
  public:
-  Ctx(const XmlFile& file, const std::string& abs_path, Diagnostics& diags);
+  /// References resolve against the directory of the file as it was named (display path),
+  /// like #include; the resulting paths are then made absolute and canonical.
+  Ctx(const XmlFile& file, Diagnostics& diags);
 
   const XmlFile& file() const { return file_; }
   Where where(pugi::xml_node node) const { return file_.where(node); }

@@ -15,6 +15,9 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class Cli : public ::testing::Test {
  protected:
+  // The CLI finds the test component library the way a user's installation would: through
+  // KEEL_COMPONENT_PATH.
+  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
   void TearDown() override { std::filesystem::remove(log_); }
   std::string log_ = (std::filesystem::temp_directory_path() /
                       ("keel_cli_test_" + std::to_string(::getpid()) + ".jsonl")).string();

@@ -3,6 +3,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -19,9 +21,7 @@ using ::testing::IsEmpty;
 /// Writes `content` to a scratch file and loads it.
 Result<ProfileSet, Diagnostics> loadText(const std::string& content) {
   const auto path = std::filesystem::temp_directory_path() /
-                    ("keel_profile_test_" + std::to_string(::testing::UnitTest::GetInstance()
-                                                               ->random_seed()) +
-                     ".xml");
+                    ("keel_profile_test_" + std::to_string(::getpid()) + ".xml");
   std::ofstream(path, std::ios::binary) << content;
   auto result = load(path.string());
   std::filesystem::remove(path);
@@ -117,16 +117,17 @@ TEST(ProfileLoader, RejectsAPackageIncludingItself) {
 }
 
 TEST(ProfileLoader, ReportsAllProblemsAcrossFilesNotJustTheFirst) {
+  // Grouped by file in load order (the root first), each file in line order.
   EXPECT_THAT(problems("errors/many/app.xml"),
               ElementsAre("errors/many/app.xml:9: <severity> of fault_policy of subcomponent 'bad' must be one of ignore, reset, stop or emergency, got 'explode'",
                           "errors/many/app.xml:10: timeout of <heartbeat> of fault_policy of subcomponent 'bad' must be a positive number, got '-1'",
-                          "errors/many/app.xml:32: period of task 'control' must be a positive number, got '0'",
-                          "errors/many/Bad.xml:5: <period> of component 'Bad' must be a positive number, got 'fast'",
-                          "errors/many/Bad.xml:12: <queue_size> of data port 'out' must be a positive integer, got '-3'",
-                          "errors/many/app.xml:22: subcomponent 'ghost': cannot open 'Ghost.xml': No such file or directory",
                           "errors/many/app.xml:17: property 'speed' of subcomponent 'nav' must be a finite double, got 'quick'",
+                          "errors/many/app.xml:22: subcomponent 'ghost': cannot open 'Ghost.xml': No such file or directory",
                           "errors/many/app.xml:26: port_connection: component 'nav' has no port 'rang' (ports: range, limit, alarm, map)",
-                          "errors/many/app.xml:32: task 'control': no subcomponent 'nobody' (subcomponents: bad, nav, ghost)"));
+                          "errors/many/app.xml:32: period of task 'control' must be a positive number, got '0'",
+                          "errors/many/app.xml:32: task 'control': no subcomponent 'nobody' (subcomponents: bad, nav, ghost)",
+                          "errors/many/Bad.xml:5: <period> of component 'Bad' must be a positive number, got 'fast'",
+                          "errors/many/Bad.xml:12: <queue_size> of data port 'out' must be a positive integer, got '-3'"));
 }
 
 }  // namespace

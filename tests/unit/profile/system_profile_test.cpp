@@ -121,6 +121,11 @@ TEST(SystemProfileErrors, RejectsAComponentRequiredTwice) {
               ElementsAre("errors/system/requires_component_twice.xml:8: application 'nav' lists component 'sonar1' twice in <requires>"));
 }
 
+TEST(SystemProfileErrors, RejectsAnEmptyRequiredComponent) {
+  EXPECT_THAT(problems("errors/system/requires_empty_component.xml"),
+              ElementsAre("errors/system/requires_empty_component.xml:8: empty <component> in application 'nav'"));
+}
+
 TEST(SystemProfileErrors, RejectsAnApplicationWithoutReference) {
   EXPECT_THAT(problems("errors/system/application_missing_reference.xml"),
               ElementsAre("errors/system/application_missing_reference.xml:5: missing attribute 'reference' of <application>"));
