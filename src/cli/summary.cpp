@@ -7,13 +7,13 @@ namespace keel::cli {
 
 void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s) {
   fmt::print(out, "keel: '{}' ran {:.2f} s\n\n", engine.plan().name, ran_s);
-  fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9}\n", "component", "state", "executions",
-             "faults", "executor");
+  fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", "component", "state", "executions",
+             "faults", "overruns", "executor");
   for (const auto& inst : engine.instances()) {
     const auto& core = runtime::coreOf(*inst.component);
-    fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9}\n", inst.plan->name,
+    fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", inst.plan->name,
                toString(inst.component->state()), core.executions.load(), core.faults.load(),
-               inst.executor ? inst.executor->config().name : "passive");
+               core.deadline_overruns.load(), inst.executor ? inst.executor->config().name : "passive");
   }
   fmt::print(out, "\n{:<28} {:>10} {:>10} {:>9}\n", "executor", "period_ms", "cycles", "overruns");
   for (const auto& ex : engine.executors()) {

@@ -51,6 +51,8 @@ class ComponentCore {
   std::atomic<bool> event_pending{false};     // an input event port has something queued
   std::atomic<bool> input_pending{false};     // an input data port received a value
 
+  std::int64_t deadline_ns = 0;               // <deadline> of its fault policy; 0: none
+
   // counters, read by the engine's summary and the watchdog
   std::atomic<std::uint64_t> executions{0};
   std::atomic<std::uint64_t> faults{0};

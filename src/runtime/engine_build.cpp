@@ -40,6 +40,16 @@ std::string describe(PortKind k, PortDirection d) {
   return fmt::format("{} {} port", d == PortDirection::Input ? "input" : "output", toString(k));
 }
 
+detail::QueuePolicy queuePolicy(profile::QueuePolicy p) {
+  switch (p) {
+    case profile::QueuePolicy::Fifo: return detail::QueuePolicy::Fifo;
+    case profile::QueuePolicy::UFifo: return detail::QueuePolicy::UFifo;
+    case profile::QueuePolicy::Lifo: return detail::QueuePolicy::Lifo;
+    case profile::QueuePolicy::Last: return detail::QueuePolicy::Last;
+  }
+  return detail::QueuePolicy::Fifo;
+}
+
 }  // namespace
 
 Result<void> Engine::instantiate() {
@@ -66,6 +76,8 @@ Result<void> Engine::instantiate() {
     core.class_name = cp.name;
     core.hooks = this;
     for (const auto& [k, v] : pi.properties) core.properties[k] = v;
+    if (pi.policy && pi.policy->deadline_ms)
+      core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
     if (auto r = checkPorts(inst); !r) {
       errors += r.error().message;
       continue;
@@ -73,7 +85,7 @@ Result<void> Engine::instantiate() {
     for (const auto& d : cp.data_ports) {
       if (d.usage != profile::Usage::Input) continue;
       auto* port = static_cast<detail::InputPortBase*>(core.findPort(d.name));
-      port->configureQueue(static_cast<detail::QueuePolicy>(d.queue_policy), d.queue_size);
+      port->configureQueue(queuePolicy(d.queue_policy), d.queue_size);
     }
     for (const auto& e : cp.event_ports) {
       if (e.usage != profile::Usage::Input) continue;

@@ -116,8 +116,12 @@ void Executor::serviceBetweenCycles() {
 void Executor::cycle() {
   for (Component* c : members_) {
     if (c->state() != State::Active) continue;
-    coreOf(*c).input_pending.store(false, std::memory_order_relaxed);
-    if (invoke(*c, Callback::Execute)) coreOf(*c).executions.fetch_add(1, std::memory_order_relaxed);
+    detail::ComponentCore& core = coreOf(*c);
+    core.input_pending.store(false, std::memory_order_relaxed);
+    const std::int64_t t0 = core.deadline_ns ? nowNs() : 0;
+    if (invoke(*c, Callback::Execute)) core.executions.fetch_add(1, std::memory_order_relaxed);
+    if (core.deadline_ns && nowNs() - t0 > core.deadline_ns)
+      core.deadline_overruns.fetch_add(1, std::memory_order_relaxed);
   }
   for (Component* c : members_)
     if (c->state() == State::Active) invoke(*c, Callback::Updated);

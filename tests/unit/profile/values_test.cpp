@@ -25,6 +25,8 @@ TEST(ProfileValues, RejectsNumbersWithTrailingTextOrOtherSyntax) {
   EXPECT_EQ(parseDouble("1,5"), std::nullopt);
   EXPECT_EQ(parseDouble("0x10"), std::nullopt);
   EXPECT_EQ(parseDouble("++1"), std::nullopt);
+  EXPECT_EQ(parseDouble("+-1"), std::nullopt);
+  EXPECT_EQ(parseInt("+-1"), std::nullopt);
   EXPECT_EQ(parseDouble(""), std::nullopt);
   EXPECT_EQ(parseDouble("1e999"), std::nullopt);
 }

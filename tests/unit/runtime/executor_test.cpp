@@ -222,6 +222,53 @@ TEST_F(ExecutorTest, AnOverrunIsCounted) {
   ASSERT_TRUE(ex.join(5s));
 }
 
+TEST_F(ExecutorTest, CountsDeadlineOverrunsOfAMember) {
+  class Sometimes : public Component {
+   public:
+    ReturnCode onExecute() override {
+      if (++n % 4 == 0) std::this_thread::sleep_for(20ms);
+      return ReturnCode::Ok;
+    }
+    std::atomic<int> n{0};
+  } c;
+  ready(c, "c");
+  coreOf(c).deadline_ns = 10'000'000;  // <deadline>10</deadline>
+  Executor ex({"p", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  ex.add(c);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return c.n.load() >= 12; }));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  const auto overruns = coreOf(c).deadline_overruns.load();
+  EXPECT_GE(overruns, 3u);
+  EXPECT_LE(overruns, static_cast<std::uint64_t>(c.n.load() / 4 + 1)) << "fast cycles counted as overruns";
+}
+
+TEST_F(ExecutorTest, RunsSubMillisecondPeriods) {
+  class Stamper : public Component {
+   public:
+    ReturnCode onExecute() override {
+      if (count < stamps.size()) stamps[count++] = std::chrono::steady_clock::now();
+      return ReturnCode::Ok;
+    }
+    std::vector<std::chrono::steady_clock::time_point> stamps = std::vector<std::chrono::steady_clock::time_point>(400);
+    std::size_t count = 0;
+  } c;
+  ready(c, "c");
+  Executor ex({"fast", ExecutorKind::Periodic, 500us, 0, Policy::Other});
+  ex.add(c);
+  ex.start();
+  std::this_thread::sleep_for(300ms);
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  // With a millisecond granularity no two releases would be closer than ~1 ms. On a loaded
+  // machine some releases are late, but many consecutive ones are still ~0.5 ms apart.
+  int short_gaps = 0;
+  for (std::size_t i = 1; i < c.count; ++i)
+    short_gaps += (c.stamps[i] - c.stamps[i - 1]) < 800us;
+  EXPECT_GE(short_gaps, 20) << "of " << c.count << " executions";
+}
+
 TEST_F(ExecutorTest, ARefusedSchedulingPolicyIsAWarningNotAFailure) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
