@@ -15,6 +15,7 @@
 
 #include "keel/data_port.hpp"
 #include "keel/event_port.hpp"
+#include "keel/fault_event.hpp"
 #include "keel/lifecycle.hpp"
 #include "keel/property.hpp"
 #include "keel/registry.hpp"
@@ -88,6 +89,9 @@ class Component {
   }
   /// Reports a fault this component noticed itself (kind `user`).
   void raiseFault(std::string_view why);
+  /// Reports a fault of another kind this component detected, about itself or, when
+  /// `fault.component` names one, about another component (monitors and voters do this).
+  void reportFault(const FaultEvent& fault);
 
  private:
   friend struct detail::ComponentAccess;

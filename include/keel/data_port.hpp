@@ -29,6 +29,7 @@ class InputDataPort final : public detail::InputPortBase, private detail::Sink<T
   /// The value pop() would return, left in the queue.
   std::optional<T> peek() const { return queue_.peek(); }
   bool empty() const { return queue_.size() == 0; }
+  bool numeric() const override { return detail::NumericTraits<T>::numeric; }
 
   // ---- runtime side ----
   void configureQueue(detail::QueuePolicy policy, std::size_t size) override {
@@ -49,6 +50,13 @@ class InputDataPort final : public detail::InputPortBase, private detail::Sink<T
 
  private:
   void deliver(const T& value) override {
+    if constexpr (detail::NumericTraits<T>::numeric) {
+      detail::Violation v;
+      if (validity_ && !validity_->check(value, v)) [[unlikely]] {
+        detail::reportRange(owner(), name(), v, true);
+        return;  // an invalid value is not queued
+      }
+    }
     queue_.push(value);
     detail::notifyInput(owner(), false);
   }
@@ -62,10 +70,23 @@ class OutputDataPort final : public detail::OutputPortBase {
       : OutputPortBase(owner, std::move(name), detail::PortKind::Data,
                        detail::PortDirection::Output, typeid(T), ::keel::typeName<T>()) {}
 
-  /// Sends `value` to every connected input.
+  /// Sends `value` to every connected input. A value that violates the port's validity rule
+  /// is a `range` fault of this component and is not sent.
   void push(const T& value) {
+    if constexpr (detail::NumericTraits<T>::numeric) {
+      if (corrupt_next_.load(std::memory_order_relaxed)) [[unlikely]] {
+        pushCorrupted(value);
+        return;
+      }
+      detail::Violation v;
+      if (validity_ && !validity_->check(value, v)) [[unlikely]] {
+        detail::reportRange(owner(), name(), v, false);
+        return;
+      }
+    }
     for (const detail::Connection<T>* c : connections_) c->send(value);
   }
+  bool numeric() const override { return detail::NumericTraits<T>::numeric; }
   std::size_t connections() const { return connections_.size(); }
 
   // ---- runtime side ----
@@ -76,6 +97,13 @@ class OutputDataPort final : public detail::OutputPortBase {
   }
 
  private:
+  void pushCorrupted(T value) {
+    corrupt_next_.store(false, std::memory_order_relaxed);
+    detail::NumericTraits<T>::fill(value, corrupt_value_);
+    detail::noteInjectedCorruption(owner());
+    push(value);
+  }
+
   std::vector<const detail::Connection<T>*> connections_;
 };
 

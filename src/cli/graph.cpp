@@ -59,11 +59,13 @@ int graph(const std::string& file) {
   }
   for (const auto& d : plan->depends)
     out += fmt::format("  {} -> {} [label=\"depends\", style=dotted, color=gray40];\n", quote(d.source), quote(d.target));
-  if (set->system) {
-    for (const auto& app : set->system->applications)
+  if (set->system) {  // applications as nodes of their own, with their dependencies
+    for (const auto& app : set->system->applications) {
+      out += fmt::format("  {} [shape=folder, label={}];\n", quote("app:" + app.name), quote(app.name));
       for (const auto& dep : app.depends_on)
-        out += fmt::format("  {} -> {} [ltail=cluster_app, label=\"depends_on\", style=dotted];\n",
-                           quote("app:" + app.name), quote("app:" + dep));
+        out += fmt::format("  {} -> {} [label=\"depends_on\", style=dotted];\n", quote("app:" + app.name),
+                           quote("app:" + dep));
+    }
   }
   out += "}\n";
   std::cout << out;

@@ -36,6 +36,10 @@ void checkSystem(const ProfileSet& set, const SystemProfile& system, Diagnostics
 // Helpers shared by the checks.
 
 /// One port as seen from outside a (possibly composite) component.
+/// keel's own system component, always present: the fault manager and its FaultEvent input.
+inline constexpr std::string_view kFaultManager = "fault_manager";
+inline constexpr std::string_view kFaultManagerPort = "faults";
+
 struct PortSig {
   std::string name;
   PortType kind = PortType::Data;

@@ -72,6 +72,9 @@ const ComponentProfile* componentOf(const ProfileSet& set, const PackageProfile&
 
 void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagnostics& diags) {
   for (std::size_t i = 0; i < subs.size(); ++i) {
+    if (subs[i].name == kFaultManager)
+      error(diags, subs[i].where, fmt::format("subcomponent name '{}' is reserved for keel's fault "
+                                              "manager", subs[i].name));
     for (std::size_t j = 0; j < i; ++j) {
       if (subs[j].name == subs[i].name) {
         error(diags, subs[i].where, fmt::format("duplicate subcomponent '{}' (first at line {})",

@@ -20,6 +20,13 @@ std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcompo
                                const Endpoint& ep, const Where& where, std::string_view what,
                                Diagnostics& diags) {
   const Subcomponent* sub = findSubcomponent(subs, ep.component);
+  if (sub == nullptr && ep.component == kFaultManager) {  // keel's system component (paper §3.2)
+    if (ep.port == kFaultManagerPort)
+      return PortSig{std::string(kFaultManagerPort), PortType::Event, false, "input", "keel::FaultEvent"};
+    error(diags, where, fmt::format("{}: component '{}' has no port '{}' (ports: {})", what,
+                                    ep.component, ep.port, kFaultManagerPort));
+    return std::nullopt;
+  }
   if (sub == nullptr) {
     error(diags, where, fmt::format("{}: no subcomponent '{}' (subcomponents: {})", what,
                                     ep.component, subcomponentNames(subs)));

@@ -52,6 +52,18 @@ class ComponentCore {
   std::atomic<bool> input_pending{false};     // an input data port received a value
 
   std::int64_t deadline_ns = 0;               // <deadline> of its fault policy; 0: none
+  std::int64_t heartbeat_ns = 0;              // <heartbeat timeout> of its policy; 0: none
+
+  // watchdog (src/fault/watchdog): written by the executor when heartbeat_ns != 0
+  std::atomic<std::int64_t> callback_since_ns{0};  // start of the running callback; 0: none
+  std::atomic<std::int64_t> last_beat_ns{0};       // start of its latest onExecute
+
+  // fault injection (src/runtime/injection): armed by the injector, fired inside the guard
+  std::atomic<std::uint8_t> inject_kind{0};        // runtime::InjectKind; 0: none armed
+  std::atomic<std::uint64_t> inject_id{0};         // fault_id of the armed injection
+  std::atomic<std::uint64_t> injected_id{0};       // manifested and not yet detected
+  std::atomic<std::int64_t> injected_t_ns{0};      // steady ns of the manifestation
+  std::atomic<std::int64_t> stalled_until_ns{0};   // stall_heartbeat: not executed until then
 
   // counters, read by the engine's summary and the watchdog
   std::atomic<std::uint64_t> executions{0};

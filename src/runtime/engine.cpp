@@ -12,7 +12,9 @@
 namespace keel::runtime {
 
 Engine::Engine(EngineOptions options)
-    : options_(std::move(options)), loader_(options_.search_path) {}
+    : options_(std::move(options)),
+      loader_(options_.search_path),
+      fault_manager_(log_, [this](std::string_view name) { return find(name); }) {}
 
 Engine::~Engine() { shutdown(); }
 
@@ -105,6 +107,7 @@ void Engine::shutdown() {
     std::lock_guard lock(coreOf(*inst.component).passive_mutex);
     transition(*inst.component, Transition::Stop);
   }
+  fault_manager_.flushUndetected(components());
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it)
     if (!isAbandoned(*it)) transition(*it->component, Transition::Destroy);
   if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
@@ -124,29 +127,13 @@ void Engine::stateChanged(Component& c, State from, State to) {
               {"to", toString(to)}});
 }
 
-void Engine::faultDetected(Component& c, const FaultEvent& fault) {
-  std::uint64_t id = next_fault_id_.fetch_add(1, std::memory_order_relaxed);
-  std::string who = fault.component[0] ? std::string(fault.componentName()) : c.instanceName();
-  std::string kind(toString(fault.kind));
-  log_.write({{"event", "detected"},
-              {"fault_id", id},
-              {"component", who},
-              {"kind", kind},
-              {"detail", fault.detailText()},
-              {"state", toString(c.state())}});
-  std::lock_guard lock(counts_mutex_);
-  for (auto& fc : counts_) {
-    if (fc.component == who && fc.kind == kind) {
-      ++fc.count;
-      return;
-    }
-  }
-  counts_.push_back({who, kind, std::string(fault.detailText()), 1});
-}
+void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manager_.onFault(c, fault); }
 
-std::vector<FaultCount> Engine::faultCounts() const {
-  std::lock_guard lock(counts_mutex_);
-  return counts_;
+std::vector<Component*> Engine::components() const {
+  std::vector<Component*> out;
+  for (const auto& i : instances_)
+    if (i.component) out.push_back(i.component.get());
+  return out;
 }
 
 }  // namespace keel::runtime

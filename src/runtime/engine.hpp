@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "fault/fault_log.hpp"
+#include "fault/fault_manager.hpp"
 #include "keel/component.hpp"
 #include "keel/result.hpp"
 #include "profile/loader.hpp"
@@ -41,13 +42,6 @@ struct Instance {
   Executor* executor = nullptr;  // null: passive
 };
 
-struct FaultCount {
-  std::string component;
-  std::string kind;
-  std::string detail;  // the first one
-  std::uint64_t count = 0;
-};
-
 class Engine final : public RuntimeHooks {
  public:
   /// Plans, loads and instantiates; checks every port of code against its profile.
@@ -65,7 +59,11 @@ class Engine final : public RuntimeHooks {
   const std::vector<Instance>& instances() const { return instances_; }
   const std::vector<std::unique_ptr<Executor>>& executors() const { return executors_; }
   fault::FaultLog& log() { return log_; }
-  std::vector<FaultCount> faultCounts() const;
+  fault::FaultManager& faultManager() { return fault_manager_; }
+  const fault::FaultManager& faultManager() const { return fault_manager_; }
+  std::vector<fault::FaultCount> faultCounts() const { return fault_manager_.counts(); }
+  /// Every instance, for detectors that scan them (the watchdog).
+  std::vector<Component*> components() const;
 
   // RuntimeHooks
   void stateChanged(Component& c, State from, State to) override;
@@ -75,6 +73,7 @@ class Engine final : public RuntimeHooks {
   explicit Engine(EngineOptions options);
   Result<void> instantiate();
   Result<void> checkPorts(const Instance& inst) const;
+  Result<void> configurePorts(Instance& inst);  // queues, validity rules, call timeouts
   Result<void> connect();
   void buildExecutors();
   void warn(const std::string& message);
@@ -86,10 +85,9 @@ class Engine final : public RuntimeHooks {
   fault::FaultLog log_;
   std::vector<Instance> instances_;
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
+  std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   std::vector<std::unique_ptr<Executor>> executors_;
-  std::atomic<std::uint64_t> next_fault_id_{1};
-  mutable std::mutex counts_mutex_;
-  std::vector<FaultCount> counts_;
+  fault::FaultManager fault_manager_;
   bool started_ = false;
   bool shut_down_ = false;
 };

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "runtime/engine.hpp"
+#include "fault/fault_manager_component.hpp"
 #include "runtime/registry.hpp"
 
 namespace keel::runtime {
@@ -56,6 +57,16 @@ Result<void> Engine::instantiate() {
   std::string errors;
   for (const auto& pi : plan_.instances) {
     const profile::ComponentProfile& cp = *pi.profile;
+    if (&cp == &fault::FaultManagerComponent::profile()) {
+      Instance inst{&pi, std::make_unique<fault::FaultManagerComponent>(fault_manager_), nullptr};
+      detail::ComponentCore& core = coreOf(*inst.component);
+      core.instance_name = pi.name;
+      core.class_name = cp.name;
+      core.hooks = this;
+      (void)configurePorts(inst);  // its one port has no validity: cannot fail
+      instances_.push_back(std::move(inst));
+      continue;
+    }
     std::string dir = std::filesystem::path(cp.file).parent_path().string();
     Result<std::string> lib = loader_.resolve(cp.library_name, dir);
     std::string library = lib ? *lib : std::string();
@@ -82,20 +93,11 @@ Result<void> Engine::instantiate() {
       errors += r.error().message;
       continue;
     }
-    for (const auto& d : cp.data_ports) {
-      if (d.usage != profile::Usage::Input) continue;
-      auto* port = static_cast<detail::InputPortBase*>(core.findPort(d.name));
-      port->configureQueue(queuePolicy(d.queue_policy), d.queue_size);
-    }
-    for (const auto& e : cp.event_ports) {
-      if (e.usage != profile::Usage::Input) continue;
-      auto* port = static_cast<detail::InputPortBase*>(core.findPort(e.name));
-      port->configureQueue(detail::QueuePolicy::Fifo, e.queue_size);
-    }
-    for (const auto& s : cp.service_ports) {
-      if (s.usage != profile::ServiceUsage::Required) continue;
-      auto* port = static_cast<ServicePortBase*>(core.findPort(s.name));
-      port->setTimeout(std::chrono::nanoseconds(static_cast<std::int64_t>(s.timeout_ms * 1e6)));
+    if (pi.policy && pi.policy->heartbeat_timeout_ms)
+      core.heartbeat_ns = static_cast<std::int64_t>(*pi.policy->heartbeat_timeout_ms * 1e6);
+    if (auto r = configurePorts(inst); !r) {
+      errors += r.error().message;
+      continue;
     }
     instances_.push_back(std::move(inst));
   }
@@ -103,6 +105,38 @@ Result<void> Engine::instantiate() {
     errors.pop_back();
     return fail(errors);
   }
+  return {};
+}
+
+Result<void> Engine::configurePorts(Instance& inst) {
+  const profile::ComponentProfile& cp = *inst.plan->profile;
+  detail::ComponentCore& core = coreOf(*inst.component);
+  std::string errors;
+  for (const auto& d : cp.data_ports) {
+    detail::PortBase* port = core.findPort(d.name);
+    if (d.usage == profile::Usage::Input)
+      static_cast<detail::InputPortBase*>(port)->configureQueue(queuePolicy(d.queue_policy), d.queue_size);
+    if (!d.validity) continue;
+    if (!port->numeric()) {
+      errors += fmt::format("{}: component '{}': <validity> on port '{}' of type '{}': only numbers and "
+                            "arrays of numbers can be range-checked\n",
+                            at(d.validity->where), inst.plan->name, d.name, port->typeName());
+      continue;
+    }
+    rules_.push_back(std::make_unique<detail::ValidityRule>(
+        detail::ValidityRule{d.validity->min, d.validity->max}));
+    port->setValidity(rules_.back().get());
+  }
+  for (const auto& e : cp.event_ports) {
+    if (e.usage != profile::Usage::Input) continue;
+    static_cast<detail::InputPortBase*>(core.findPort(e.name))->configureQueue(detail::QueuePolicy::Fifo, e.queue_size);
+  }
+  for (const auto& sp : cp.service_ports) {
+    if (sp.usage != profile::ServiceUsage::Required) continue;
+    static_cast<ServicePortBase*>(core.findPort(sp.name))
+        ->setTimeout(std::chrono::nanoseconds(static_cast<std::int64_t>(sp.timeout_ms * 1e6)));
+  }
+  if (!errors.empty()) return fail(errors);
   return {};
 }
 

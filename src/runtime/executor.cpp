@@ -19,6 +19,27 @@ std::int64_t nowNs() {
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
+bool stalled(detail::ComponentCore& core) {
+  if (nowNs() < core.stalled_until_ns.load(std::memory_order_acquire)) return true;
+  core.stalled_until_ns.store(0, std::memory_order_relaxed);
+  return false;
+}
+
+/// A `deadline` fault when onExecute took longer than the component's <deadline>.
+void checkDeadline(Component& c, std::int64_t took_ns) {
+  detail::ComponentCore& core = coreOf(c);
+  if (took_ns <= core.deadline_ns) return;
+  core.deadline_overruns.fetch_add(1, std::memory_order_relaxed);
+  FaultEvent ev;
+  ev.kind = FaultKind::Deadline;
+  ev.t_ns = nowNs();
+  FaultEvent::copyInto(ev.component, core.instance_name);
+  auto r = fmt::format_to_n(ev.detail.data(), ev.detail.size() - 1, "onExecute took {:.3f} ms (deadline {:.3f} ms)",
+                            took_ns / 1e6, core.deadline_ns / 1e6);
+  *r.out = '\0';
+  reportFault(c, ev);
+}
+
 }  // namespace
 
 Executor::Executor(ExecutorConfig config, Warn warn)
@@ -117,11 +138,11 @@ void Executor::cycle() {
   for (Component* c : members_) {
     if (c->state() != State::Active) continue;
     detail::ComponentCore& core = coreOf(*c);
+    if (core.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
     core.input_pending.store(false, std::memory_order_relaxed);
     const std::int64_t t0 = core.deadline_ns ? nowNs() : 0;
     if (invoke(*c, Callback::Execute)) core.executions.fetch_add(1, std::memory_order_relaxed);
-    if (core.deadline_ns && nowNs() - t0 > core.deadline_ns)
-      core.deadline_overruns.fetch_add(1, std::memory_order_relaxed);
+    if (core.deadline_ns) checkDeadline(*c, nowNs() - t0);
   }
   for (Component* c : members_)
     if (c->state() == State::Active) invoke(*c, Callback::Updated);

@@ -3,6 +3,7 @@
 #include <mutex>
 
 #include "runtime/component_core.hpp"
+#include "runtime/injection.hpp"
 
 namespace keel::runtime {
 
@@ -50,6 +51,7 @@ ReturnCode call(Component& c, Callback cb) {
 void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   FaultEvent ev;
+  ev.t_ns = steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
   out.describe(ev, callbackName(cb));
   core.faults.fetch_add(1, std::memory_order_relaxed);
@@ -71,7 +73,23 @@ void reportFault(Component& c, const FaultEvent& ev) {
 }
 
 bool invoke(Component& c, Callback cb) {
-  GuardOutcome out = guarded([&c, cb] { return call(c, cb); });
+  detail::ComponentCore& core = coreOf(c);
+  const bool watched = core.heartbeat_ns != 0;
+  if (watched) {
+    const std::int64_t t = steadyNs();
+    core.callback_since_ns.store(t, std::memory_order_relaxed);
+    if (cb == Callback::Execute) core.last_beat_ns.store(t, std::memory_order_relaxed);
+  }
+  GuardOutcome out = guarded([&c, &core, cb] {
+    if (cb == Callback::Execute) {
+      if (auto k = core.inject_kind.load(std::memory_order_relaxed)) [[unlikely]] {
+        core.inject_kind.store(0, std::memory_order_relaxed);
+        return fire(c, static_cast<InjectKind>(k));
+      }
+    }
+    return call(c, cb);
+  });
+  if (watched) core.callback_since_ns.store(0, std::memory_order_relaxed);
   if (out.ok()) return true;
   recordFault(c, out, cb);
   return false;

@@ -4,6 +4,8 @@
 
 #include <set>
 
+#include "fault/fault_manager_component.hpp"
+
 namespace keel::runtime {
 namespace {
 
@@ -47,6 +49,7 @@ class Planner {
   }
 
   Plan finish(std::string name) {
+    addFaultManagerIfConnected();
     for (const auto& inst : plan_.instances) {
       const auto& e = inst.profile->execution;
       if (in_task_.count(inst.name) || e.type == profile::ExecutionType::Passive) continue;
@@ -55,6 +58,18 @@ class Planner {
     }
     plan_.name = std::move(name);
     return std::move(plan_);
+  }
+
+  void addFaultManagerIfConnected() {
+    for (const auto& c : plan_.connections) {
+      if (c.target.component != fault::kFaultManagerInstance) continue;
+      PlannedInstance inst;
+      inst.name = fault::kFaultManagerInstance;
+      inst.profile = &fault::FaultManagerComponent::profile();
+      inst.where = c.where;
+      plan_.instances.push_back(std::move(inst));
+      return;
+    }
   }
 
   Result<void> addComponentRoot(const profile::ComponentProfile& cp) {
@@ -103,6 +118,7 @@ class Planner {
   }
 
   Endpoint resolve(const std::string& prefix, const Endpoint& e) const {
+    if (e.component == fault::kFaultManagerInstance) return e;  // one per run, never prefixed
     Endpoint out{prefix + e.component, e.port};
     for (auto it = exports_.find({out.component, out.port}); it != exports_.end();
          it = exports_.find({out.component, out.port}))

@@ -2,7 +2,8 @@
 """What an outside component author does with an installed keel, end to end.
 
 1. `cmake --install <keel build> --prefix <work>/staged`, then move the tree to <work>/prefix
-   (the install must be relocatable), and check its layout, RUNPATHs and CMake package.
+   (the install must be relocatable), and check its layout, RUNPATHs and CMake package; the
+   installed keel inspects its own component libraries and validates its own profiles.
 2. Configure and build tests/package/project (two components in one library) with
    CMAKE_PREFIX_PATH=<prefix>: find_package(keel) and keel_add_component().
 3. `<prefix>/bin/keel inspect libgreeters.so` lists both components and their ports.
@@ -151,6 +152,16 @@ def check_inspect(keel, lib):
             expect(port in out, f"keel inspect {lib.name}: port {component}.{port} not listed:\n{out}")
 
 
+def check_shipped(keel, prefix, libdir):
+    """keel's own component libraries and profiles, as installed, are usable."""
+    for lib in sorted((libdir / "keel").glob("*.so")):
+        out = run(f"keel inspect {lib.name}", [keel, "inspect", lib], timeout=60)
+        expect("component" in out, f"keel inspect {lib}: lists no component:\n{out}")
+    profiles = sorted((prefix / "share" / "keel").rglob("*.xml"))
+    if profiles:
+        run("keel validate the installed profiles", [keel, "validate", *profiles], timeout=60)
+
+
 def check_log(log):
     expect(log.exists(), f"keel run: no log written at {log}")
     states = {name: [] for name in INSTANCES}
@@ -219,8 +230,9 @@ def main():
         forbidden = [args.keel_build.resolve(), args.keel_source.resolve(), staged]
         check_no_absolute_paths(cmakedir, forbidden)
         check_runpaths(prefix, libdir, forbidden)
-        build, lib = build_project(args, work, prefix, cmakedir)
         keel = prefix / "bin" / "keel"
+        check_shipped(keel, prefix, libdir)
+        build, lib = build_project(args, work, prefix, cmakedir)
         check_inspect(keel, lib)
         check_run(keel, "app.xml", lib.parent, "run.jsonl")
         check_installed_run(args, work, prefix, libdir, build)

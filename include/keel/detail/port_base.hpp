@@ -4,10 +4,13 @@
 // Thread-safety: identity fields are immutable after construction.
 #pragma once
 
+#include <atomic>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <typeindex>
+
+#include "keel/detail/validity.hpp"
 
 namespace keel {
 class Component;
@@ -48,6 +51,15 @@ class PortBase {
   PortDirection direction() const { return direction_; }
   std::type_index type() const { return type_; }
   const std::string& typeName() const { return type_name_; }
+
+  /// Whether values can be range-checked (numbers and arrays of numbers).
+  virtual bool numeric() const { return false; }
+  /// Sets the port's validity rule (the runtime, before start); null removes it.
+  void setValidity(const ValidityRule* rule) { validity_ = rule; }
+  const ValidityRule* validity() const { return validity_; }
+
+ protected:
+  const ValidityRule* validity_ = nullptr;
 
  private:
   Component* owner_;
@@ -93,6 +105,17 @@ class OutputPortBase : public PortBase {
   using PortBase::PortBase;
   /// Adds a connection; false if its type differs from this port's.
   virtual bool attach(ConnectionBase& connection) = 0;
+
+  /// Fault injection (`out_of_range`): the next value pushed is replaced by `value` (every
+  /// element of an array). Only numeric data ports honour it.
+  void corruptNext(double value) {
+    corrupt_value_ = value;
+    corrupt_next_.store(true, std::memory_order_release);
+  }
+
+ protected:
+  std::atomic<bool> corrupt_next_{false};
+  double corrupt_value_ = 0;
 };
 
 }  // namespace keel::detail

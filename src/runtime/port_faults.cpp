@@ -1,0 +1,29 @@
+// Faults found by ports (the signal model of paper §5.1.2): a value outside the port's
+// <validity> is a `range` fault of the port's owner, detected in the same call that pushed or
+// delivered it. The detail names the port, the value and the bounds.
+#include <fmt/format.h>
+
+#include "keel/detail/validity.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/injection.hpp"
+#include "runtime/invoke.hpp"
+
+void keel::detail::reportRange(Component& owner, const std::string& port, const Violation& v,
+                               bool on_delivery) {
+  FaultEvent ev;
+  ev.kind = FaultKind::Range;
+  ev.t_ns = runtime::steadyNs();
+  FaultEvent::copyInto(ev.component, runtime::coreOf(owner).instance_name);
+  const char* where = on_delivery ? "received on" : "pushed on";
+  auto& d = ev.detail;
+  fmt::format_to_n_result<char*> r;
+  if (v.size_expected != 0) {
+    r = fmt::format_to_n(d.data(), d.size() - 1, "{} port '{}': {} elements, validity expects {}", where,
+                         port, v.size_got, v.size_expected);
+  } else {
+    r = fmt::format_to_n(d.data(), d.size() - 1, "value {} {} port '{}'{} outside [{}, {}]", v.value, where,
+                         port, v.index ? fmt::format("[{}]", v.index) : std::string(), v.min, v.max);
+  }
+  *r.out = '\0';
+  runtime::reportFault(owner, ev);
+}
