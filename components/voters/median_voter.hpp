@@ -94,7 +94,9 @@ class MedianVoterN : public Component {
     return {{InputDataPort<double>(self, "in" + std::to_string(I))...}};
   }
 
-  bool present(const Slot& s) const { return s.seen && (stale_after_ == 0 || s.age < stale_after_); }
+  bool present(const Slot& s) const {
+    return s.seen && (stale_after_ == 0 || s.age < stale_after_);
+  }
 
   void vote() {
     std::array<double, N> values{};
@@ -172,8 +174,9 @@ class MedianVoterN : public Component {
                             std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
     }
     if (n != 0 && n != N)
-      fail("sources", "must name " + std::to_string(N) + " components, one per input in order (got " +
-                          std::to_string(n) + ": '" + text + "')");
+      fail("sources", "must name " + std::to_string(N) +
+                          " components, one per input in order (got " + std::to_string(n) +
+                          ": '" + text + "')");
     sources_ = std::move(names);  // empty names: faults are about the voter itself
   }
 

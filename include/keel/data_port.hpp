@@ -102,6 +102,7 @@ class OutputDataPort final : public detail::OutputPortBase {
     detail::NumericTraits<T>::fill(value, corrupt_value_);
     detail::noteInjectedCorruption(owner());
     push(value);
+    detail::endInjectedCorruption();
   }
 
   std::vector<const detail::Connection<T>*> connections_;

@@ -9,6 +9,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/summary.hpp"
+#include "fault/scenario.hpp"
 #include "profile/loader.hpp"
 #include "runtime/engine.hpp"
 
@@ -19,6 +20,7 @@ struct RunOptions {
   std::string profile;
   double duration_s = 0;  // 0: until a signal
   std::string log;
+  std::string inject;
 };
 
 /// Blocks SIGINT/SIGTERM in this thread (and so in every thread created after), so that only
@@ -60,6 +62,14 @@ int runProfile(const RunOptions& o) {
   }
   runtime::EngineOptions eo;
   eo.log_path = o.log;
+  if (!o.inject.empty()) {
+    auto scenario = fault::loadScenario(o.inject);
+    if (!scenario) {
+      for (const auto& d : scenario.error()) std::cerr << d.str() << '\n';
+      return 2;
+    }
+    eo.scenario = std::move(*scenario);
+  }
   auto engine = runtime::Engine::create(std::move(*set), eo);
   if (!engine) {
     std::cerr << engine.error().message << '\n';
@@ -89,6 +99,7 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--duration", opts->duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--log", opts->log, "write the fault log (JSON lines) to this file");
+  cmd->add_option("--inject", opts->inject, "inject the faults of this fault_scenario XML");
   cmd->callback([opts, &run] { run = [opts] { return runProfile(*opts); }; });
 }
 

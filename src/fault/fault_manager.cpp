@@ -1,6 +1,7 @@
 #include "fault/fault_manager.hpp"
 
 #include "runtime/component_core.hpp"
+#include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
 
 namespace keel::fault {
@@ -17,20 +18,27 @@ bool stopsTheComponent(FaultKind k) {
 FaultManager::FaultManager(FaultLog& log, std::function<Component*(std::string_view)> find)
     : log_(log), find_(std::move(find)) {}
 
-void FaultManager::onFault(Component& reporter, const FaultEvent& fault) {
+void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::string_view detector) {
   const std::int64_t detected = fault.t_ns ? fault.t_ns : steadyNowNs();
   Component* accused = &reporter;
   if (fault.component[0] != '\0' && fault.componentName() != reporter.instanceName()) {
     if (Component* c = find_(fault.componentName())) accused = c;
   }
   auto& core = runtime::coreOf(*accused);
-  if (accused != &reporter) core.faults.fetch_add(1, std::memory_order_relaxed);
+  core.faults.fetch_add(1, std::memory_order_relaxed);
   const std::string who = fault.component[0] ? std::string(fault.componentName()) : accused->instanceName();
 
+  // The injection this detection answers: one that manifested in the accused component, or a
+  // corrupted value being pushed on this very thread (caught on delivery by the receiver).
+  detail::ComponentCore* source = &core;
   std::uint64_t id = core.injected_id.exchange(0, std::memory_order_acq_rel);
+  if (id == 0 && runtime::injectionInFlight()) {
+    source = runtime::injectionInFlight();
+    id = source->injected_id.exchange(0, std::memory_order_acq_rel);
+  }
   std::int64_t injected = 0;
   if (id != 0) {
-    injected = core.injected_t_ns.load(std::memory_order_acquire);
+    injected = source->injected_t_ns.load(std::memory_order_acquire);
     log_.write({{"event", "injected"}, {"fault_id", id}, {"component", who},
                 {"t_ns", log_.sinceStart(injected)}});
   } else {
@@ -44,7 +52,7 @@ void FaultManager::onFault(Component& reporter, const FaultEvent& fault) {
               {"component", who},
               {"kind", kind},
               {"detail", fault.detailText()},
-              {"detector", reporter.instanceName()},
+              {"detector", detector.empty() ? reporter.instanceName() : std::string(detector)},
               {"t_ns", log_.sinceStart(detected)}});
   std::lock_guard lock(mutex_);
   detections_.push_back({id, who, fault.kind, detected, injected});

@@ -45,8 +45,8 @@ class FaultManager {
   std::uint64_t nextId() { return next_id_.fetch_add(1, std::memory_order_relaxed); }
 
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
-  /// reporter itself).
-  void onFault(Component& reporter, const FaultEvent& fault);
+  /// reporter itself). `detector` names who found it in the log (default: the reporter).
+  void onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {});
 
   std::vector<FaultCount> counts() const;
   std::vector<Detection> detections() const;

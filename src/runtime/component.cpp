@@ -38,14 +38,12 @@ void Component::critical(void* addr, std::size_t len) {
 }
 
 void Component::raiseFault(std::string_view why) {
-  core_->faults.fetch_add(1, std::memory_order_relaxed);
   if (core_->hooks) core_->hooks->faultDetected(*this, FaultEvent(FaultKind::User, core_->instance_name, why));
 }
 
 void Component::reportFault(const FaultEvent& fault) {
   if (fault.component[0] == '\0' || fault.componentName() == core_->instance_name)
-    core_->faults.fetch_add(1, std::memory_order_relaxed);
-  if (core_->hooks) core_->hooks->faultDetected(*this, fault);
+    if (core_->hooks) core_->hooks->faultDetected(*this, fault);
 }
 
 }  // namespace keel

@@ -64,10 +64,11 @@ class ComponentCore {
   std::atomic<std::uint64_t> injected_id{0};       // manifested and not yet detected
   std::atomic<std::int64_t> injected_t_ns{0};      // steady ns of the manifestation
   std::atomic<std::int64_t> stalled_until_ns{0};   // stall_heartbeat: not executed until then
+  std::atomic<bool> release_hang{false};           // ends an injected hang (at shutdown)
 
   // counters, read by the engine's summary and the watchdog
   std::atomic<std::uint64_t> executions{0};
-  std::atomic<std::uint64_t> faults{0};
+  std::atomic<std::uint64_t> faults{0};  // counted by the fault manager, for the accused
   std::atomic<std::uint64_t> deadline_overruns{0};
 
   PortBase* findPort(std::string_view name) const {

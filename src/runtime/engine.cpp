@@ -30,6 +30,17 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
   engine->log_.write({{"event", "engine"}, {"phase", "load"}, {"profile", engine->set_.root},
                       {"instances", engine->plan_.instances.size()}});
   if (auto r = engine->instantiate(); !r) return r.error();
+  if (engine->options_.scenario) {
+    Engine* e = engine.get();
+    e->injector_ = std::make_unique<fault::Injector>(
+        *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_);
+    auto passive = [e](std::string_view name) {
+      for (const auto& ex : e->plan_.executors)
+        if (std::find(ex.members.begin(), ex.members.end(), name) != ex.members.end()) return false;
+      return true;
+    };
+    if (auto r = e->injector_->check([e](const std::string& m) { e->warn(m); }, passive); !r) return r.error();
+  }
   return engine;
 }
 
@@ -84,13 +95,33 @@ Result<void> Engine::start() {
   }
   for (auto& ex : executors_) ex->start();
   started_ = true;
+  startDetectors();
   log_.write({{"event", "engine"}, {"phase", "started"}, {"executors", executors_.size()}});
   return {};
+}
+
+void Engine::startDetectors() {
+  std::vector<fault::WatchedComponent> watched;
+  for (const auto& inst : instances_) {
+    const auto& core = coreOf(*inst.component);
+    if (core.heartbeat_ns == 0) continue;
+    std::int64_t period = inst.executor && inst.executor->config().kind == ExecutorKind::Periodic
+                              ? inst.executor->config().period.count()
+                              : 0;
+    watched.push_back({inst.component.get(), core.heartbeat_ns, period});
+  }
+  watchdog_ = std::make_unique<fault::Watchdog>(std::move(watched), fault_manager_,
+                                                [this](const std::string& m) { warn(m); });
+  watchdog_->start();
+  if (injector_) injector_->start(fault::steadyNowNs());
 }
 
 void Engine::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
+  if (injector_) injector_->stop();
+  if (watchdog_) watchdog_->stop();
+  for (auto& inst : instances_) coreOf(*inst.component).release_hang.store(true);  // injected hangs
   for (auto& ex : executors_) ex->requestStop();
   std::vector<const Executor*> abandoned;
   for (auto& ex : executors_) {

@@ -12,11 +12,15 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "fault/fault_log.hpp"
 #include "fault/fault_manager.hpp"
+#include "fault/injector.hpp"
+#include "fault/scenario.hpp"
+#include "fault/watchdog.hpp"
 #include "keel/component.hpp"
 #include "keel/result.hpp"
 #include "profile/loader.hpp"
@@ -33,6 +37,7 @@ struct EngineOptions {
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   std::function<void(const std::string&)> warn;
   std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
+  std::optional<fault::Scenario> scenario;        // faults to inject (keel run --inject)
 };
 
 /// One running instance and what the plan says of it.
@@ -76,6 +81,7 @@ class Engine final : public RuntimeHooks {
   Result<void> configurePorts(Instance& inst);  // queues, validity rules, call timeouts
   Result<void> connect();
   void buildExecutors();
+  void startDetectors();
   void warn(const std::string& message);
 
   EngineOptions options_;
@@ -88,6 +94,8 @@ class Engine final : public RuntimeHooks {
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   std::vector<std::unique_ptr<Executor>> executors_;
   fault::FaultManager fault_manager_;
+  std::unique_ptr<fault::Watchdog> watchdog_;
+  std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
 };

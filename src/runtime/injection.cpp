@@ -3,6 +3,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <thread>
 
@@ -56,21 +57,34 @@ std::string_view toString(InjectKind k) {
   return "none";
 }
 
-bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, std::string_view port, double value) {
+detail::OutputPortBase* corruptiblePort(Component& c, std::string_view port) {
+  for (detail::PortBase* p : coreOf(c).ports) {
+    if (p->kind() == detail::PortKind::Data && p->direction() == detail::PortDirection::Output &&
+        p->numeric() && (port.empty() || p->name() == port))
+      return static_cast<detail::OutputPortBase*>(p);
+  }
+  return nullptr;
+}
+
+bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs& args) {
   detail::ComponentCore& core = coreOf(c);
   core.inject_id.store(fault_id, std::memory_order_relaxed);
-  if (kind == InjectKind::OutOfRange) {
-    for (detail::PortBase* p : core.ports) {
-      if (p->kind() != detail::PortKind::Data || p->direction() != detail::PortDirection::Output ||
-          !p->numeric() || (!port.empty() && p->name() != port))
-        continue;
-      static_cast<detail::OutputPortBase*>(p)->corruptNext(value);
-      return true;
+  switch (kind) {
+    case InjectKind::OutOfRange: {
+      detail::OutputPortBase* p = corruptiblePort(c, args.port);
+      if (p) p->corruptNext(args.value);
+      return p != nullptr;
     }
-    return false;
+    case InjectKind::StallHeartbeat:
+      markManifested(core);
+      core.stalled_until_ns.store(args.duration_ns > 0 ? steadyNs() + args.duration_ns
+                                                       : std::numeric_limits<std::int64_t>::max(),
+                                  std::memory_order_release);
+      return true;
+    default:
+      core.inject_kind.store(static_cast<std::uint8_t>(kind), std::memory_order_release);
+      return true;
   }
-  core.inject_kind.store(static_cast<std::uint8_t>(kind), std::memory_order_release);
-  return true;
 }
 
 ReturnCode fire(Component& c, InjectKind kind) {
@@ -82,11 +96,11 @@ ReturnCode fire(Component& c, InjectKind kind) {
     case InjectKind::Abort: std::abort();
     case InjectKind::Throw: throw std::runtime_error("injected exception");
     case InjectKind::ErrorCode: return ReturnCode::InternalFault;
-    case InjectKind::Hang:
-      for (;;) std::this_thread::sleep_for(std::chrono::milliseconds(1));  // interrupted by a signal only
-    case InjectKind::StallHeartbeat:
-      core.stalled_until_ns.store(std::numeric_limits<std::int64_t>::max(), std::memory_order_release);
+    case InjectKind::Hang:  // never returns by itself; keel ends it at shutdown
+      while (!core.release_hang.load(std::memory_order_acquire))
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
       return ReturnCode::Ok;
+    case InjectKind::StallHeartbeat:  // applied by arm()
     case InjectKind::OutOfRange:
     case InjectKind::None: break;
   }
@@ -95,6 +109,15 @@ ReturnCode fire(Component& c, InjectKind kind) {
 
 }  // namespace keel::runtime
 
-void keel::detail::noteInjectedCorruption(Component& owner) {
-  keel::runtime::markManifested(keel::runtime::coreOf(owner));
+namespace {
+thread_local keel::detail::ComponentCore* t_in_flight = nullptr;
 }
+
+keel::detail::ComponentCore* keel::runtime::injectionInFlight() { return t_in_flight; }
+
+void keel::detail::noteInjectedCorruption(Component& owner) {
+  t_in_flight = &keel::runtime::coreOf(owner);
+  keel::runtime::markManifested(*t_in_flight);
+}
+
+void keel::detail::endInjectedCorruption() { t_in_flight = nullptr; }

@@ -28,13 +28,26 @@ enum class InjectKind : std::uint8_t {
 std::optional<InjectKind> parseInjectKind(std::string_view name);
 std::string_view toString(InjectKind k);
 
-/// Arms `kind` on `c` with the log's `fault_id`. OutOfRange needs `port` (an output data port
-/// name, or empty for the first numeric one) and `value`. Returns false if not applicable.
-bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, std::string_view port = {},
-         double value = 0.0);
+struct InjectArgs {
+  std::string_view port;         // OutOfRange: output data port ("" = the first numeric one)
+  double value = 0.0;            // OutOfRange: the value pushed instead
+  std::int64_t duration_ns = 0;  // StallHeartbeat: how long (0 = for ever)
+};
+
+/// Arms `kind` on `c` with the log's `fault_id`. StallHeartbeat takes effect at once (the
+/// executor skips the component); the others fire at its next onExecute or push. Returns
+/// false if `kind` cannot apply to `c` (OutOfRange without a numeric output data port).
+bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs& args = {});
+
+/// The output data port OutOfRange would corrupt, or null.
+detail::OutputPortBase* corruptiblePort(Component& c, std::string_view port);
 
 /// Runs an armed injection; called inside the guard instead of the component's onExecute.
 ReturnCode fire(Component& c, InjectKind kind);
+
+/// The component whose injected value the calling thread is pushing right now, or null: a
+/// range fault found on delivery belongs to that injection.
+detail::ComponentCore* injectionInFlight();
 
 /// steady-clock ns (the clock of every keel time).
 std::int64_t steadyNs();

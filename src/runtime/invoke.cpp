@@ -54,7 +54,6 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   ev.t_ns = steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
   out.describe(ev, callbackName(cb));
-  core.faults.fetch_add(1, std::memory_order_relaxed);
   State s = core.state.load(std::memory_order_acquire);
   if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
   if (core.hooks) core.hooks->faultDetected(c, ev);
@@ -68,7 +67,6 @@ void setState(Component& c, State to) {
 
 void reportFault(Component& c, const FaultEvent& ev) {
   detail::ComponentCore& core = coreOf(c);
-  core.faults.fetch_add(1, std::memory_order_relaxed);
   if (core.hooks) core.hooks->faultDetected(c, ev);
 }
 

@@ -22,7 +22,7 @@ void keel::detail::reportRange(Component& owner, const std::string& port, const 
                          port, v.size_got, v.size_expected);
   } else {
     r = fmt::format_to_n(d.data(), d.size() - 1, "value {} {} port '{}'{} outside [{}, {}]", v.value, where,
-                         port, v.index ? fmt::format("[{}]", v.index) : std::string(), v.min, v.max);
+                         port, v.array ? fmt::format("[{}]", v.index) : std::string(), v.min, v.max);
   }
   *r.out = '\0';
   runtime::reportFault(owner, ev);

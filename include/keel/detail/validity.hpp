@@ -54,6 +54,7 @@ struct Violation {
   double max = std::numeric_limits<double>::infinity();
   std::size_t size_expected = 0;  // nonzero: the array had the wrong number of elements
   std::size_t size_got = 0;
+  bool array = false;             // the value was an array (the index is meaningful)
 };
 
 struct ValidityRule {
@@ -85,7 +86,7 @@ struct ValidityRule {
       const double x = Tr::at(v, i);
       const double lo = minAt(i), hi = maxAt(i);
       if (std::isfinite(x) && x >= lo && x <= hi) continue;
-      out = Violation{i, x, lo, hi, 0, 0};
+      out = Violation{i, x, lo, hi, 0, 0, !std::is_arithmetic_v<T>};
       return false;
     }
     return true;
@@ -95,7 +96,9 @@ struct ValidityRule {
 /// Reports a `range` fault of `owner` found on `port` (defined in libkeel).
 void reportRange(Component& owner, const std::string& port, const Violation& v, bool on_delivery);
 
-/// Fault injection (`out_of_range`): records the manifestation time on `owner` (libkeel).
+/// Fault injection (`out_of_range`): records the manifestation on `owner` and marks the
+/// calling thread as pushing an injected value until endInjectedCorruption() (libkeel).
 void noteInjectedCorruption(Component& owner);
+void endInjectedCorruption();
 
 }  // namespace keel::detail

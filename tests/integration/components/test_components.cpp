@@ -3,7 +3,12 @@
 // component library (keel_add_component) and loaded through profiles, as users do.
 #include <keel/component.hpp>
 
+#include <chrono>
+#include <cmath>
+#include <cstdint>
 #include <stdexcept>
+#include <thread>
+#include <vector>
 
 namespace itest {
 
@@ -109,3 +114,83 @@ KEEL_REGISTER_COMPONENT_AS(itest::EventLogger, "EventLogger")
 KEEL_REGISTER_COMPONENT_AS(itest::Crasher, "Crasher")
 KEEL_REGISTER_COMPONENT_AS(itest::Doubler, "Doubler")
 KEEL_REGISTER_COMPONENT_AS(itest::Caller, "Caller")
+
+namespace itest {
+
+/// A smooth signal in [-1, 1], as a number and as an array of three.
+class Wave : public keel::Component {
+ public:
+  keel::OutputDataPort<double> value{this, "value"};
+  keel::OutputDataPort<std::vector<double>> values{this, "values"};
+  keel::ReturnCode onExecute() override {
+    const double x = std::sin(++n_ / 10.0);
+    value.push(x);
+    values.push({x, x / 2, -x});
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  int n_ = 0;
+};
+
+/// Receives a number and an array, counts what arrived.
+class Probe : public keel::Component {
+ public:
+  keel::InputDataPort<double> in{this, "in"};
+  keel::InputDataPort<std::vector<double>> arr{this, "arr"};
+  keel::ReturnCode onExecute() override {
+    while (in.pop()) ++received_;
+    while (arr.pop()) ++received_;
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  long received_ = 0;
+};
+
+/// Sleeps `sleep_ms` every `every` cycles: a real deadline overrun.
+class Sleepy : public keel::Component {
+ public:
+  keel::ReturnCode onInitialize() override {
+    every_ = property<int>("every");
+    sleep_ms_ = property<double>("sleep_ms");
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onExecute() override {
+    if (++n_ % every_ == 0)
+      std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long>(sleep_ms_ * 1000)));
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  int n_ = 0;
+  int every_ = 1;
+  double sleep_ms_ = 0;
+};
+
+/// Tells the fault manager, through its `faults` port, that another component is faulty.
+class Tattler : public keel::Component {
+ public:
+  keel::OutputEventPort<keel::FaultEvent> faults{this, "faults"};
+  keel::ReturnCode onInitialize() override {
+    about_ = property<std::string>("about");
+    at_ = property<int>("at");
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onExecute() override {
+    if (++n_ == at_) faults.send(keel::FaultEvent(keel::FaultKind::Model, about_, "tattler saw drift"));
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  std::string about_;
+  int at_ = 0;
+  int n_ = 0;
+};
+
+}  // namespace itest
+
+KEEL_REGISTER_COMPONENT_AS(itest::Wave, "Wave")
+KEEL_REGISTER_COMPONENT_AS(itest::Probe, "Probe")
+KEEL_REGISTER_COMPONENT_AS(itest::Sleepy, "Sleepy")
+KEEL_REGISTER_COMPONENT_AS(itest::Tattler, "Tattler")

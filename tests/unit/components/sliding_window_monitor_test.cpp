@@ -381,7 +381,8 @@ INSTANTIATE_TEST_SUITE_P(
     ::testing::Values(
         BadProperty{"window", std::int64_t{0}, "must be between 1 and 1048576 (got 0)"},
         BadProperty{"window", std::string("nine"), "is not an integer"},
-        BadProperty{"mode", std::string("relative"), "must be 'ratio' or 'absolute' (got 'relative')"},
+        BadProperty{"mode", std::string("relative"),
+                    "must be 'ratio' or 'absolute' (got 'relative')"},
         BadProperty{"threshold", 0.0, "must be > 0 in ratio mode"},
         BadProperty{"threshold", -1.0, "must be >= 0 in absolute mode"},
         BadProperty{"min_consecutive", std::int64_t{0}, "must be at least 1 (got 0)"},

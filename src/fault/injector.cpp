@@ -1,0 +1,83 @@
+#include "fault/injector.hpp"
+
+#include <fmt/format.h>
+
+#include <map>
+
+#include "runtime/component_core.hpp"
+#include "runtime/injection.hpp"
+
+namespace keel::fault {
+
+Injector::Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log)
+    : scenario_(std::move(scenario)), find_(std::move(find)), manager_(manager), log_(log) {}
+
+Injector::~Injector() { stop(); }
+
+Result<void> Injector::check(const Warn& warn, const std::function<bool(std::string_view)>& passive) const {
+  std::string errors;
+  for (const auto& f : scenario_.faults) {
+    const std::string at = fmt::format("{}:{}", f.where.file, f.where.line);
+    Component* c = find_(f.component);
+    if (!c) {
+      errors += fmt::format("{}: fault: no component '{}' in this run\n", at, f.component);
+      continue;
+    }
+    const auto& core = runtime::coreOf(*c);
+    using runtime::InjectKind;
+    if (f.kind == InjectKind::OutOfRange && !runtime::corruptiblePort(*c, f.port)) {
+      errors += fmt::format("{}: fault: component '{}' has no numeric output data port{}\n", at,
+                            f.component, f.port.empty() ? "" : fmt::format(" '{}'", f.port));
+    }
+    if ((f.kind == InjectKind::Hang || f.kind == InjectKind::StallHeartbeat) && core.heartbeat_ns == 0)
+      warn(fmt::format("{}: fault: '{}' has no <heartbeat> in its fault_policy: this {} will not be detected",
+                       at, f.component, f.kind_name));
+    if (passive(f.component) && f.kind != InjectKind::OutOfRange)
+      warn(fmt::format("{}: fault: '{}' is passive (never executed): this {} will not fire", at,
+                       f.component, f.kind_name));
+  }
+  if (!errors.empty()) {
+    errors.pop_back();
+    return fail(errors);
+  }
+  return {};
+}
+
+void Injector::start(std::int64_t t0_ns) {
+  if (scenario_.faults.empty() || thread_.joinable()) return;
+  thread_ = std::thread([this, t0_ns] { run(t0_ns); });
+}
+
+void Injector::stop() {
+  if (!thread_.joinable()) return;
+  stop_.store(true, std::memory_order_release);
+  signal_.notify();
+  thread_.join();
+}
+
+void Injector::run(std::int64_t t0_ns) {
+  struct Shot {
+    std::int64_t t_ns;
+    const ScheduledFault* fault;
+  };
+  std::vector<Shot> shots;
+  for (const auto& f : scenario_.faults)
+    for (int i = 0; i < f.repeat; ++i)
+      shots.push_back({t0_ns + static_cast<std::int64_t>((f.at_ms + i * f.every_ms) * 1e6), &f});
+  std::stable_sort(shots.begin(), shots.end(), [](const Shot& a, const Shot& b) { return a.t_ns < b.t_ns; });
+  for (const Shot& s : shots) {
+    while (!stop_.load(std::memory_order_acquire) && runtime::steadyNs() < s.t_ns)
+      signal_.waitUntil(runtime::WakeSignal::Clock::time_point(std::chrono::nanoseconds(s.t_ns)));
+    if (stop_.load(std::memory_order_acquire)) return;
+    Component* c = find_(s.fault->component);
+    if (!c) continue;
+    const std::uint64_t id = manager_.nextId();
+    runtime::InjectArgs args{s.fault->port, s.fault->value,
+                             static_cast<std::int64_t>(s.fault->duration_ms * 1e6)};
+    log_.write({{"event", "armed"}, {"fault_id", id}, {"component", s.fault->component},
+                {"kind", s.fault->kind_name}});
+    runtime::arm(*c, s.fault->kind, id, args);
+  }
+}
+
+}  // namespace keel::fault

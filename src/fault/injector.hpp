@@ -1,0 +1,51 @@
+// The injector: carries a fault scenario out during a run (SPEC §6). Checked against the
+// running components first (every problem as `file:line: message`); then a thread arms each
+// fault at its time after the start. What an armed fault does, and when it manifests, is
+// runtime/injection's business; the log gets `injected` at manifestation (fault manager).
+// Thread-safety: check/start/stop from the engine's thread.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fault/fault_log.hpp"
+#include "fault/fault_manager.hpp"
+#include "fault/scenario.hpp"
+#include "runtime/wake_signal.hpp"
+
+namespace keel::fault {
+
+class Injector {
+ public:
+  using Find = std::function<Component*(std::string_view)>;
+  using Warn = std::function<void(const std::string&)>;
+
+  Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log);
+  ~Injector();
+  Injector(const Injector&) = delete;
+  Injector& operator=(const Injector&) = delete;
+
+  /// Every fault names a running component and can apply to it; warnings for faults no
+  /// detector is configured to see (a hang without <heartbeat>) or that cannot fire (a
+  /// passive component is never executed). `passive` tells which components are passive.
+  Result<void> check(const Warn& warn, const std::function<bool(std::string_view)>& passive) const;
+  /// Starts arming, with times counted from `t0_ns` (steady clock).
+  void start(std::int64_t t0_ns);
+  void stop();
+
+ private:
+  void run(std::int64_t t0_ns);
+
+  Scenario scenario_;
+  Find find_;
+  FaultManager& manager_;
+  FaultLog& log_;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  runtime::WakeSignal signal_;
+};
+
+}  // namespace keel::fault

@@ -1,0 +1,105 @@
+#include "fault/scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "profile/values.hpp"
+#include "profile/xml_reader.hpp"
+
+namespace keel::fault {
+namespace {
+
+using profile::Diagnostic;
+using profile::Diagnostics;
+
+constexpr const char* kKinds =
+    "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range";
+
+class FaultReader {
+ public:
+  FaultReader(const profile::detail::XmlFile& file, Diagnostics& diags) : file_(file), diags_(diags) {}
+
+  std::optional<ScheduledFault> read(pugi::xml_node n) {
+    ScheduledFault f;
+    f.where = file_.where(n);
+    const std::size_t before = diags_.size();
+    for (pugi::xml_attribute a : n.attributes()) {
+      std::string_view name = a.name();
+      if (name == "at") f.at_ms = number(n, a, 0);
+      else if (name == "component") f.component = a.value();
+      else if (name == "kind") f.kind_name = a.value();
+      else if (name == "port") f.port = a.value();
+      else if (name == "value") f.value = number(n, a, -std::numeric_limits<double>::infinity(), true);
+      else if (name == "duration") f.duration_ms = number(n, a, 0);
+      else if (name == "repeat") f.repeat = static_cast<int>(number(n, a, 1));
+      else if (name == "every") f.every_ms = number(n, a, 0);
+      else error(n, fmt::format("<fault>: unknown attribute '{}' (known: at, component, kind, port, value, "
+                                "duration, repeat, every)", name));
+    }
+    if (n.attribute("at").empty()) error(n, "<fault>: attribute 'at' (ms) is required");
+    if (f.component.empty()) error(n, "<fault>: attribute 'component' is required");
+    if (auto k = runtime::parseInjectKind(f.kind_name)) f.kind = *k;
+    else error(n, fmt::format("<fault>: unknown kind '{}' (kinds: {})", f.kind_name, kKinds));
+    if (n.attribute("value").empty()) f.value = std::numeric_limits<double>::quiet_NaN();
+    if (f.repeat > 1 && f.every_ms <= 0) error(n, "<fault>: repeat needs every (ms) > 0");
+    if (diags_.size() != before) return std::nullopt;
+    return f;
+  }
+
+  void error(pugi::xml_node n, std::string message) { diags_.push_back(Diagnostic{file_.where(n), std::move(message)}); }
+
+ private:
+  double number(pugi::xml_node n, pugi::xml_attribute a, double min, bool allow_nan = false) {
+    std::string_view text = a.value();
+    if (allow_nan && (text == "nan" || text == "NaN")) return std::numeric_limits<double>::quiet_NaN();
+    auto v = profile::detail::parseDouble(text, allow_nan);
+    if (!v || *v < min) {
+      error(n, fmt::format("<fault>: attribute '{}' must be a number{}, got '{}'", a.name(),
+                           std::isfinite(min) ? fmt::format(" >= {}", min) : "", text));
+      return min;
+    }
+    return *v;
+  }
+  const profile::detail::XmlFile& file_;
+  Diagnostics& diags_;
+};
+
+}  // namespace
+
+Result<Scenario, Diagnostics> loadScenario(const std::string& path) {
+  Diagnostics diags;
+  std::string open_error;
+  Diagnostic syntax;
+  auto file = profile::detail::XmlFile::read(path, path, open_error, syntax);
+  if (!file) {
+    if (!open_error.empty()) diags.push_back(Diagnostic{{path, 0}, fmt::format("cannot open scenario: {}", open_error)});
+    else diags.push_back(syntax);
+    return diags;
+  }
+  pugi::xml_node root = file->root();
+  if (std::string_view(root.name()) != "fault_scenario") {
+    diags.push_back(Diagnostic{file->where(root), fmt::format("root element must be <fault_scenario>, got <{}>", root.name())});
+    return diags;
+  }
+  Scenario s;
+  s.file = path;
+  FaultReader reader(*file, diags);
+  for (pugi::xml_node n : root.children()) {
+    if (n.type() != pugi::node_element) continue;
+    if (std::string_view(n.name()) == "description") continue;
+    if (std::string_view(n.name()) != "fault") {
+      reader.error(n, fmt::format("unknown element <{}> in <fault_scenario> (expected <fault>)", n.name()));
+      continue;
+    }
+    if (auto f = reader.read(n)) s.faults.push_back(std::move(*f));
+  }
+  if (!diags.empty()) return diags;
+  std::stable_sort(s.faults.begin(), s.faults.end(),
+                   [](const auto& a, const auto& b) { return a.at_ms < b.at_ms; });
+  return s;
+}
+
+}  // namespace keel::fault

@@ -1,0 +1,39 @@
+// Fault scenarios (SPEC §6): `<fault_scenario><fault at="1000" component="x" kind="segfault"
+// .../></fault_scenario>`, read and checked whole, every problem as `file:line: message`.
+// Attributes: at (ms after start), component, kind, and optionally port and value
+// (out_of_range), duration (ms; stall_heartbeat, default: for ever), repeat and every (ms)
+// to inject the same fault several times.
+// Thread-safety: plain values.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "keel/result.hpp"
+#include "profile/loader.hpp"
+#include "runtime/injection.hpp"
+
+namespace keel::fault {
+
+struct ScheduledFault {
+  double at_ms = 0;
+  std::string component;
+  std::string kind_name;   // as written, for the log
+  runtime::InjectKind kind = runtime::InjectKind::None;
+  std::string port;        // out_of_range: the output port ("" = the first numeric one)
+  double value = 0;        // out_of_range: the value pushed instead (default NaN)
+  double duration_ms = 0;  // stall_heartbeat: 0 = for ever
+  int repeat = 1;
+  double every_ms = 0;
+  profile::Where where;
+};
+
+struct Scenario {
+  std::string file;
+  std::vector<ScheduledFault> faults;  // sorted by time
+};
+
+Result<Scenario, profile::Diagnostics> loadScenario(const std::string& path);
+
+}  // namespace keel::fault

@@ -1,0 +1,188 @@
+// One scenario per detector (issue: fault detection): inject the fault into a running package
+// with `keel run --inject`'s machinery, then assert the `injected` and `detected` records
+// (kind, component, detail, shared fault_id) and that the other components kept executing
+// during and after the fault.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <thread>
+
+#include "fault/scenario.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/engine.hpp"
+#include "support/log_reader.hpp"
+
+namespace keel {
+namespace {
+
+using namespace std::chrono_literals;
+using nlohmann::json;
+
+std::string here(const std::string& f) { return std::string(KEEL_SCENARIOS) + "/detection/" + f; }
+
+struct RunResult {
+  std::vector<json> log;
+  std::map<std::string, std::uint64_t> executions_at_fault;  // when the fault was detected
+  std::map<std::string, std::uint64_t> executions_at_end;
+};
+
+class Detection : public ::testing::Test {
+ protected:
+  /// Runs the detection package with `scenario` for `duration`, sampling executions once the
+  /// first fault of `kind` is detected.
+  RunResult run(const std::string& scenario, FaultKind kind, std::chrono::milliseconds duration = 700ms) {
+    auto set = profile::load(here("app.xml"));
+    EXPECT_TRUE(set);
+    auto sc = fault::loadScenario(here(scenario));
+    EXPECT_TRUE(sc) << (sc ? "" : sc.error().front().str());
+    runtime::EngineOptions eo;
+    eo.log_path = log_;
+    eo.search_path = {KEEL_TEST_COMPONENTS};
+    eo.warn = [](const std::string&) {};
+    eo.scenario = std::move(*sc);
+    auto engine = runtime::Engine::create(std::move(*set), eo);
+    EXPECT_TRUE(engine) << (engine ? "" : engine.error().message);
+    RunResult r;
+    if (!engine) return r;
+    EXPECT_TRUE((*engine)->start());
+    auto sample = [&](std::map<std::string, std::uint64_t>& into) {
+      for (Component* c : (*engine)->components())
+        into[c->instanceName()] = runtime::coreOf(*c).executions.load();
+    };
+    auto end = std::chrono::steady_clock::now() + duration;
+    while (std::chrono::steady_clock::now() < end) {
+      if (r.executions_at_fault.empty()) {
+        for (const auto& d : (*engine)->faultManager().detections())
+          if (d.kind == kind) sample(r.executions_at_fault);
+      }
+      std::this_thread::sleep_for(2ms);
+    }
+    sample(r.executions_at_end);
+    (*engine)->shutdown();
+    r.log = test::readLog(log_);
+    return r;
+  }
+
+  /// The `detected` record of `kind`, and checks that its injection shares the fault_id.
+  json detected(const RunResult& r, const std::string& kind, bool injected = true) {
+    for (const auto& d : test::eventsOf(r.log, "detected")) {
+      if (d["kind"] != kind) continue;
+      if (injected) {
+        bool found = false;
+        for (const auto& i : test::eventsOf(r.log, "injected"))
+          found |= i["fault_id"] == d["fault_id"] && i["t_ns"].get<std::int64_t>() <= d["t_ns"].get<std::int64_t>();
+        EXPECT_TRUE(found) << "no injected record before detection " << d.dump();
+      }
+      return d;
+    }
+    ADD_FAILURE() << "no detected record of kind " << kind;
+    return json::object();
+  }
+
+  /// `who` kept executing after the fault was detected.
+  static void keptRunning(const RunResult& r, const std::string& who) {
+    ASSERT_TRUE(r.executions_at_fault.count(who)) << "fault never detected";
+    EXPECT_GT(r.executions_at_end.at(who), r.executions_at_fault.at(who) + 10) << who << " stopped";
+  }
+
+  void TearDown() override { std::filesystem::remove(log_); }
+  std::string log_ = (std::filesystem::temp_directory_path() /
+                      ("keel_detection_" + std::to_string(::getpid()) + ".jsonl")).string();
+};
+
+TEST_F(Detection, ASegfaultInsideOnExecuteIsASignalFaultAndTheTaskMateKeepsRunning) {
+  RunResult r = run("segfault.xml", FaultKind::Signal);
+  json d = detected(r, "signal");
+  EXPECT_EQ(d["component"], "worker_a");
+  EXPECT_EQ(d["detail"], "SIGSEGV in onExecute (address 0x10)");
+  EXPECT_EQ(test::statesOf(r.log, "worker_a")[2], "Error");
+  keptRunning(r, "worker_b");  // same executor
+  keptRunning(r, "bystander");
+}
+
+TEST_F(Detection, ADivideByZeroIsASignalFault) {
+  RunResult r = run("divide_by_zero.xml", FaultKind::Signal);
+  EXPECT_NE(detected(r, "signal")["detail"].get<std::string>().find("SIGFPE in onExecute"), std::string::npos);
+  keptRunning(r, "worker_b");
+}
+
+TEST_F(Detection, AnAbortIsASignalFault) {
+  RunResult r = run("abort.xml", FaultKind::Signal);
+  EXPECT_NE(detected(r, "signal")["detail"].get<std::string>().find("SIGABRT in onExecute"), std::string::npos);
+  keptRunning(r, "worker_b");
+}
+
+TEST_F(Detection, AThrownExceptionIsAnExceptionFault) {
+  RunResult r = run("throw.xml", FaultKind::Exception);
+  EXPECT_EQ(detected(r, "exception")["detail"], "exception in onExecute: injected exception");
+  keptRunning(r, "worker_b");
+}
+
+TEST_F(Detection, ANonOkReturnCodeIsAnErrorCodeFault) {
+  RunResult r = run("error_code.xml", FaultKind::ErrorCode);
+  EXPECT_EQ(detected(r, "error_code")["detail"], "onExecute returned 500 (internal fault)");
+  keptRunning(r, "worker_b");
+}
+
+TEST_F(Detection, AHungCallbackIsFoundByTheWatchdogAfterItsTimeout) {
+  RunResult r = run("hang.xml", FaultKind::Heartbeat);
+  json d = detected(r, "heartbeat");
+  EXPECT_EQ(d["component"], "hanger");
+  EXPECT_EQ(d["detector"], "watchdog");
+  EXPECT_NE(d["detail"].get<std::string>().find("a callback has not returned for"), std::string::npos);
+  std::int64_t injected = 0;
+  for (const auto& i : test::eventsOf(r.log, "injected")) injected = i["t_ns"];
+  // Not before the 50 ms timeout; generous above (a loaded machine), timing is benchmarked.
+  EXPECT_GE(d["t_ns"].get<std::int64_t>() - injected, 50'000'000);
+  EXPECT_LT(d["t_ns"].get<std::int64_t>() - injected, 500'000'000);
+  keptRunning(r, "bystander");
+}
+
+TEST_F(Detection, AStalledHeartbeatIsFoundByTheWatchdog) {
+  RunResult r = run("stall_heartbeat.xml", FaultKind::Heartbeat);
+  json d = detected(r, "heartbeat");
+  EXPECT_EQ(d["component"], "staller");
+  EXPECT_NE(d["detail"].get<std::string>().find("not executed for"), std::string::npos);
+  keptRunning(r, "bystander");
+}
+
+TEST_F(Detection, AnOutOfRangeValueIsCaughtOnPushOnDeliveryAndInArrays) {
+  RunResult r = run("out_of_range.xml", FaultKind::Range);
+  std::vector<json> ranges;
+  for (const auto& d : test::eventsOf(r.log, "detected"))
+    if (d["kind"] == "range") ranges.push_back(d);
+  ASSERT_EQ(ranges.size(), 3u);
+  EXPECT_EQ(ranges[0]["component"], "wave");
+  EXPECT_EQ(ranges[0]["detail"], "value 7 pushed on port 'value' outside [-2, 2]");
+  EXPECT_EQ(ranges[1]["component"], "probe");
+  EXPECT_EQ(ranges[1]["detail"], "value 1.8 received on port 'in' outside [-1.5, 1.5]");
+  EXPECT_EQ(ranges[2]["detail"], "value nan pushed on port 'values'[0] outside [-2, 2]");
+  auto injected = test::eventsOf(r.log, "injected");
+  ASSERT_EQ(injected.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(injected[i]["fault_id"], ranges[i]["fault_id"]);
+    // Caught within the push that carried it: same cycle, microseconds.
+    EXPECT_LT(ranges[i]["t_ns"].get<std::int64_t>() - injected[i]["t_ns"].get<std::int64_t>(), 5'000'000);
+  }
+  keptRunning(r, "wave");
+  keptRunning(r, "probe");
+}
+
+TEST_F(Detection, ADeadlineOverrunIsADeadlineFault) {
+  RunResult r = run("segfault.xml", FaultKind::Deadline);
+  json d = detected(r, "deadline", false);
+  EXPECT_EQ(d["component"], "sleepy");
+  EXPECT_NE(d["detail"].get<std::string>().find("(deadline 5.000 ms)"), std::string::npos);
+  keptRunning(r, "sleepy");
+}
+
+TEST_F(Detection, AFaultEventSentToTheFaultManagersPortIsLogged) {
+  RunResult r = run("segfault.xml", FaultKind::Model);
+  json d = detected(r, "model", false);
+  EXPECT_EQ(d["component"], "wave");  // the component the event names
+  EXPECT_EQ(d["detector"], "fault_manager");
+  EXPECT_EQ(d["detail"], "tattler saw drift");
+}
+
+}  // namespace
+}  // namespace keel
