@@ -13,8 +13,9 @@
 
 namespace keel::fault {
 
-Watchdog::Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn)
-    : watched_(std::move(watched)), episodes_(watched_.size()), manager_(manager), warn_(std::move(warn)) {
+Watchdog::Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn, bool realtime)
+    : watched_(std::move(watched)), episodes_(watched_.size()), manager_(manager), warn_(std::move(warn)),
+      realtime_(realtime) {
   for (const auto& w : watched_) poll_ns_ = std::min(poll_ns_, std::max<std::int64_t>(w.timeout_ns / 2, 100'000));
 }
 
@@ -72,7 +73,8 @@ void Watchdog::run() {
   prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);
   sched_param sp{};
   sp.sched_priority = sched_get_priority_max(SCHED_FIFO);
-  if (int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); err != 0 && warn_)
+  if (!realtime_) {
+  } else if (int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); err != 0 && warn_)
     warn_(fmt::format("watchdog: SCHED_FIFO refused ({}); hang detection runs at normal priority",
                       std::strerror(err)));
   while (!stop_.load(std::memory_order_acquire)) {

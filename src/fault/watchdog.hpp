@@ -30,7 +30,8 @@ struct WatchedComponent {
 class Watchdog {
  public:
   using Warn = std::function<void(const std::string&)>;
-  Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn);
+  /// `realtime`: ask for SCHED_FIFO (the default; benchmarks compare without).
+  Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn, bool realtime = true);
   ~Watchdog();
   Watchdog(const Watchdog&) = delete;
   Watchdog& operator=(const Watchdog&) = delete;
@@ -54,6 +55,7 @@ class Watchdog {
   FaultManager& manager_;
   Warn warn_;
   std::int64_t poll_ns_ = 50'000'000;
+  bool realtime_ = true;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   runtime::WakeSignal signal_;

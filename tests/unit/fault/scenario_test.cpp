@@ -1,0 +1,82 @@
+#include "fault/scenario.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+namespace keel::fault {
+namespace {
+
+class ScenarioFile : public ::testing::Test {
+ protected:
+  std::string write(const std::string& body) {
+    std::ofstream(path_) << body;
+    return path_;
+  }
+  void TearDown() override { std::filesystem::remove(path_); }
+  std::string path_ = (std::filesystem::temp_directory_path() /
+                       ("keel_scenario_" + std::to_string(::getpid()) + ".xml")).string();
+};
+
+TEST_F(ScenarioFile, ReadsEveryAttributeAndSortsByTime) {
+  auto s = loadScenario(write(R"(<fault_scenario>
+  <fault at="300" component="b" kind="out_of_range" port="distance" value="0"/>
+  <fault at="100" component="a" kind="segfault" repeat="3" every="50"/>
+  <fault at="200" component="c" kind="stall_heartbeat" duration="80"/>
+</fault_scenario>)"));
+  ASSERT_TRUE(s) << s.error().front().str();
+  ASSERT_EQ(s->faults.size(), 3u);
+  EXPECT_EQ(s->faults[0].component, "a");
+  EXPECT_EQ(s->faults[0].kind, runtime::InjectKind::Segfault);
+  EXPECT_EQ(s->faults[0].repeat, 3);
+  EXPECT_EQ(s->faults[0].every_ms, 50);
+  EXPECT_EQ(s->faults[1].duration_ms, 80);
+  EXPECT_EQ(s->faults[2].port, "distance");
+  EXPECT_EQ(s->faults[2].value, 0.0);
+  EXPECT_EQ(s->faults[2].where.line, 2);
+}
+
+TEST_F(ScenarioFile, OutOfRangeDefaultsToNaN) {
+  auto s = loadScenario(write(R"(<fault_scenario><fault at="1" component="a" kind="out_of_range"/></fault_scenario>)"));
+  ASSERT_TRUE(s);
+  EXPECT_TRUE(std::isnan(s->faults[0].value));
+}
+
+TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
+  auto s = loadScenario(write(R"(<fault_scenario>
+  <fault at="-5" component="a" kind="segfault"/>
+  <fault at="10" kind="explode"/>
+  <fault at="10" component="a" kind="throw" speed="3"/>
+  <oops/>
+</fault_scenario>)"));
+  ASSERT_FALSE(s);
+  std::vector<std::string> got;
+  for (const auto& d : s.error()) got.push_back(d.str());
+  const std::string f = path_;
+  EXPECT_EQ(got, (std::vector<std::string>{
+                     f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
+                     f + ":3: <fault>: attribute 'component' is required",
+                     f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
+                         "throw, error_code, hang, stall_heartbeat, out_of_range)",
+                     f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
+                         "value, duration, repeat, every)",
+                     f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",
+                 }));
+}
+
+TEST_F(ScenarioFile, RejectsAnotherRootElement) {
+  auto s = loadScenario(write("<package_profile/>"));
+  ASSERT_FALSE(s);
+  EXPECT_EQ(s.error().front().str(), path_ + ":1: root element must be <fault_scenario>, got <package_profile>");
+}
+
+TEST_F(ScenarioFile, RejectsRepeatWithoutEvery) {
+  auto s = loadScenario(write(R"(<fault_scenario><fault at="1" component="a" kind="throw" repeat="2"/></fault_scenario>)"));
+  ASSERT_FALSE(s);
+  EXPECT_EQ(s.error().front().message, "<fault>: repeat needs every (ms) > 0");
+}
+
+}  // namespace
+}  // namespace keel::fault
