@@ -42,8 +42,7 @@ void Component::raiseFault(std::string_view why) {
 }
 
 void Component::reportFault(const FaultEvent& fault) {
-  if (fault.component[0] == '\0' || fault.componentName() == core_->instance_name)
-    if (core_->hooks) core_->hooks->faultDetected(*this, fault);
+  if (core_->hooks) core_->hooks->faultDetected(*this, fault);
 }
 
 }  // namespace keel

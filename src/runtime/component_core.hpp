@@ -47,7 +47,9 @@ class ComponentCore {
   std::vector<runtime::CriticalRegion> critical;
   runtime::Executor* executor = nullptr;      // null: passive
   runtime::RuntimeHooks* hooks = nullptr;     // null: not yet managed by a runtime
-  std::recursive_timed_mutex passive_mutex;   // serialises callbacks of passive components
+  // Serialises callbacks of passive components. Not a timed mutex: TSan does not see
+  // pthread_mutex_clocklock, which try_lock_for uses (timeouts poll try_lock instead).
+  std::recursive_mutex passive_mutex;
   std::atomic<bool> event_pending{false};     // an input event port has something queued
   std::atomic<bool> input_pending{false};     // an input data port received a value
 

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <memory>
 #include <mutex>
+#include <thread>
 
 #include "keel/service_port.hpp"
 #include "runtime/component_core.hpp"
@@ -48,7 +49,10 @@ std::string keel::detail::invokeService(Component& provider, const std::string& 
   Executor* ex = core.executor;
   if (ex == nullptr || ex->onThisThread()) {
     std::unique_lock lock(core.passive_mutex, std::defer_lock);
-    if (!lock.try_lock_for(timeout))
+    const auto give_up = std::chrono::steady_clock::now() + timeout;
+    while (!lock.try_lock() && std::chrono::steady_clock::now() < give_up)
+      std::this_thread::sleep_for(std::chrono::microseconds(50));
+    if (!lock.owns_lock())
       return fmt::format("service '{}' of '{}': timed out after {} ms waiting for the provider", port,
                          provider.instanceName(), timeout.count() / 1e6);
     return runCall(provider, port, *call);

@@ -18,6 +18,7 @@ Called by CTest (tests/package/CMakeLists.txt); runnable by hand with the same a
 import argparse
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -82,11 +83,16 @@ def check_layout(prefix, libdir):
     return cmakedir
 
 
+def mentions(text, path):
+    """True if `text` names `path` (or something under it) as a whole path."""
+    return re.search(r"(?<![\w.-])" + re.escape(str(path)) + r"(?![\w.-])", text) is not None
+
+
 def check_no_absolute_paths(cmakedir, forbidden):
     for f in sorted(cmakedir.glob("*.cmake")):
         text = f.read_text(errors="replace")
         for path in forbidden:
-            expect(str(path) not in text, f"relocatable install: {f} contains '{path}'")
+            expect(not mentions(text, path), f"relocatable install: {f} mentions '{path}'")
 
 
 def runpath(readelf, binary):
@@ -97,7 +103,7 @@ def runpath(readelf, binary):
     return ""
 
 
-def check_runpaths(prefix, libdir, forbidden):
+def check_runpaths(prefix, libdir):
     """Every RUNPATH is $ORIGIN-relative; bin/keel's leads to the installed libkeel."""
     readelf = shutil.which("readelf")
     if not readelf:
@@ -110,8 +116,6 @@ def check_runpaths(prefix, libdir, forbidden):
         for entry in filter(None, rp.split(":")):
             expect(entry.startswith("$ORIGIN"),
                    f"relocatable install: {binary} has RUNPATH entry '{entry}' (want $ORIGIN...)")
-        for path in forbidden:
-            expect(str(path) not in rp, f"relocatable install: {binary} RUNPATH mentions {path}")
     dirs = [Path(e.replace("$ORIGIN", str(keel.parent))).resolve()
             for e in runpath(readelf, keel).split(":") if e]
     expect(libdir.resolve() in dirs, f"bin/keel: RUNPATH {dirs} does not lead to {libdir}")
@@ -229,7 +233,7 @@ def main():
         cmakedir = check_layout(prefix, libdir)
         forbidden = [args.keel_build.resolve(), args.keel_source.resolve(), staged]
         check_no_absolute_paths(cmakedir, forbidden)
-        check_runpaths(prefix, libdir, forbidden)
+        check_runpaths(prefix, libdir)
         keel = prefix / "bin" / "keel"
         check_shipped(keel, prefix, libdir)
         build, lib = build_project(args, work, prefix, cmakedir)

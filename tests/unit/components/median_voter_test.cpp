@@ -1,7 +1,7 @@
 // MedianVoter / MedianVoter5 (components/voters): median-of-N voting, tested as classes:
 // properties set as the runtime sets them, inputs fed through connected output ports,
 // onExecute called directly (one call = one period), faults captured by RecordingHooks.
-#include "../../../components/voters/median_voter.hpp"
+#include "components/voters/median_voter.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // onExecute called directly, faults captured by RecordingHooks. Expected fault instants are
 // computed here from a naive moving average (sum of the last W samples / W), independently of
 // the monitor's ring buffer.
-#include "../../../components/monitors/sliding_window_monitor.hpp"
+#include "components/monitors/sliding_window_monitor.hpp"
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
