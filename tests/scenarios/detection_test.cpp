@@ -30,14 +30,15 @@ class Detection : public ::testing::Test {
  protected:
   /// Runs the detection package with `scenario` for `duration`, sampling executions once the
   /// first fault of `kind` is detected.
-  RunResult run(const std::string& scenario, FaultKind kind, std::chrono::milliseconds duration = 700ms) {
-    auto set = profile::load(here("app.xml"));
+  RunResult run(const std::string& scenario, FaultKind kind, std::chrono::milliseconds duration = 700ms,
+                const std::string& package = "app.xml") {
+    auto set = profile::load(here(package));
     EXPECT_TRUE(set);
     auto sc = fault::loadScenario(here(scenario));
     EXPECT_TRUE(sc) << (sc ? "" : sc.error().front().str());
     runtime::EngineOptions eo;
     eo.log_path = log_;
-    eo.search_path = {KEEL_TEST_COMPONENTS};
+    eo.search_path = {KEEL_TEST_COMPONENTS, KEEL_STOCK_COMPONENTS};
     eo.warn = [](const std::string&) {};
     eo.scenario = std::move(*sc);
     auto engine = runtime::Engine::create(std::move(*set), eo);
@@ -182,6 +183,28 @@ TEST_F(Detection, AFaultEventSentToTheFaultManagersPortIsLogged) {
   EXPECT_EQ(d["component"], "wave");  // the component the event names
   EXPECT_EQ(d["detector"], "fault_manager");
   EXPECT_EQ(d["detail"], "tattler saw drift");
+}
+
+TEST_F(Detection, AWheelLosingPowerIsAModelFaultOfTheWheelFromTheSlidingWindowMonitor) {
+  RunResult r = run("none.xml", FaultKind::Model, 700ms, "models.xml");
+  json d = detected(r, "model", false);
+  EXPECT_EQ(d["component"], "left_wheel");
+  EXPECT_EQ(d["detector"], "monitor");
+  EXPECT_NE(d["detail"].get<std::string>().find("< 0.5 × reference"), std::string::npos) << d.dump();
+  keptRunning(r, "bystander");
+  keptRunning(r, "left_wheel");
+}
+
+TEST_F(Detection, ASonarStuckAtZeroIsMaskedByTheVoterAndReportedAsAVoteFault) {
+  RunResult r = run("none.xml", FaultKind::Vote, 700ms, "models.xml");
+  json d = detected(r, "vote", false);
+  EXPECT_EQ(d["component"], "sonar_b");
+  EXPECT_EQ(d["detector"], "voter");
+  EXPECT_NE(d["detail"].get<std::string>().find("in1 = "), std::string::npos) << d.dump();
+  int votes = 0;
+  for (const auto& e : test::eventsOf(r.log, "detected")) votes += e["kind"] == "vote";
+  EXPECT_EQ(votes, 1) << "one fault per episode";
+  keptRunning(r, "voter");
 }
 
 }  // namespace

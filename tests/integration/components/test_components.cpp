@@ -194,3 +194,32 @@ KEEL_REGISTER_COMPONENT_AS(itest::Wave, "Wave")
 KEEL_REGISTER_COMPONENT_AS(itest::Probe, "Probe")
 KEEL_REGISTER_COMPONENT_AS(itest::Sleepy, "Sleepy")
 KEEL_REGISTER_COMPONENT_AS(itest::Tattler, "Tattler")
+
+namespace itest {
+
+/// A constant level that drops to `drop_to` after `drop_at` executions (a wheel losing power),
+/// and a little deterministic ripple so that a filter has work to do.
+class Level : public keel::Component {
+ public:
+  keel::OutputDataPort<double> value{this, "value"};
+  keel::ReturnCode onInitialize() override {
+    level_ = property<double>("level");
+    drop_at_ = property<int>("drop_at");
+    drop_to_ = property<double>("drop_to");
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onExecute() override {
+    ++n_;
+    const double base = (drop_at_ > 0 && n_ >= drop_at_) ? drop_to_ : level_;
+    value.push(base + ((n_ % 2) ? 1.0 : -1.0));
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  double level_ = 0, drop_to_ = 0;
+  int drop_at_ = 0, n_ = 0;
+};
+
+}  // namespace itest
+
+KEEL_REGISTER_COMPONENT_AS(itest::Level, "Level")
