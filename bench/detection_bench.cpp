@@ -77,11 +77,11 @@ Row measure(runtime::InjectKind kind, bool fifo, int n) {
   dog.start();
   auto& core = runtime::coreOf(victim);
   for (int i = 0; i < n; ++i) {
-    const std::size_t before = fm.detections().size();
+    const std::size_t before = fm.detectionCount();
     runtime::arm(victim, kind, fm.nextId(), {"out", -1.0, 0});
     auto deadline = std::chrono::steady_clock::now() + 5s;
-    while (fm.detections().size() == before && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(50us);
+    while (fm.detectionCount() == before && std::chrono::steady_clock::now() < deadline)
+      std::this_thread::sleep_for(200us);  // light polling: the bench must not disturb the victim
     if (kind == runtime::InjectKind::Hang) {
       core.release_hang.store(true);
       while (core.callback_since_ns.load() != 0) std::this_thread::sleep_for(50us);

@@ -56,6 +56,7 @@ void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::st
               {"t_ns", log_.sinceStart(detected)}});
   std::lock_guard lock(mutex_);
   detections_.push_back({id, who, fault.kind, detected, injected});
+  detection_count_.store(detections_.size(), std::memory_order_release);
   for (auto& fc : counts_) {
     if (fc.component == who && fc.kind == kind) {
       ++fc.count;

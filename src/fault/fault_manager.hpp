@@ -50,6 +50,8 @@ class FaultManager {
 
   std::vector<FaultCount> counts() const;
   std::vector<Detection> detections() const;
+  /// How many faults were detected so far (cheap: no copy, no lock).
+  std::size_t detectionCount() const { return detection_count_.load(std::memory_order_acquire); }
   /// Called at the end of a run: logs injections that manifested but were never detected.
   void flushUndetected(const std::vector<Component*>& components);
 
@@ -60,6 +62,7 @@ class FaultManager {
   mutable std::mutex mutex_;
   std::vector<FaultCount> counts_;
   std::vector<Detection> detections_;
+  std::atomic<std::size_t> detection_count_{0};
 };
 
 }  // namespace keel::fault

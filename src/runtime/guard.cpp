@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <ctime>
 #include <mutex>
 
 namespace keel::runtime {
@@ -28,6 +29,9 @@ void onSignal(int signo, siginfo_t* info, void*) {
     raise(signo);
     return;
   }
+  timespec ts;  // the moment of detection (clock_gettime is async-signal-safe)
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  frame->t_ns = std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
   frame->signo = signo;
   frame->addr = info ? info->si_addr : nullptr;
   siglongjmp(frame->env, 1);

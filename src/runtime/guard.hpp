@@ -26,6 +26,7 @@ struct GuardOutcome {
   ReturnCode rc = ReturnCode::Ok;
   int signo = 0;
   const void* addr = nullptr;        // faulting address for SIGSEGV/SIGBUS
+  std::int64_t t_ns = 0;             // Signal: steady-clock ns when the handler caught it
   std::array<char, 120> what{};      // exception message (truncated)
 
   bool ok() const { return kind == Kind::Ok; }
@@ -39,6 +40,7 @@ struct GuardFrame {
   sigjmp_buf env;
   volatile int signo = 0;
   const void* volatile addr = nullptr;
+  volatile std::int64_t t_ns = 0;
   GuardFrame* prev = nullptr;
 };
 GuardFrame*& currentFrame() noexcept;  // this thread's innermost frame
@@ -73,6 +75,7 @@ template <class F>
     out.kind = GuardOutcome::Kind::Signal;
     out.signo = frame.signo;
     out.addr = frame.addr;
+    out.t_ns = frame.t_ns;
   }
   guard_detail::currentFrame() = frame.prev;
   return out;

@@ -51,7 +51,7 @@ ReturnCode call(Component& c, Callback cb) {
 void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   FaultEvent ev;
-  ev.t_ns = steadyNs();
+  ev.t_ns = out.t_ns ? out.t_ns : steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
   out.describe(ev, callbackName(cb));
   State s = core.state.load(std::memory_order_acquire);
