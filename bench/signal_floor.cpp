@@ -1,8 +1,8 @@
-// The machine's floor for catching a fault, without keel: a thread that sleeps 1 ms (as an
-// executor between cycles), wakes, and faults; a bare SA_SIGINFO handler on an alternate
-// stack takes the time and siglongjmps back. Same for a C++ throw caught one frame up. Run in
-// the same conditions as keel_bench_detection, it tells what part of keel's detection latency
-// is the kernel's and the C++ runtime's.
+// The machine's floor for catching a fault, and keel's guard beside it, interleaved trial by
+// trial on one thread so that the machine's drift blurs neither: the thread sleeps 1 ms (as an
+// executor between cycles), wakes and faults — alternately under a bare SA_SIGINFO handler on
+// an alternate stack (which takes the time and siglongjmps back) and under keel's
+// runtime::guarded (detection time taken in keel's handler). Same for a C++ throw.
 //   build/bin/keel_bench_signal_floor [--n 1000]
 #include <setjmp.h>
 #include <signal.h>
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "latency_stats.hpp"
+#include "runtime/guard.hpp"
 
 namespace {
 
@@ -52,32 +53,64 @@ void report(const char* what, std::vector<std::int64_t> v) {
 
 int main(int argc, char** argv) {
   int n = (argc > 2 && std::string(argv[1]) == "--n") ? std::atoi(argv[2]) : 1000;
-  std::printf("| baseline (no keel), fault right after a 1 ms sleep | n | p50 µs | p99 µs | max µs |\n|---|---|---|---|---|\n");
+  std::printf("| fault right after a 1 ms sleep, interleaved | n | p50 µs | p99 µs | max µs |\n|---|---|---|---|---|\n");
   std::thread t([n] {
-    stack_t ss{};
-    ss.ss_size = 64 * 1024;
-    ss.ss_sp = mmap(nullptr, ss.ss_size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-    sigaltstack(&ss, nullptr);
-    struct sigaction sa {};
-    sa.sa_sigaction = handler;
-    sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
-    sigaction(SIGSEGV, &sa, nullptr);
-    std::vector<std::int64_t> seg, thr;
-    for (int i = 0; i < n; ++i) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    keel::runtime::installSignalHandlers();
+    keel::runtime::installAltStack();
+    struct sigaction bare {}, keel_sa {};
+    bare.sa_sigaction = handler;
+    bare.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
+    sigaction(SIGSEGV, nullptr, &keel_sa);
+    std::vector<std::int64_t> seg, thr, kseg, kthr;
+    auto nap = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
+    auto bareSeg = [&] {
+      sigaction(SIGSEGV, &bare, nullptr);
+      nap();
       volatile std::int64_t t0 = now();
       if (sigsetjmp(t_env, 0) == 0) faultNow();
       seg.push_back(t_caught - t0);
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      sigaction(SIGSEGV, &keel_sa, nullptr);
+    };
+    auto keelSeg = [&] {
+      nap();
+      std::int64_t tk = 0;
+      auto out = keel::runtime::guarded([&tk] {
+        tk = now();
+        faultNow();
+        return keel::ReturnCode::Ok;
+      });
+      kseg.push_back(out.t_ns - tk);
+    };
+    auto bareThrow = [&] {
+      nap();
       std::int64_t t1 = now();
       try {
         throwNow();
       } catch (const std::exception&) {
         thr.push_back(now() - t1);
       }
+    };
+    auto keelThrow = [&] {
+      nap();
+      std::int64_t tt = now();
+      auto out2 = keel::runtime::guarded([]() -> keel::ReturnCode {
+        throwNow();
+        return keel::ReturnCode::Ok;
+      });
+      (void)out2;
+      kthr.push_back(now() - tt);
+    };
+    for (int i = 0; i < n; ++i) {  // alternate the order: neither side always runs warmer
+      if (i % 2) {
+        bareSeg(), keelSeg(), bareThrow(), keelThrow();
+      } else {
+        keelSeg(), bareSeg(), keelThrow(), bareThrow();
+      }
     }
-    report("SIGSEGV to handler", seg);
-    report("throw to catch", thr);
+    report("bare SIGSEGV to handler", seg);
+    report("keel: SIGSEGV in a guarded call to detection", kseg);
+    report("bare throw to catch", thr);
+    report("keel: throw in a guarded call to its catch", kthr);
   });
   t.join();
   return 0;
