@@ -98,7 +98,8 @@ class OutputDataPort final : public detail::OutputPortBase {
 
  private:
   void pushCorrupted(T value) {
-    corrupt_next_.store(false, std::memory_order_relaxed);
+    // acquire: pairs with corruptNext()'s release, so corrupt_value_ is the injector's.
+    if (!corrupt_next_.exchange(false, std::memory_order_acquire)) return push(value);
     detail::NumericTraits<T>::fill(value, corrupt_value_);
     detail::noteInjectedCorruption(owner());
     push(value);

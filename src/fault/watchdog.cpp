@@ -9,6 +9,7 @@
 #include <cstring>
 
 #include "runtime/component_core.hpp"
+#include "runtime/fault_detail.hpp"
 #include "runtime/injection.hpp"
 
 namespace keel::fault {
@@ -38,9 +39,7 @@ void Watchdog::report(const WatchedComponent& w, std::int64_t now, const char* w
   ev.kind = FaultKind::Heartbeat;
   ev.t_ns = now;
   FaultEvent::copyInto(ev.component, w.component->instanceName());
-  auto r = fmt::format_to_n(ev.detail.data(), ev.detail.size() - 1, "{} for {:.3f} ms (heartbeat timeout {:.3f} ms)",
-                            what, late_ms, w.timeout_ns / 1e6);
-  *r.out = '\0';
+  runtime::formatDetail(ev, "{} for {:.3f} ms (heartbeat timeout {:.3f} ms)", what, late_ms, w.timeout_ns / 1e6);
   manager_.onFault(*w.component, ev, "watchdog");
 }
 

@@ -8,6 +8,7 @@
 #include <cstring>
 
 #include "runtime/component_core.hpp"
+#include "runtime/fault_detail.hpp"
 #include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
 
@@ -34,9 +35,7 @@ void checkDeadline(Component& c, std::int64_t took_ns) {
   ev.kind = FaultKind::Deadline;
   ev.t_ns = nowNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
-  auto r = fmt::format_to_n(ev.detail.data(), ev.detail.size() - 1, "onExecute took {:.3f} ms (deadline {:.3f} ms)",
-                            took_ns / 1e6, core.deadline_ns / 1e6);
-  *r.out = '\0';
+  formatDetail(ev, "onExecute took {:.3f} ms (deadline {:.3f} ms)", took_ns / 1e6, core.deadline_ns / 1e6);
   reportFault(c, ev);
 }
 

@@ -1,5 +1,7 @@
 #include "runtime/guard.hpp"
 
+#include "runtime/fault_detail.hpp"
+
 #include <fmt/format.h>
 #include <signal.h>
 #include <sys/mman.h>
@@ -69,25 +71,20 @@ FaultKind GuardOutcome::faultKind() const {
 
 void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
   fault.kind = faultKind();
-  auto& d = fault.detail;
-  fmt::format_to_n_result<char*> r{};
   switch (kind) {
     case Kind::Signal:
-      r = fmt::format_to_n(d.data(), d.size() - 1, "{} in {} (address {})", signalName(signo),
-                           callback, addr);
+      formatDetail(fault, "{} in {} (address {})", signalName(signo), callback, addr);
       break;
     case Kind::Exception:
-      r = fmt::format_to_n(d.data(), d.size() - 1, "exception in {}: {}", callback, what.data());
+      formatDetail(fault, "exception in {}: {}", callback, what.data());
       break;
     case Kind::ErrorCode:
-      r = fmt::format_to_n(d.data(), d.size() - 1, "{} returned {} ({})", callback,
-                           static_cast<int>(rc), toString(rc));
+      formatDetail(fault, "{} returned {} ({})", callback, static_cast<int>(rc), toString(rc));
       break;
     case Kind::Ok:
-      r = fmt::format_to_n(d.data(), d.size() - 1, "{} ok", callback);
+      formatDetail(fault, "{} ok", callback);
       break;
   }
-  *r.out = '\0';
 }
 
 void installSignalHandlers() {

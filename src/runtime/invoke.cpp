@@ -80,7 +80,8 @@ bool invoke(Component& c, Callback cb) {
   }
   GuardOutcome out = guarded([&c, &core, cb] {
     if (cb == Callback::Execute) {
-      if (auto k = core.inject_kind.load(std::memory_order_relaxed)) [[unlikely]] {
+      // acquire (free on x86): pairs with arm()'s release, so inject_id is the armed one.
+      if (auto k = core.inject_kind.load(std::memory_order_acquire)) [[unlikely]] {
         core.inject_kind.store(0, std::memory_order_relaxed);
         return fire(c, static_cast<InjectKind>(k));
       }

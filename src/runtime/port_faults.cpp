@@ -1,8 +1,7 @@
 // Faults found by ports (the signal model of paper §5.1.2): a value outside the port's
 // <validity> is a `range` fault of the port's owner, detected in the same call that pushed or
 // delivered it. The detail names the port, the value and the bounds.
-#include <fmt/format.h>
-
+#include "runtime/fault_detail.hpp"
 #include "keel/detail/validity.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
@@ -15,15 +14,13 @@ void keel::detail::reportRange(Component& owner, const std::string& port, const 
   ev.t_ns = runtime::steadyNs();
   FaultEvent::copyInto(ev.component, runtime::coreOf(owner).instance_name);
   const char* where = on_delivery ? "received on" : "pushed on";
-  auto& d = ev.detail;
-  fmt::format_to_n_result<char*> r;
-  if (v.size_expected != 0) {
-    r = fmt::format_to_n(d.data(), d.size() - 1, "{} port '{}': {} elements, validity expects {}", where,
-                         port, v.size_got, v.size_expected);
-  } else {
-    r = fmt::format_to_n(d.data(), d.size() - 1, "value {} {} port '{}'{} outside [{}, {}]", v.value, where,
-                         port, v.array ? fmt::format("[{}]", v.index) : std::string(), v.min, v.max);
-  }
-  *r.out = '\0';
+  if (v.size_expected != 0)
+    runtime::formatDetail(ev, "{} port '{}': {} elements, validity expects {}", where, port, v.size_got,
+                          v.size_expected);
+  else if (v.array)
+    runtime::formatDetail(ev, "value {} {} port '{}'[{}] outside [{}, {}]", v.value, where, port, v.index,
+                          v.min, v.max);
+  else
+    runtime::formatDetail(ev, "value {} {} port '{}' outside [{}, {}]", v.value, where, port, v.min, v.max);
   runtime::reportFault(owner, ev);
 }

@@ -110,7 +110,7 @@ class OutputPortBase : public PortBase {
   /// element of an array). Only numeric data ports honour it.
   void corruptNext(double value) {
     corrupt_value_ = value;
-    corrupt_next_.store(true, std::memory_order_release);
+    corrupt_next_.store(true, std::memory_order_release);  // publishes corrupt_value_
   }
 
  protected:
