@@ -40,6 +40,8 @@ class Hooks : public runtime::RuntimeHooks {
   explicit Hooks(fault::FaultManager& fm) : fm_(fm) {}
   void stateChanged(Component&, State, State) override {}
   void faultDetected(Component& c, const FaultEvent& f) override { fm_.onFault(c, f); }
+  void runPending(Component& c) override { fm_.runPending(c); }
+  void recovered(Component& c, std::int64_t t) override { fm_.recovered(c, t); }
 
  private:
   fault::FaultManager& fm_;
@@ -72,7 +74,8 @@ Row measure(runtime::InjectKind kind, bool fifo, int n) {
                        [](const std::string& w) { std::cerr << w << '\n'; });
   ex.add(victim);
   ex.add(bystander);
-  fault::Watchdog dog({{&victim, kHeartbeatNs, 1'000'000}}, fm, [](const std::string& w) { std::cerr << w << '\n'; }, fifo);
+  const std::atomic<Component*> watched{&victim};
+  fault::Watchdog dog({{&watched, kHeartbeatNs, 1'000'000}}, fm, [](const std::string& w) { std::cerr << w << '\n'; }, fifo);
   ex.start();
   dog.start();
   auto& core = runtime::coreOf(victim);

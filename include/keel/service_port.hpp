@@ -6,6 +6,7 @@
 // Signatures are checked when the runtime connects ports. One function per port.
 #pragma once
 
+#include <atomic>
 #include <chrono>
 #include <functional>
 #include <memory>
@@ -88,19 +89,21 @@ class RequiredServicePort<R(A...)> final : public ServicePortBase {
 
   /// Calls the connected provider, waiting at most `timeout`.
   Result<Value> callWithin(std::chrono::nanoseconds timeout, A... args) const {
-    if (!provider_) return fail("service port '" + name() + "' is not connected");
-    auto c = std::make_shared<Call>(provider_, std::tuple<A...>(std::move(args)...));
-    std::string why = detail::invokeService(provider_->owner(), provider_->name(), c, timeout);
+    const ProvidedServicePort<R(A...)>* provider = provider_.load(std::memory_order_acquire);
+    if (!provider) return fail("service port '" + name() + "' is not connected");
+    auto c = std::make_shared<Call>(provider, std::tuple<A...>(std::move(args)...));
+    std::string why = detail::invokeService(provider->owner(), provider->name(), c, timeout);
     if (!why.empty() || !c->result) return fail(why.empty() ? "service call failed" : why);
     return std::move(*c->result);
   }
 
-  bool connected() const { return provider_ != nullptr; }
+  bool connected() const { return provider_.load(std::memory_order_acquire) != nullptr; }
 
   bool bind(ServicePortBase& provided) override {
     if (provided.type() != type() || provided.direction() != detail::PortDirection::Input)
       return false;
-    provider_ = static_cast<ProvidedServicePort<R(A...)>*>(&provided);
+    // atomic: a replacement provider is bound while this port's owner may be calling
+    provider_.store(static_cast<ProvidedServicePort<R(A...)>*>(&provided), std::memory_order_release);
     return true;
   }
   void setTimeout(std::chrono::nanoseconds timeout) override { timeout_ = timeout; }
@@ -121,7 +124,7 @@ class RequiredServicePort<R(A...)> final : public ServicePortBase {
     std::optional<Value> result;
   };
 
-  const ProvidedServicePort<R(A...)>* provider_ = nullptr;
+  std::atomic<const ProvidedServicePort<R(A...)>*> provider_{nullptr};
   std::chrono::nanoseconds timeout_ = std::chrono::seconds(1);
 };
 

@@ -95,7 +95,9 @@ Result<void> DependencyGraph::indexApplications(const runtime::Plan& plan, const
       app.members.push_back(c);
       entries.push_back({c});
     }
-    return addGroup(0, entries, entries.size());
+    // One group needing any one of them: a package runs while any component of it runs
+    // (decision 0004); what one component's stop takes with it is its scope and dependants.
+    return addGroup(0, entries, entries.empty() ? 0 : 1);
   }
   std::map<std::string, Id, std::less<>> app_index;
   for (const auto& a : set.system->applications) {

@@ -29,7 +29,7 @@ struct Impact {
 class DependencyGraph {
  public:
   /// Indexes `plan`; `set` gives the applications (a package, composite or component root is
-  /// one implicit application named after it, needing every component). Fails on names that do
+  /// one implicit application named after it, running while any component runs). Fails on names that do
   /// not resolve (the loader rejects those first; this only guards against a plan and set
   /// that do not belong together). Dependency cycles are tolerated: they stop together.
   [[nodiscard]] static Result<DependencyGraph> build(const runtime::Plan& plan,

@@ -34,24 +34,25 @@ void Watchdog::stop() {
   thread_.join();
 }
 
-void Watchdog::report(const WatchedComponent& w, std::int64_t now, const char* what, double late_ms) {
+void Watchdog::report(Component& c, const WatchedComponent& w, std::int64_t now, const char* what, double late_ms) {
   FaultEvent ev;
   ev.kind = FaultKind::Heartbeat;
   ev.t_ns = now;
-  FaultEvent::copyInto(ev.component, w.component->instanceName());
+  FaultEvent::copyInto(ev.component, c.instanceName());
   runtime::formatDetail(ev, "{} for {:.3f} ms (heartbeat timeout {:.3f} ms)", what, late_ms, w.timeout_ns / 1e6);
-  manager_.onFault(*w.component, ev, "watchdog");
+  manager_.onFault(c, ev, "watchdog");
 }
 
 std::int64_t Watchdog::check(const WatchedComponent& w, Episode& e, std::int64_t now) {
-  if (w.component->state() != State::Active) return now + poll_ns_;
-  const auto& core = runtime::coreOf(*w.component);
+  Component& c = *w.component->load(std::memory_order_acquire);
+  if (c.state() != State::Active) return now + poll_ns_;
+  const auto& core = runtime::coreOf(c);
   if (std::int64_t since = core.callback_since_ns.load(std::memory_order_relaxed); since != 0) {
     const std::int64_t deadline = since + w.timeout_ns;
     if (now < deadline) return deadline;
     if (e.reported_since != since) {
       e.reported_since = since;
-      report(w, now, "a callback has not returned", (now - since) / 1e6);
+      report(c, w, now, "a callback has not returned", (now - since) / 1e6);
     }
     return now + poll_ns_;
   }
@@ -62,7 +63,7 @@ std::int64_t Watchdog::check(const WatchedComponent& w, Episode& e, std::int64_t
   if (now < deadline) return deadline;
   if (e.reported_beat != beat) {
     e.reported_beat = beat;
-    report(w, now, "not executed", (now - beat) / 1e6);
+    report(c, w, now, "not executed", (now - beat) / 1e6);
   }
   return now + poll_ns_;
 }

@@ -22,7 +22,7 @@
 namespace keel::fault {
 
 struct WatchedComponent {
-  Component* component = nullptr;
+  const std::atomic<Component*>* component = nullptr;  // the one in service (a replacement too)
   std::int64_t timeout_ns = 0;
   std::int64_t period_ns = 0;  // 0: aperiodic or passive (only callbacks are timed)
 };
@@ -48,7 +48,7 @@ class Watchdog {
   void run();
   /// Checks one component at `now`; returns the time it must be looked at again.
   std::int64_t check(const WatchedComponent& w, Episode& e, std::int64_t now);
-  void report(const WatchedComponent& w, std::int64_t now, const char* what, double late_ms);
+  void report(Component& c, const WatchedComponent& w, std::int64_t now, const char* what, double late_ms);
 
   std::vector<WatchedComponent> watched_;
   std::vector<Episode> episodes_;

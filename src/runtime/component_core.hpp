@@ -26,6 +26,11 @@ class RuntimeHooks {
   virtual void stateChanged(Component& c, State from, State to) = 0;
   /// A fault was detected in `c` (or raised by it). Called on the thread that noticed it.
   virtual void faultDetected(Component& c, const FaultEvent& fault) = 0;
+  /// Handling of a fault of `c` waits for `c`'s own thread (core.pending was set): called
+  /// there, between callbacks or after its hung callback was interrupted.
+  virtual void runPending(Component& c) = 0;
+  /// `c` completed an onExecute after a recovery (core.recovering_id was set).
+  virtual void recovered(Component& c, std::int64_t t_ns) = 0;
 };
 
 struct CriticalRegion {
@@ -67,6 +72,21 @@ class ComponentCore {
   std::atomic<std::int64_t> injected_t_ns{0};      // steady ns of the manifestation
   std::atomic<std::int64_t> stalled_until_ns{0};   // stall_heartbeat: not executed until then
   std::atomic<bool> release_hang{false};           // ends an injected hang (at shutdown)
+
+  // checkpoints of the critical() memory (runtime/checkpoint): taken on the component's own
+  // thread at cycle boundaries, read by recovery (same thread) or a replacement (any thread)
+  std::int64_t checkpoint_period_ns = 0;           // <checkpoint period>; 0: only at start
+  std::int64_t next_checkpoint_ns = 0;             // its executor's thread only
+  std::mutex checkpoint_mutex;                     // guards the three below
+  std::vector<std::vector<std::byte>> checkpoint;  // one copy per critical region
+  std::int64_t checkpoint_t_ns = 0;                // when the copy was taken; 0: none yet
+  std::uint64_t checkpoint_count = 0;
+
+  // fault handling (src/fault/fault_manager): rules and state owned by the fault manager
+  void* handling = nullptr;                        // fault::ComponentHandling*
+  std::atomic<bool> pending{false};                // a fault's handling waits for this thread
+  std::atomic<bool> interrupt{false};              // interrupt the running (hung) callback
+  std::atomic<std::uint64_t> recovering_id{0};     // recovered: after the next good onExecute
 
   // counters, read by the engine's summary and the watchdog
   std::atomic<std::uint64_t> executions{0};

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "runtime/checkpoint.hpp"
 #include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
 
@@ -30,6 +31,7 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
   engine->log_.write({{"event", "engine"}, {"phase", "load"}, {"profile", engine->set_.root},
                       {"instances", engine->plan_.instances.size()}});
   if (auto r = engine->instantiate(); !r) return r.error();
+  engine->setUpHandling();
   if (engine->options_.scenario) {
     Engine* e = engine.get();
     e->injector_ = std::make_unique<fault::Injector>(
@@ -46,7 +48,7 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
 
 Component* Engine::find(std::string_view instance) const {
   for (const auto& i : instances_)
-    if (i.plan->name == instance) return i.component.get();
+    if (i.plan->name == instance) return i.active();
   return nullptr;
 }
 
@@ -87,11 +89,15 @@ Result<void> Engine::start() {
                             w.file, w.line, inst.plan->name));
   }
   if (auto r = connect(); !r) return r;
+  if (auto r = preloadAlternatives(); !r) return r;
+  fault_manager_.start();
   buildExecutors();
   for (auto& inst : instances_) {
     if (inst.executor) continue;  // passive: started here, under its lock
-    std::lock_guard lock(coreOf(*inst.component).passive_mutex);
+    auto& core = coreOf(*inst.component);
+    std::lock_guard lock(core.passive_mutex);
     transition(*inst.component, Transition::Start);
+    if (!core.critical.empty()) takeCheckpoint(core, steadyNs());
   }
   for (auto& ex : executors_) ex->start();
   started_ = true;
@@ -108,7 +114,7 @@ void Engine::startDetectors() {
     std::int64_t period = inst.executor && inst.executor->config().kind == ExecutorKind::Periodic
                               ? inst.executor->config().period.count()
                               : 0;
-    watched.push_back({inst.component.get(), core.heartbeat_ns, period});
+    watched.push_back({inst.current.get(), core.heartbeat_ns, period});
   }
   watchdog_ = std::make_unique<fault::Watchdog>(std::move(watched), fault_manager_,
                                                 [this](const std::string& m) { warn(m); });
@@ -121,7 +127,7 @@ void Engine::shutdown() {
   shut_down_ = true;
   if (injector_) injector_->stop();
   if (watchdog_) watchdog_->stop();
-  for (auto& inst : instances_) coreOf(*inst.component).release_hang.store(true);  // injected hangs
+  for (Component* c : components()) coreOf(*c).release_hang.store(true);  // injected hangs
   for (auto& ex : executors_) ex->requestStop();
   std::vector<const Executor*> abandoned;
   for (auto& ex : executors_) {
@@ -133,20 +139,36 @@ void Engine::shutdown() {
   auto isAbandoned = [&abandoned](const Instance& i) {
     return std::find(abandoned.begin(), abandoned.end(), i.executor) != abandoned.end();
   };
+  fault_manager_.stop();  // handles and logs what is still queued
   for (auto& inst : instances_) {
     if (inst.executor) continue;
-    std::lock_guard lock(coreOf(*inst.component).passive_mutex);
-    transition(*inst.component, Transition::Stop);
+    Component& c = *inst.active();
+    std::lock_guard lock(coreOf(c).passive_mutex);
+    transition(c, Transition::Stop);
   }
   fault_manager_.flushUndetected(components());
-  for (auto it = instances_.rbegin(); it != instances_.rend(); ++it)
-    if (!isAbandoned(*it)) transition(*it->component, Transition::Destroy);
+  for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
+    if (isAbandoned(*it)) continue;
+    transition(*it->active(), Transition::Destroy);
+    if (it->active() != it->component.get()) transition(*it->component, Transition::Destroy);  // replaced
+  }
+  {
+    std::lock_guard lock(spares_mutex_);
+    for (auto& spare : spares_)  // alternatives still standing by
+      if (spare->state() != State::Destroyed) transition(*spare, Transition::Destroy);
+  }
   if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
   // A hung thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
-    if (isAbandoned(*it)) (void)it->component.release();
-    else it->component.reset();
+    if (isAbandoned(*it)) {
+      (void)it->component.release();
+      for (auto& spare : spares_)
+        if (spare.get() == it->active()) (void)spare.release();
+    } else {
+      it->component.reset();
+    }
   }
+  spares_.clear();
   for (auto& ex : executors_)
     if (std::find(abandoned.begin(), abandoned.end(), ex.get()) != abandoned.end()) (void)ex.release();
 }
@@ -163,7 +185,7 @@ void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manage
 std::vector<Component*> Engine::components() const {
   std::vector<Component*> out;
   for (const auto& i : instances_)
-    if (i.component) out.push_back(i.component.get());
+    if (Component* c = i.active()) out.push_back(c);
   return out;
 }
 

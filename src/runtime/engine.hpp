@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <deque>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "fault/fault_log.hpp"
+#include "fault/dependency_graph.hpp"
 #include "fault/fault_manager.hpp"
 #include "fault/injector.hpp"
 #include "fault/scenario.hpp"
@@ -43,11 +45,23 @@ struct EngineOptions {
 /// One running instance and what the plan says of it.
 struct Instance {
   const PlannedInstance* plan = nullptr;
-  std::unique_ptr<Component> component;
-  Executor* executor = nullptr;  // null: passive
+  std::unique_ptr<Component> component;  // as created from the plan
+  Executor* executor = nullptr;          // null: passive
+  /// The component in service under this name: `component`, or the alternative that replaced it.
+  std::unique_ptr<std::atomic<Component*>> current = std::make_unique<std::atomic<Component*>>(nullptr);
+  std::unique_ptr<fault::ComponentHandling> handling;  // its compiled rules (src/fault/rules.hpp)
+
+  Component* active() const { return current->load(std::memory_order_acquire); }
 };
 
-class Engine final : public RuntimeHooks {
+/// A connection as made: the fault manager's replacement re-points it (engine_recovery.cpp).
+struct Wire {
+  detail::ConnectionBase* connection = nullptr;  // null for a service binding
+  detail::PortBase* source = nullptr;            // output port, or required service port
+  detail::PortBase* target = nullptr;            // input port, or provided service port
+};
+
+class Engine final : public RuntimeHooks, public fault::HandlingHost {
  public:
   /// Plans, loads and instantiates; checks every port of code against its profile.
   static Result<std::unique_ptr<Engine>> create(profile::ProfileSet set, EngineOptions options);
@@ -59,7 +73,8 @@ class Engine final : public RuntimeHooks {
   /// Idempotent; called by the destructor if not before.
   void shutdown();
 
-  Component* find(std::string_view instance) const;
+  /// The component in service under `instance` (a replacement after a replacement).
+  Component* find(std::string_view instance) const override;
   const Plan& plan() const { return plan_; }
   const std::vector<Instance>& instances() const { return instances_; }
   const std::vector<std::unique_ptr<Executor>>& executors() const { return executors_; }
@@ -67,16 +82,31 @@ class Engine final : public RuntimeHooks {
   fault::FaultManager& faultManager() { return fault_manager_; }
   const fault::FaultManager& faultManager() const { return fault_manager_; }
   std::vector<fault::FaultCount> faultCounts() const { return fault_manager_.counts(); }
-  /// Every instance, for detectors that scan them (the watchdog).
-  std::vector<Component*> components() const;
+  /// Every component in service, for detectors that scan them and the fault manager.
+  std::vector<Component*> components() const override;
+  const fault::DependencyGraph* graph() const { return graph_ ? &*graph_ : nullptr; }
+
+  /// Emergency stop from outside (an operator, `keel run`'s console): logged with `by`.
+  std::vector<std::string> emergencyStop(std::string_view by) { return fault_manager_.emergencyStop(by); }
+  /// Clears a latched emergency (the explicit call SPEC §2 asks for); false if none was latched.
+  bool clearEmergency(std::string_view by) { return fault_manager_.clearEmergency(by); }
 
   // RuntimeHooks
   void stateChanged(Component& c, State from, State to) override;
   void faultDetected(Component& c, const FaultEvent& fault) override;
+  void runPending(Component& c) override { fault_manager_.runPending(c); }
+  void recovered(Component& c, std::int64_t t_ns) override { fault_manager_.recovered(c, t_ns); }
+
+  // fault::HandlingHost (engine_recovery.cpp)
+  Result<Component*> createAlternative(fault::ComponentHandling& h, Component& failed) override;
+  void switchTo(Component& failed, Component& alternative) override;
 
  private:
   explicit Engine(EngineOptions options);
   Result<void> instantiate();
+  Result<Instance> makeInstance(const PlannedInstance& pi);  // created, named, ports checked
+  void setUpHandling();       // rules and checkpoints per instance, the dependency graph
+  Result<void> preloadAlternatives();
   Result<void> checkPorts(const Instance& inst) const;
   Result<void> configurePorts(Instance& inst);  // queues, validity rules, call timeouts
   Result<void> connect();
@@ -91,6 +121,11 @@ class Engine final : public RuntimeHooks {
   fault::FaultLog log_;
   std::vector<Instance> instances_;
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
+  std::vector<Wire> wires_;
+  std::optional<fault::DependencyGraph> graph_;
+  std::mutex spares_mutex_;                  // guards the two below (fault manager's thread)
+  std::deque<PlannedInstance> spare_plans_;  // the alternatives' plans (stable addresses)
+  std::vector<std::unique_ptr<Component>> spares_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   std::vector<std::unique_ptr<Executor>> executors_;
   fault::FaultManager fault_manager_;

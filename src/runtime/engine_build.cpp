@@ -58,54 +58,60 @@ Result<void> Engine::instantiate() {
   for (const auto& pi : plan_.instances) {
     const profile::ComponentProfile& cp = *pi.profile;
     if (&cp == &fault::FaultManagerComponent::profile()) {
-      Instance inst{&pi, std::make_unique<fault::FaultManagerComponent>(fault_manager_), nullptr};
+      Instance inst;
+      inst.plan = &pi;
+      inst.component = std::make_unique<fault::FaultManagerComponent>(fault_manager_);
       detail::ComponentCore& core = coreOf(*inst.component);
       core.instance_name = pi.name;
       core.class_name = cp.name;
       core.hooks = this;
       (void)configurePorts(inst);  // its one port has no validity: cannot fail
+      inst.current->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
       continue;
     }
-    std::string dir = std::filesystem::path(cp.file).parent_path().string();
-    Result<std::string> lib = loader_.resolve(cp.library_name, dir);
-    std::string library = lib ? *lib : std::string();
-    if (!lib && !Registry::instance().find(cp.name, "")) {
-      errors += fmt::format("{}: component '{}' ({}): {}\n", at(cp.where), pi.name, cp.name, lib.error().message);
+    auto inst = makeInstance(pi);
+    if (!inst) {
+      errors += inst.error().message;
       continue;
     }
-    auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
-      return Registry::instance().find(cp.name, "")->factory();
-    }() : loader_.create(cp.name, library);
-    if (!created) {
-      errors += fmt::format("{}: component '{}': {}\n", at(cp.where), pi.name, created.error().message);
-      continue;
-    }
-    Instance inst{&pi, std::move(*created), nullptr};
-    detail::ComponentCore& core = coreOf(*inst.component);
-    core.instance_name = pi.name;
-    core.class_name = cp.name;
-    core.hooks = this;
-    for (const auto& [k, v] : pi.properties) core.properties[k] = v;
-    if (pi.policy && pi.policy->deadline_ms)
-      core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
-    if (auto r = checkPorts(inst); !r) {
-      errors += r.error().message;
-      continue;
-    }
-    if (pi.policy && pi.policy->heartbeat_timeout_ms)
-      core.heartbeat_ns = static_cast<std::int64_t>(*pi.policy->heartbeat_timeout_ms * 1e6);
-    if (auto r = configurePorts(inst); !r) {
-      errors += r.error().message;
-      continue;
-    }
-    instances_.push_back(std::move(inst));
+    inst->current->store(inst->component.get(), std::memory_order_release);
+    instances_.push_back(std::move(*inst));
   }
   if (!errors.empty()) {
     errors.pop_back();
     return fail(errors);
   }
   return {};
+}
+
+Result<Instance> Engine::makeInstance(const PlannedInstance& pi) {
+  const profile::ComponentProfile& cp = *pi.profile;
+  std::string dir = std::filesystem::path(cp.file).parent_path().string();
+  Result<std::string> lib = loader_.resolve(cp.library_name, dir);
+  std::string library = lib ? *lib : std::string();
+  if (!lib && !Registry::instance().find(cp.name, ""))
+    return fail(fmt::format("{}: component '{}' ({}): {}\n", at(cp.where), pi.name, cp.name, lib.error().message));
+  auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
+    return Registry::instance().find(cp.name, "")->factory();
+  }() : loader_.create(cp.name, library);
+  if (!created) return fail(fmt::format("{}: component '{}': {}\n", at(cp.where), pi.name, created.error().message));
+  Instance inst;
+  inst.plan = &pi;
+  inst.component = std::move(*created);
+  detail::ComponentCore& core = coreOf(*inst.component);
+  core.instance_name = pi.name;
+  core.class_name = cp.name;
+  core.hooks = this;
+  for (const auto& [k, v] : pi.properties) core.properties[k] = v;
+  if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
+  if (auto r = checkPorts(inst); !r) return r.error();
+  if (pi.policy && pi.policy->heartbeat_timeout_ms)
+    core.heartbeat_ns = static_cast<std::int64_t>(*pi.policy->heartbeat_timeout_ms * 1e6);
+  if (pi.policy && pi.policy->checkpoint_period_ms)
+    core.checkpoint_period_ns = static_cast<std::int64_t>(*pi.policy->checkpoint_period_ms * 1e6);
+  if (auto r = configurePorts(inst); !r) return r.error();
+  return inst;
 }
 
 Result<void> Engine::configurePorts(Instance& inst) {
@@ -188,11 +194,15 @@ Result<void> Engine::connect() {
     bool ok = false;
     if (src->kind() == PortKind::Service) {
       ok = static_cast<ServicePortBase*>(src)->bind(*static_cast<ServicePortBase*>(dst));
+      if (ok) wires_.push_back({nullptr, src, dst});
     } else if (src->kind() == dst->kind() && dst->direction() == PortDirection::Input &&
                src->direction() == PortDirection::Output) {
       auto conn = static_cast<detail::InputPortBase*>(dst)->makeConnection();
       ok = static_cast<detail::OutputPortBase*>(src)->attach(*conn);
-      if (ok) connections_.push_back(std::move(conn));
+      if (ok) {
+        wires_.push_back({conn.get(), src, dst});
+        connections_.push_back(std::move(conn));
+      }
     }
     if (!ok)
       errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n",

@@ -7,6 +7,7 @@
 
 #include <cstring>
 
+#include "runtime/checkpoint.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/fault_detail.hpp"
 #include "runtime/guard.hpp"
@@ -97,8 +98,20 @@ void Executor::runMail() {
   for (auto& job : jobs) job();
 }
 
+void Executor::interrupt() {
+  if (!exited_.load(std::memory_order_acquire) && started_.load(std::memory_order_acquire))
+    interruptThread(native_.load());
+}
+
+void Executor::replaceMember(Component& failed, Component& replacement) {
+  for (Component*& m : members_)
+    if (m == &failed) m = &replacement;
+  coreOf(replacement).executor = this;
+}
+
 void Executor::setUpThread() {
   thread_id_.store(std::this_thread::get_id());
+  native_.store(pthread_self());
   pthread_setname_np(pthread_self(), config_.name.substr(0, 15).c_str());
   prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);  // 1 ns slack: sub-millisecond periods stay precise
   installAltStack();
@@ -118,7 +131,10 @@ void Executor::setUpThread() {
 
 void Executor::threadMain() {
   setUpThread();
-  for (Component* c : members_) transition(*c, Transition::Start);
+  for (Component* c : members_) {
+    transition(*c, Transition::Start);
+    if (!coreOf(*c).critical.empty()) takeCheckpoint(coreOf(*c), nowNs());  // the state to return to
+  }
   started_.store(true, std::memory_order_release);
   if (config_.kind == ExecutorKind::Periodic) runPeriodic();
   else runAperiodic();
@@ -133,20 +149,43 @@ void Executor::serviceBetweenCycles() {
   for (Component* c : members_) dispatchEvents(*c);
 }
 
+bool Executor::execute(Component& c) {
+  detail::ComponentCore& core = coreOf(c);
+  const std::int64_t t0 = core.deadline_ns ? nowNs() : 0;
+  const bool ok = invoke(c, Callback::Execute);
+  if (ok) {
+    core.executions.fetch_add(1, std::memory_order_relaxed);
+    // The first good step after a recovery is the `recovered` moment (SPEC §5).
+    if (core.recovering_id.load(std::memory_order_relaxed) != 0 && core.hooks) [[unlikely]]
+      core.hooks->recovered(c, nowNs());
+  }
+  if (core.deadline_ns && ok) checkDeadline(c, nowNs() - t0);  // a failed step is already a fault
+  return ok;
+}
+
 void Executor::cycle() {
-  for (Component* c : members_) {
+  // Indexed: a recovery on this thread may put a replacement in a member's place.
+  for (std::size_t i = 0; i < members_.size(); ++i) {
+    Component* c = members_[i];
     if (c->state() != State::Active) continue;
     detail::ComponentCore& core = coreOf(*c);
     if (core.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
     core.input_pending.store(false, std::memory_order_relaxed);
-    const std::int64_t t0 = core.deadline_ns ? nowNs() : 0;
-    if (invoke(*c, Callback::Execute)) core.executions.fetch_add(1, std::memory_order_relaxed);
-    if (core.deadline_ns) checkDeadline(*c, nowNs() - t0);
+    if (execute(*c)) continue;
+    // Recovered at once on this thread (reset, or a preloaded replacement): the step this
+    // cycle owes is run now, once — not at the next release.
+    Component* now = members_[i];
+    if (now->state() == State::Active && coreOf(*now).recovering_id.load(std::memory_order_relaxed) != 0)
+      execute(*now);
   }
-  for (Component* c : members_)
-    if (c->state() == State::Active) invoke(*c, Callback::Updated);
+  const std::int64_t now = nowNs();
+  for (Component* c : members_) {
+    if (c->state() != State::Active) continue;
+    invoke(*c, Callback::Updated);
+    checkpointIfDue(coreOf(*c), now);  // the cycle boundary: no callback of c is running
+  }
   cycles_.fetch_add(1, std::memory_order_relaxed);
-  last_cycle_ns_.store(nowNs(), std::memory_order_relaxed);
+  last_cycle_ns_.store(now, std::memory_order_relaxed);
 }
 
 void Executor::runPeriodic() {

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cstdint>
 #include <functional>
+#include <pthread.h>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -67,6 +68,12 @@ class Executor {
   /// Runs `job` on this executor's thread, between callbacks.
   void post(std::function<void()> job);
   bool onThisThread() const { return std::this_thread::get_id() == thread_id_.load(); }
+  /// Ends the hung callback running on this executor's thread, if its component's `interrupt`
+  /// flag is set (runtime/guard.hpp interruptThread).
+  void interrupt();
+  /// Puts `replacement` in `failed`'s place among the members (a fault's replacement). Only on
+  /// this executor's thread (the members are iterated there without a lock).
+  void replaceMember(Component& failed, Component& replacement);
 
   ExecutorStats stats() const {
     return {cycles_.load(std::memory_order_relaxed), overruns_.load(std::memory_order_relaxed)};
@@ -80,6 +87,7 @@ class Executor {
   void runPeriodic();
   void runAperiodic();
   void cycle();
+  bool execute(Component& c);  // one onExecute with its deadline check; true when it succeeded
   void serviceBetweenCycles();  // mail and events
   void runMail();
 
@@ -88,6 +96,7 @@ class Executor {
   std::vector<Component*> members_;
   std::thread thread_;
   std::atomic<std::thread::id> thread_id_{};
+  std::atomic<pthread_t> native_{};
   WakeSignal signal_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> started_{false};

@@ -39,6 +39,21 @@ void onSignal(int signo, siginfo_t* info, void*) {
   siglongjmp(frame->env, 1);
 }
 
+// A hung callback is ended by a signal sent to its thread (docs/fault-handling.md). Outside a
+// guarded call made interruptible, or once its flag is cleared, the signal is ignored: the
+// callback returned by itself in the meantime.
+void onInterrupt(int signo, siginfo_t*, void*) {
+  guard_detail::GuardFrame* frame = t_frame;
+  if (frame == nullptr || frame->interrupt == nullptr || !frame->interrupt->load(std::memory_order_acquire))
+    return;
+  timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  frame->t_ns = std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
+  frame->signo = signo;
+  frame->addr = nullptr;
+  siglongjmp(frame->env, 1);
+}
+
 const char* signalName(int signo) {
   switch (signo) {
     case SIGSEGV: return "SIGSEGV";
@@ -46,7 +61,7 @@ const char* signalName(int signo) {
     case SIGFPE: return "SIGFPE";
     case SIGILL: return "SIGILL";
     case SIGABRT: return "SIGABRT";
-    default: return "signal";
+    default: return signo == interruptSignal() ? "interrupt" : "signal";
   }
 }
 
@@ -97,8 +112,17 @@ void installSignalHandlers() {
     // be saved or restored on the fast path. ONSTACK: survive a stack overflow.
     sa.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
     for (int s : kCaught) sigaction(s, &sa, nullptr);
+    struct sigaction in {};
+    in.sa_sigaction = onInterrupt;
+    sigemptyset(&in.sa_mask);
+    in.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
+    sigaction(interruptSignal(), &in, nullptr);
   });
 }
+
+int interruptSignal() { return SIGRTMIN + 6; }
+
+void interruptThread(pthread_t thread) { pthread_kill(thread, interruptSignal()); }
 
 void installAltStack() {
   thread_local struct AltStack {

@@ -11,7 +11,10 @@
 
 #include <setjmp.h>
 
+#include <pthread.h>
+
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <exception>
 
@@ -41,6 +44,7 @@ struct GuardFrame {
   volatile int signo = 0;
   const void* volatile addr = nullptr;
   volatile std::int64_t t_ns = 0;
+  const std::atomic<bool>* interrupt = nullptr;  // set: interruptSignal() ends this call
   GuardFrame* prev = nullptr;
 };
 GuardFrame*& currentFrame() noexcept;  // this thread's innermost frame
@@ -54,11 +58,21 @@ void installSignalHandlers();
 /// callback can still be caught. Executors call it when their thread starts.
 void installAltStack();
 
-/// Runs `f` (returning ReturnCode) under the guard.
+/// The signal that interrupts a hung callback (a real-time signal keel reserves).
+int interruptSignal();
+
+/// Interrupts the guarded call running on `thread` if that call was made with an `interrupt`
+/// flag that is now set: it ends as a Signal outcome with signo == interruptSignal(). A
+/// thread outside such a call ignores the signal. Async: returns at once.
+void interruptThread(pthread_t thread);
+
+/// Runs `f` (returning ReturnCode) under the guard. While `*interrupt` is set, the call can be
+/// ended from another thread with interruptThread().
 template <class F>
-[[gnu::noinline]] GuardOutcome guarded(F&& f) noexcept {
+[[gnu::noinline]] GuardOutcome guarded(F&& f, const std::atomic<bool>* interrupt = nullptr) noexcept {
   GuardOutcome out;
   guard_detail::GuardFrame frame;
+  frame.interrupt = interrupt;
   guard_detail::GuardFrame*& top = guard_detail::currentFrame();
   frame.prev = top;
   top = &frame;

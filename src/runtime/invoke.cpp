@@ -46,7 +46,41 @@ ReturnCode call(Component& c, Callback cb) {
   return ReturnCode::Unsupported;
 }
 
+thread_local Component* t_running = nullptr;
+
+/// Marks `c` as the component whose callback runs on this thread (restored on scope exit).
+struct Running {
+  explicit Running(Component& c) : prev(t_running) { t_running = &c; }
+  ~Running() { t_running = prev; }
+  Running(const Running&) = delete;
+  Running& operator=(const Running&) = delete;
+  Component* prev;
+};
+
+bool isLifecycle(Callback cb) {
+  return cb == Callback::Initialize || cb == Callback::Start || cb == Callback::Stop || cb == Callback::Destroy;
+}
+
+/// After a guarded call of `c`: an interrupt ends the hung call whose fault is already being
+/// handled (no new fault); a fault noticed inside the call is handled now that it returned.
+bool afterCall(Component& c, const GuardOutcome& out, Callback cb) {
+  detail::ComponentCore& core = coreOf(c);
+  if (out.kind == GuardOutcome::Kind::Signal && out.signo == interruptSignal()) [[unlikely]] {
+    core.interrupt.store(false, std::memory_order_release);
+    if (core.hooks) core.hooks->runPending(c);
+    return false;
+  }
+  if (!out.ok()) recordFault(c, out, cb);
+  // A fault noticed inside the call (a range fault on push, raiseFault) is handled now; the
+  // call then counts as failed, so that a recovered component's step is run again.
+  const bool pending = core.pending.load(std::memory_order_acquire);
+  if (pending && core.hooks) [[unlikely]] core.hooks->runPending(c);
+  return out.ok() && !pending;
+}
+
 }  // namespace
+
+Component* runningComponent() { return t_running; }
 
 void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
@@ -54,8 +88,10 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   ev.t_ns = out.t_ns ? out.t_ns : steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
   out.describe(ev, callbackName(cb));
+  // A failed lifecycle callback leaves the component in Error (no rule recovers it); a fault
+  // of a running callback is the fault manager's to handle by the component's rules.
   State s = core.state.load(std::memory_order_acquire);
-  if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
+  if (isLifecycle(cb) && cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
   if (core.hooks) core.hooks->faultDetected(c, ev);
 }
 
@@ -63,6 +99,10 @@ void setState(Component& c, State to) {
   detail::ComponentCore& core = coreOf(c);
   State from = core.state.exchange(to, std::memory_order_acq_rel);
   if (from != to && core.hooks) core.hooks->stateChanged(c, from, to);
+}
+
+State setStateQuiet(Component& c, State to) {
+  return coreOf(c).state.exchange(to, std::memory_order_acq_rel);
 }
 
 void reportFault(Component& c, const FaultEvent& ev) {
@@ -78,20 +118,30 @@ bool invoke(Component& c, Callback cb) {
     core.callback_since_ns.store(t, std::memory_order_relaxed);
     if (cb == Callback::Execute) core.last_beat_ns.store(t, std::memory_order_relaxed);
   }
-  GuardOutcome out = guarded([&c, &core, cb] {
-    if (cb == Callback::Execute) {
-      // acquire (free on x86): pairs with arm()'s release, so inject_id is the armed one.
-      if (auto k = core.inject_kind.load(std::memory_order_acquire)) [[unlikely]] {
-        core.inject_kind.store(0, std::memory_order_relaxed);
-        return fire(c, static_cast<InjectKind>(k));
-      }
-    }
-    return call(c, cb);
-  });
+  GuardOutcome out;
+  {
+    Running running(c);
+    out = guarded(
+        [&c, &core, cb] {
+          if (cb == Callback::Execute) {
+            // acquire (free on x86): pairs with arm()'s release, so inject_id is the armed one.
+            if (auto k = core.inject_kind.load(std::memory_order_acquire)) [[unlikely]] {
+              core.inject_kind.store(0, std::memory_order_relaxed);
+              return fire(c, static_cast<InjectKind>(k));
+            }
+          }
+          return call(c, cb);
+        },
+        &core.interrupt);
+  }
   if (watched) core.callback_since_ns.store(0, std::memory_order_relaxed);
-  if (out.ok()) return true;
-  recordFault(c, out, cb);
-  return false;
+  if (out.ok() && !core.pending.load(std::memory_order_relaxed)) [[likely]] return true;
+  return afterCall(c, out, cb);
+}
+
+GuardOutcome invokeRecovery(Component& c, Callback cb) {
+  Running running(c);
+  return guarded([&c, cb] { return call(c, cb); });
 }
 
 bool transition(Component& c, Transition t) {
@@ -119,8 +169,12 @@ void dispatchEvents(Component& c) {
       continue;
     auto& port = static_cast<InputEventPortBase&>(*p);
     while (c.state() == State::Active && port.takeNext()) {
-      GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); });
-      if (!out.ok()) recordFault(c, out, Callback::Event);
+      GuardOutcome out;
+      {
+        Running running(c);
+        out = guarded([&c, &port] { return c.onEvent(port); }, &core.interrupt);
+      }
+      if (!out.ok() || core.pending.load(std::memory_order_relaxed)) afterCall(c, out, Callback::Event);
     }
   }
 }

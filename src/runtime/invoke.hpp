@@ -38,6 +38,17 @@ void dispatchEventsPassive(Component& c);
 /// Sets the state and tells the hooks (runtime only: Error is entered here, never by authors).
 void setState(Component& c, State to);
 
+/// Sets the state without telling the hooks; returns the previous one. The fault manager's fast
+/// path uses it and logs the change afterwards, off the executor's thread.
+State setStateQuiet(Component& c, State to);
+
+/// Runs a recovery callback (onError, onReset, onRecover, onEmergencyStop) under the guard and
+/// returns the outcome; a failure is not reported as a new fault (the caller escalates).
+GuardOutcome invokeRecovery(Component& c, Callback cb);
+
+/// The component whose callback is running on this thread, or null between callbacks.
+Component* runningComponent();
+
 /// Records a failed guarded call of `cb`: counts it, moves `c` to Error, reports it.
 void recordFault(Component& c, const GuardOutcome& out, Callback cb);
 

@@ -116,8 +116,10 @@ TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
   EXPECT_EQ(detected[0]["kind"], "signal");
   EXPECT_EQ(test::statesOf(log, "sonar_left"),
             (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
+  // its <fault_policy> has the default severity, reset: each fault it raises resets it
   EXPECT_EQ(test::statesOf(log, "avoider"),
-            (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+            (std::vector<std::string>{"Ready", "Active", "Error", "Active", "Error", "Active", "Inactive", "Destroyed"}));
+  EXPECT_EQ(test::eventsOf(log, "recovered").size(), 2u);
 }
 
 }  // namespace

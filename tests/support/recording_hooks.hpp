@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "runtime/component_core.hpp"
+#include "runtime/invoke.hpp"
 
 namespace keel::test {
 
@@ -20,6 +21,8 @@ struct StateRecord {
   State to;
 };
 
+/// Records, and contains a fault as the fault manager does for a component without rules: a
+/// component whose callback could not finish (signal, exception, error code, hang) goes to Error.
 class RecordingHooks : public runtime::RuntimeHooks {
  public:
   void stateChanged(Component& c, State from, State to) override {
@@ -27,11 +30,20 @@ class RecordingHooks : public runtime::RuntimeHooks {
     states_.push_back({c.instanceName(), from, to});
   }
   void faultDetected(Component& c, const FaultEvent& fault) override {
-    std::lock_guard lock(mutex_);
-    FaultEvent f = fault;
-    if (f.component[0] == '\0') FaultEvent::copyInto(f.component, c.instanceName());
-    faults_.push_back(f);
+    {
+      std::lock_guard lock(mutex_);
+      FaultEvent f = fault;
+      if (f.component[0] == '\0') FaultEvent::copyInto(f.component, c.instanceName());
+      faults_.push_back(f);
+    }
+    const bool cannot_go_on = fault.kind == FaultKind::Signal || fault.kind == FaultKind::Exception ||
+                              fault.kind == FaultKind::ErrorCode || fault.kind == FaultKind::Heartbeat;
+    if (cannot_go_on && fault.componentName().empty() == false && fault.componentName() != c.instanceName())
+      return;  // about another component: not ours to contain here
+    if (cannot_go_on && allowed(c.state(), Transition::Fault)) runtime::setState(c, State::Error);
   }
+  void runPending(Component&) override {}
+  void recovered(Component&, std::int64_t) override {}
   std::vector<StateRecord> states() const {
     std::lock_guard lock(mutex_);
     return states_;

@@ -204,7 +204,7 @@ TEST(DependencyGraph, ARequiredCompositeIsOneEntryDownWhenAnyOfItsComponentsIsDo
   EXPECT_THAT(graph.impactOf({"app.stereo.left", "app.lidar"}).stopped_applications, ElementsAre("app"));
 }
 
-TEST(DependencyGraph, APackageIsOneImplicitApplicationNamedAfterItNeedingEveryComponent) {
+TEST(DependencyGraph, APackageIsOneImplicitApplicationRunningWhileAnyComponentRuns) {
   runtime::Plan plan;
   plan.name = "pipeline";
   for (const char* name : {"counter", "summer", "fault_manager"}) {
@@ -217,9 +217,12 @@ TEST(DependencyGraph, APackageIsOneImplicitApplicationNamedAfterItNeedingEveryCo
   ASSERT_TRUE(graph) << graph.error().message;
 
   EXPECT_THAT(graph->impactOf({}).running_applications, ElementsAre("pipeline"));
-  const Impact impact = graph->impactOf({"summer"});
-  EXPECT_THAT(impact.stopped_applications, ElementsAre("pipeline"));
-  EXPECT_THAT(impact.stopped_components, ElementsAre("counter", "summer"));  // not the fault manager
+  const Impact one = graph->impactOf({"summer"});  // the others run on (decision 0004)
+  EXPECT_THAT(one.stopped_applications, IsEmpty());
+  EXPECT_THAT(one.stopped_components, ElementsAre("summer"));
+  const Impact all = graph->impactOf({"summer", "counter"});
+  EXPECT_THAT(all.stopped_applications, ElementsAre("pipeline"));
+  EXPECT_THAT(all.stopped_components, ElementsAre("counter", "summer"));  // not the fault manager
   EXPECT_THAT(graph->impactOf({"fault_manager"}).running_applications, ElementsAre("pipeline"));
 }
 

@@ -1,0 +1,84 @@
+// One fault on its way through the fault manager: what was detected, how it is diagnosed and
+// the actions taken so far. A fixed-size value: it is built and carried on fault paths
+// (executor threads, a signal just caught), copied between threads, never allocated.
+// ComponentHandling is what the fault manager keeps per component role (shared by a component
+// and its replacement): its rules, the restart-intensity window (Erlang/OTP's intensity and
+// period), whether the alternative is in use.
+// Thread-safety: FaultReport is a plain value, one thread works on a copy at a time.
+// ComponentHandling's fields after `mutex` are guarded by it.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "fault/rules.hpp"
+#include "keel/component.hpp"
+#include "keel/fault_event.hpp"
+#include "runtime/fault_detail.hpp"
+
+namespace keel::fault {
+
+/// The `action` values of the log (SPEC §5).
+enum class ActionKind : std::uint8_t { Ignore, Reset, Restore, Replace, Stop, EmergencyStop, Escalate };
+std::string_view toString(ActionKind a);
+
+struct Action {
+  ActionKind kind = ActionKind::Ignore;
+  bool ok = true;
+  std::int64_t t_ns = 0;             // steady clock, when it ended
+  std::array<char, 120> detail{};    // outcome detail, e.g. "reset → replace: restart intensity..."
+};
+
+struct FaultReport {
+  FaultEvent event;                  // kind and detail; component = the accused; t_ns = detected
+  std::array<char, 48> detector{};
+  std::uint64_t id = 0;
+  std::int64_t injected_ns = 0;      // 0: not injected
+  Component* accused = nullptr;
+  Component* replacement = nullptr;  // set when the alternative took over
+  profile::Severity severity = profile::Severity::Ignore;
+  Step first = Step::Done;           // the handling the rules chose
+  Step next = Step::Done;            // what is left to do
+  bool entered_error = false;        // this fault moved the component to Error
+  bool detection_logged = false;
+  bool emergency_done = false;       // a stop that fails escalates to emergency only once
+  std::uint8_t n_actions = 0;
+  std::uint8_t logged_actions = 0;
+  std::array<Action, 10> actions{};
+
+  template <class... Args>
+  void add(ActionKind kind, bool ok, std::int64_t t_ns, fmt::format_string<Args...> f, Args&&... args) {
+    if (n_actions == actions.size()) return;  // never more than a handful: steps only go up
+    Action& a = actions[n_actions++];
+    a.kind = kind;
+    a.ok = ok;
+    a.t_ns = t_ns;
+    auto r = fmt::format_to_n(a.detail.data(), a.detail.size() - 1, f, std::forward<Args>(args)...);
+    *r.out = '\0';
+  }
+};
+
+/// What the fault manager keeps per component role (shared by a component and its replacement).
+struct ComponentHandling {
+  Rules rules;
+  std::string name;  // instance name
+
+  std::mutex mutex;
+  std::vector<std::int64_t> recoveries;  // ring of the last `intensity` recovery times
+  std::size_t next_recovery = 0;
+  bool busy = false;         // a fault of this component is being handled
+  bool replaced = false;     // the alternative took its place: no further replacement
+  bool stopped = false;      // fault-stopped: further faults are only logged
+  Component* standby = nullptr;  // the alternative, created and initialized, not started
+  FaultReport pending;           // handed to the component's own thread (core.pending)
+
+  /// True when one more recovery now would be more than `intensity` within `period`.
+  bool intensityExceeded(std::int64_t now_ns) const;
+  /// Records a recovery (reset or replacement) at `now_ns`.
+  void noteRecovery(std::int64_t now_ns);
+};
+
+}  // namespace keel::fault

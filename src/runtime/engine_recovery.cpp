@@ -1,0 +1,97 @@
+// Engine: what the fault manager needs to handle faults (fault::HandlingHost) — the compiled
+// rules and the dependency graph set up at load, alternatives created ahead of time
+// (preload="true") or at fault time, and the switch that puts an alternative in a failed
+// component's place: its input connections re-pointed, its provided services rebound, its
+// executor slot taken, lookups by name answering the alternative.
+#include <fmt/format.h>
+
+#include <algorithm>
+
+#include "fault/fault_manager_component.hpp"
+#include "fault/rules.hpp"
+#include "runtime/engine.hpp"
+#include "runtime/invoke.hpp"
+
+namespace keel::runtime {
+
+void Engine::setUpHandling() {
+  if (auto g = fault::DependencyGraph::build(plan_, set_)) graph_ = std::move(*g);
+  else warn("fault stops cover the component alone: " + g.error().message);
+  for (auto& inst : instances_) {
+    if (inst.plan->name == fault::kFaultManagerInstance) continue;  // the framework's own
+    auto h = std::make_unique<fault::ComponentHandling>();
+    h->name = inst.plan->name;
+    h->rules = fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components);
+    h->recoveries.reserve(static_cast<std::size_t>(std::clamp(h->rules.intensity, 0, 1024)));
+    coreOf(*inst.component).handling = h.get();
+    inst.handling = std::move(h);
+  }
+  fault_manager_.attach(this, graph());
+}
+
+Result<void> Engine::preloadAlternatives() {
+  for (auto& inst : instances_) {
+    if (!inst.handling || !inst.handling->rules.alternative || !inst.handling->rules.preload) continue;
+    auto alt = createAlternative(*inst.handling, *inst.component);
+    if (!alt) return alt.error();
+    std::lock_guard lock(inst.handling->mutex);
+    inst.handling->standby = *alt;
+  }
+  return {};
+}
+
+Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Component& failed) {
+  auto it = std::find_if(instances_.begin(), instances_.end(), [&](const Instance& i) { return i.plan->name == h.name; });
+  if (it == instances_.end() || h.rules.alternative == nullptr) return fail("no alternative for '" + h.name + "'");
+  const profile::ComponentProfile& cp = *h.rules.alternative;
+  const PlannedInstance* plan = nullptr;
+  {
+    std::lock_guard lock(spares_mutex_);
+    PlannedInstance& p = spare_plans_.emplace_back();
+    p.name = it->plan->name;
+    p.profile = &cp;
+    for (const auto& prop : cp.properties) p.properties[prop.name] = prop.value;
+    for (const auto& [k, v] : it->plan->properties)  // the subcomponent's values, where the alternative has them
+      if (p.properties.count(k)) p.properties[k] = v;
+    p.policy = it->plan->policy;
+    p.application = it->plan->application;
+    p.where = it->plan->where;
+    plan = &p;
+  }
+  auto made = makeInstance(*plan);
+  if (!made) {
+    std::string why = made.error().message;
+    if (!why.empty() && why.back() == '\n') why.pop_back();
+    return fail(why);
+  }
+  Component* alt = made->component.get();
+  coreOf(*alt).handling = &h;
+  if (!transition(*alt, Transition::Initialize))
+    return fail(fmt::format("onInitialize of alternative {} failed", cp.name));
+  // Outputs and required services now (it sends nothing before it starts); inputs at the switch.
+  for (const Wire& w : wires_) {
+    if (&w.source->owner() != &failed) continue;
+    detail::PortBase* port = coreOf(*alt).findPort(w.source->name());
+    if (port == nullptr) continue;  // the loader checked that the ports are the same
+    if (w.connection) static_cast<detail::OutputPortBase*>(port)->attach(*w.connection);
+    else static_cast<ServicePortBase*>(port)->bind(*static_cast<ServicePortBase*>(w.target));
+  }
+  std::lock_guard lock(spares_mutex_);
+  spares_.push_back(std::move(made->component));
+  return alt;
+}
+
+void Engine::switchTo(Component& failed, Component& alternative) {
+  for (const Wire& w : wires_) {
+    if (&w.target->owner() != &failed) continue;
+    detail::PortBase* port = coreOf(alternative).findPort(w.target->name());
+    if (port == nullptr) continue;
+    if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
+    else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
+  }
+  if (Executor* ex = coreOf(failed).executor) ex->replaceMember(failed, alternative);
+  for (auto& inst : instances_)
+    if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
+}
+
+}  // namespace keel::runtime
