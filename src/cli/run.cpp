@@ -1,10 +1,19 @@
-// keel run PROFILE [--duration S] [--log FILE]: runs a package or system profile until the
-// duration ends or SIGINT/SIGTERM, then stops and destroys everything (exit 0) and prints a
-// one-screen summary.
+// keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--console]: runs a package
+// or system profile until the duration ends or SIGINT/SIGTERM, then stops and destroys
+// everything (exit 0) and prints a one-screen summary of faults and their handling. With
+// --console, operator commands are read from stdin: `emergency` (emergency stop), `clear`
+// (clears a latched emergency), `status`.
 #include <fmt/format.h>
+#include <poll.h>
 #include <signal.h>
+#include <unistd.h>
 
+#include <atomic>
+#include <thread>
+
+#include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 
 #include "cli/commands.hpp"
@@ -21,7 +30,38 @@ struct RunOptions {
   double duration_s = 0;  // 0: until a signal
   std::string log;
   std::string inject;
+  bool console = false;
 };
+
+/// Reads operator commands from stdin until EOF or `stop`; each is logged by the engine.
+void console(runtime::Engine& engine, const std::atomic<bool>& stop) {
+  std::string line;
+  while (!stop.load(std::memory_order_acquire)) {
+    pollfd pfd{STDIN_FILENO, POLLIN, 0};
+    if (poll(&pfd, 1, 100) <= 0) continue;
+    char buf[256];
+    const ssize_t n = read(STDIN_FILENO, buf, sizeof buf);
+    if (n <= 0) return;  // EOF: no more commands
+    line.append(buf, static_cast<std::size_t>(n));
+    for (std::size_t nl; (nl = line.find('\n')) != std::string::npos; line.erase(0, nl + 1)) {
+      std::string cmd = line.substr(0, nl);
+      while (!cmd.empty() && std::isspace(static_cast<unsigned char>(cmd.back()))) cmd.pop_back();
+      if (cmd == "emergency") {
+        auto ran = engine.emergencyStop("console");
+        fmt::print("keel: emergency stop latched ({} components stopped in neutral)\n", ran.size());
+      } else if (cmd == "clear") {
+        fmt::print("keel: {}\n", engine.clearEmergency("console") ? "emergency cleared" : "no emergency latched");
+      } else if (cmd == "status") {
+        fmt::print("keel: emergency {}; {} faults detected\n",
+                   engine.faultManager().emergencyLatched() ? "latched" : "not latched",
+                   engine.faultManager().detectionCount());
+      } else if (!cmd.empty()) {
+        fmt::print(stderr, "keel: unknown console command '{}' (emergency, clear, status)\n", cmd);
+      }
+      std::fflush(stdout);
+    }
+  }
+}
 
 /// Blocks SIGINT/SIGTERM in this thread (and so in every thread created after), so that only
 /// waitForEnd receives them.
@@ -81,10 +121,16 @@ int runProfile(const RunOptions& o) {
     return 1;
   }
   auto t0 = std::chrono::steady_clock::now();
+  std::atomic<bool> stop_console{false};
+  std::thread console_thread;
+  if (o.console) console_thread = std::thread([&] { console(**engine, stop_console); });
   int sig = waitForEnd(stop_signals, o.duration_s);
+  stop_console.store(true, std::memory_order_release);
+  if (console_thread.joinable()) console_thread.join();
   double ran = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   (*engine)->log().write({{"event", "engine"}, {"phase", "stopping"},
                           {"reason", sig == 0 ? "duration" : strsignal(sig)}});
+  (*engine)->faultManager().drain();       // every handling logged and counted
   printSummary(std::cout, **engine, ran);  // counters, before instances are destroyed
   (*engine)->shutdown();
   return 0;
@@ -100,6 +146,8 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--log", opts->log, "write the fault log (JSON lines) to this file");
   cmd->add_option("--inject", opts->inject, "inject the faults of this fault_scenario XML");
+  cmd->add_flag("--console", opts->console,
+                "read operator commands from stdin: emergency, clear (a latched emergency), status");
   cmd->callback([opts, &run] { run = [opts] { return runProfile(*opts); }; });
 }
 

@@ -2,6 +2,9 @@
 
 #include <fmt/format.h>
 #include <fmt/ostream.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
 
 namespace keel::cli {
 
@@ -10,9 +13,14 @@ void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s
   fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", "component", "state", "executions",
              "faults", "overruns", "executor");
   for (const auto& inst : engine.instances()) {
-    const auto& core = runtime::coreOf(*inst.component);
-    fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", inst.plan->name,
-               toString(inst.component->state()), core.executions.load(), core.faults.load(),
+    const Component& c = *inst.active();
+    const auto& core = runtime::coreOf(c);
+    const auto& first = runtime::coreOf(*inst.component);  // counts of the one it replaced too
+    std::string name = inst.plan->name;
+    if (&c != inst.component.get()) name += " (now " + core.class_name + ")";
+    const std::uint64_t executions = core.executions.load() + (&c != inst.component.get() ? first.executions.load() : 0);
+    const std::uint64_t faults = core.faults.load() + (&c != inst.component.get() ? first.faults.load() : 0);
+    fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", name, toString(c.state()), executions, faults,
                core.deadline_overruns.load(), inst.executor ? inst.executor->config().name : "passive");
   }
   fmt::print(out, "\n{:<28} {:>10} {:>10} {:>9}\n", "executor", "period_ms", "cycles", "overruns");
@@ -32,6 +40,34 @@ void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s
   fmt::print(out, "\nfaults:\n");
   for (const auto& f : faults)
     fmt::print(out, "  {:<24} {:<10} x{:<5} {}\n", f.component, f.kind, f.count, f.detail);
+  printHandling(out, engine.faultManager());
+}
+
+void printHandling(std::ostream& out, const fault::FaultManager& manager) {
+  const auto handlings = manager.handlings();
+  if (handlings.empty()) return;
+  constexpr std::size_t kShown = 12;  // one screen: the first ones, then totals
+  fmt::print(out, "\nhandling:{:>72}\n", "recovered after");
+  for (std::size_t i = 0; i < handlings.size() && i < kShown; ++i) {
+    const auto& h = handlings[i];
+    std::string outcome = h.recovered_ns ? fmt::format("{:.1f} us", (h.recovered_ns - h.detected_ns) / 1e3)
+                          : h.failed     ? "failed"
+                                         : "-";
+    fmt::print(out, "  #{:<4} {:<20} {:<10} {:<9} {:<30} {:>10}\n", h.fault_id, h.component, toString(h.kind),
+               h.severity, h.actions, outcome);
+  }
+  if (handlings.size() > kShown) fmt::print(out, "  ... {} more in the log\n", handlings.size() - kShown);
+  std::vector<double> latencies;
+  for (const auto& h : handlings)
+    if (h.recovered_ns) latencies.push_back((h.recovered_ns - h.detected_ns) / 1e3);
+  if (!latencies.empty()) {
+    std::sort(latencies.begin(), latencies.end());
+    fmt::print(out, "  recovered {} of {} faults: median {:.1f} us, max {:.1f} us\n", latencies.size(),
+               handlings.size(), latencies[latencies.size() / 2], latencies.back());
+  }
+  if (auto apps = manager.stoppedApplications(); !apps.empty())
+    fmt::print(out, "  stopped applications: {}\n", fmt::join(apps, ", "));
+  if (manager.emergencyLatched()) fmt::print(out, "  EMERGENCY STOP LATCHED (not cleared)\n");
 }
 
 }  // namespace keel::cli

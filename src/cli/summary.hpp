@@ -1,4 +1,5 @@
-// The one-screen summary `keel run` prints at the end: components, executors, faults.
+// The one-screen summary `keel run` prints at the end: components, executors, faults, and how
+// each fault was handled with its recovery latency (recovered − detected).
 #pragma once
 
 #include <ostream>
@@ -8,5 +9,7 @@
 namespace keel::cli {
 
 void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s);
+/// The handling part: per fault its severity, actions and recovery latency; totals.
+void printHandling(std::ostream& out, const fault::FaultManager& manager);
 
 }  // namespace keel::cli

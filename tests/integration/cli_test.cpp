@@ -122,5 +122,46 @@ TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
   EXPECT_EQ(test::eventsOf(log, "recovered").size(), 2u);
 }
 
+TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
+  const std::string cmd = "(sleep 0.4; echo emergency; sleep 0.4; echo status; echo clear; echo clear) | " +
+                          std::string(KEEL_CLI) + " run " + std::string(KEEL_EXAMPLES) +
+                          "/02_fault_detection/app.xml --duration 1.5 --console --log " + log_;
+  auto r = test::runProcess({"/bin/sh", "-c", cmd});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto latched = r.out.find("keel: emergency stop latched");
+  const auto status = r.out.find("keel: emergency latched;");
+  const auto cleared = r.out.find("keel: emergency cleared");
+  ASSERT_NE(latched, std::string::npos) << r.out;
+  ASSERT_NE(status, std::string::npos) << r.out;
+  ASSERT_NE(cleared, std::string::npos) << r.out;
+  EXPECT_LT(latched, status);
+  EXPECT_LT(status, cleared);
+  EXPECT_NE(r.out.find("keel: no emergency latched", cleared), std::string::npos) << r.out;  // second clear
+  EXPECT_EQ(r.out.find("EMERGENCY STOP LATCHED"), std::string::npos) << r.out;           // summary: cleared
+
+  auto log = test::readLog(log_);
+  auto phases = test::eventsOf(log, "emergency");
+  ASSERT_EQ(phases.size(), 2u);
+  EXPECT_EQ(phases[0]["phase"], "latched");
+  EXPECT_EQ(phases[0]["by"], "console");
+  EXPECT_EQ(phases[1]["phase"], "cleared");
+  bool stopped_actuators = false;
+  for (const auto& a : test::eventsOf(log, "action"))
+    if (a["action"] == "emergency_stop") stopped_actuators = a["components"].size() == 3;  // all three
+  EXPECT_TRUE(stopped_actuators);
+}
+
+TEST_F(Cli, TheSummaryShowsEachFaultsHandlingAndRecoveryLatency) {
+  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml",
+                             "--duration", "2", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto at = r.out.find("handling:");
+  ASSERT_NE(at, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("sonar_left           signal     stop      stop", at), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("avoider              user       reset     reset", at), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find(" us\n", at), std::string::npos) << r.out;  // a recovery latency
+  EXPECT_NE(r.out.find("recovered 2 of", at), std::string::npos) << r.out;
+}
+
 }  // namespace
 }  // namespace keel
