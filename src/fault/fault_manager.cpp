@@ -191,19 +191,18 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
         break;
       }
       case Step::Replace: {
-        bool available = false, exceeded = false;
+        // Not limited by the restart intensity (docs/fault-handling.md): a role is replaced at
+        // most once, and a reset escalates here precisely because the intensity was exceeded.
+        bool available = false;
         Component* standby = nullptr;
         {
           std::lock_guard lock(h->mutex);
           available = h->rules.alternative && !h->replaced;
-          exceeded = h->intensityExceeded(steadyNowNs());
           standby = h->standby;
         }
-        if (!available || exceeded) {
+        if (!available) {
           r.add(ActionKind::Escalate, true, steadyNowNs(), "replace → stop: {}",
-                !h->rules.alternative ? "no alternative"
-                : !available          ? "the alternative is already in place"
-                                      : "more recoveries than the restart intensity allows");
+                !h->rules.alternative ? "no alternative" : "the alternative is already in place");
           r.next = Step::Stop;
           break;
         }
@@ -378,6 +377,9 @@ bool FaultManager::replace(FaultReport& r, ComponentHandling& h) {
     return false;
   }
   runtime::setStateQuiet(*alt, State::Active);
+  // Its own first checkpoint: what a later reset of the alternative returns to (the buffers
+  // exist since its creation, so nothing is allocated here).
+  if (!coreOf(*alt).critical.empty()) runtime::takeCheckpoint(coreOf(*alt), t);
   r.add(ActionKind::Replace, true, t, "alternative {} ({}) took over{}", coreOf(*alt).class_name,
         preloaded ? "preloaded" : "loaded at fault time", copied ? " with the checkpointed state" : "");
   {

@@ -9,7 +9,9 @@
 
 #include "fault/fault_manager_component.hpp"
 #include "fault/rules.hpp"
+#include "runtime/checkpoint.hpp"
 #include "runtime/engine.hpp"
+#include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
 
 namespace keel::runtime {
@@ -66,8 +68,13 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   }
   Component* alt = made->component.get();
   coreOf(*alt).handling = &h;
-  if (!transition(*alt, Transition::Initialize))
-    return fail(fmt::format("onInitialize of alternative {} failed", cp.name));
+  // Quietly: the log's `state` records of this name are the role's; a failure is returned.
+  coreOf(*alt).hooks = nullptr;
+  const bool initialized = transition(*alt, Transition::Initialize);
+  coreOf(*alt).hooks = this;
+  if (!initialized) return fail(fmt::format("onInitialize of alternative {} failed", cp.name));
+  // Allocates its checkpoint buffers now, off the fault path (the switch copies into them).
+  if (!coreOf(*alt).critical.empty()) takeCheckpoint(coreOf(*alt), steadyNs());
   // Outputs and required services now (it sends nothing before it starts); inputs at the switch.
   for (const Wire& w : wires_) {
     if (&w.source->owner() != &failed) continue;
