@@ -21,7 +21,7 @@ void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s
     const std::uint64_t executions = core.executions.load() + (&c != inst.component.get() ? first.executions.load() : 0);
     const std::uint64_t faults = core.faults.load() + (&c != inst.component.get() ? first.faults.load() : 0);
     fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", name, toString(c.state()), executions, faults,
-               core.deadline_overruns.load(), inst.executor ? inst.executor->config().name : "passive");
+               core.deadline_overruns.load(), core.executor.load() ? core.executor.load()->config().name : "passive");
   }
   fmt::print(out, "\n{:<28} {:>10} {:>10} {:>9}\n", "executor", "period_ms", "cycles", "overruns");
   for (const auto& ex : engine.executors()) {

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <pthread.h>
+#include <sched.h>
 
 #include <algorithm>
 #include <chrono>
@@ -42,18 +43,19 @@ bool waitFor(std::chrono::nanoseconds bound, Pred done) {
 /// lock), waiting at most `bound`; false if it did not run in time (it may still run later).
 bool onItsThread(Component& c, std::chrono::nanoseconds bound, const std::function<void()>& job) {
   auto& core = coreOf(c);
-  if (core.executor == nullptr) {
+  runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
+  if (ex == nullptr) {
     std::unique_lock lock(core.passive_mutex, std::defer_lock);
     if (!waitFor(bound, [&] { return lock.try_lock(); })) return false;
     job();
     return true;
   }
-  if (core.executor->onThisThread()) {
+  if (ex->onThisThread()) {
     job();
     return true;
   }
   auto done = std::make_shared<std::atomic<bool>>(false);
-  core.executor->post([job, done] {
+  ex->post([job, done] {
     job();
     done->store(true, std::memory_order_release);
   });
@@ -146,7 +148,9 @@ void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::st
     r.next = Step::Done;
   }
   unsigned where = onManagerThread() || thread_id_.load() == std::thread::id{} ? kManager : 0;
-  if (core.executor && core.executor->onThisThread() && runtime::runningComponent() != accused) where |= kLocal;
+  if (runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
+      ex && ex->onThisThread() && runtime::runningComponent() != accused)
+    where |= kLocal;
   advance(r, where);
 }
 
@@ -248,7 +252,8 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
 
 void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
   auto& core = coreOf(*r.accused);
-  if (core.executor == nullptr) {  // passive: holding its lock makes this thread its own
+  runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
+  if (ex == nullptr) {  // passive: holding its lock makes this thread its own
     if (!(where & kManager)) return handOverManager(r);
     std::unique_lock lock(core.passive_mutex, std::defer_lock);
     if (!waitFor(1s, [&] { return lock.try_lock(); })) {
@@ -266,14 +271,27 @@ void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
   core.pending.store(true, std::memory_order_release);
   // Inside its own callback on this thread (a range fault on push, raiseFault): invoke()
   // carries on as soon as the callback returns.
-  if (core.executor->onThisThread()) return;
-  // A hung callback never returns by itself: interrupt it on its thread.
+  if (ex->onThisThread()) return;
+  Component* c = r.accused;
+  ex->post([this, c, ex] {
+    runPending(*c);
+    // Recovered between cycles (a cold replacement, a fault found by another thread): the
+    // step it owes runs now rather than at the next release.
+    Component* now = find_(c->instanceName());
+    if (now && now->state() == State::Active && coreOf(*now).recovering_id.load(std::memory_order_acquire) != 0 &&
+        coreOf(*now).executor.load(std::memory_order_acquire) == ex)
+      ex->runStep(*now);
+  });
+  // A hung callback never returns by itself: interrupt it on its thread, and have the manager
+  // check that it came back (else its executor is abandoned: checkInterrupted).
   if (r.event.kind == FaultKind::Heartbeat && core.callback_since_ns.load(std::memory_order_acquire) != 0) {
     core.interrupt.store(true, std::memory_order_release);
-    core.executor->interrupt();
+    ex->interrupt();
+    Item item;
+    item.type = Item::Type::CheckInterrupted;
+    item.report = r;
+    enqueue(item, true);
   }
-  Component* c = r.accused;
-  core.executor->post([this, c] { runPending(*c); });
 }
 
 void FaultManager::handOverManager(FaultReport& r) {
@@ -312,7 +330,7 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
     enqueue(item, !awaits_recovery);
   }
   // A passive component has no next step of its own: it is back as soon as it is Active.
-  if (awaits_recovery && coreOf(*recovering).executor == nullptr) recovered(*recovering, steadyNowNs());
+  if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr) recovered(*recovering, steadyNowNs());
 }
 
 // ---- local recoveries: on the component's own thread -------------------------------------
@@ -437,9 +455,8 @@ void FaultManager::stopScope(FaultReport& r, ComponentHandling& h) {
       hc->stopped = true;
     }
     if (c == faulty) continue;  // in Error: its executor no longer runs it
-    auto& core = coreOf(*c);
     auto stop = [c] { runtime::transition(*c, Transition::Stop); };
-    if (core.executor) core.executor->post(stop);
+    if (runtime::Executor* ex = coreOf(*c).executor.load(std::memory_order_acquire)) ex->post(stop);
     else onItsThread(*c, 1s, stop);
   }
   // The faulty component's own callback may be the hung one: interrupt it so that its executor
@@ -447,9 +464,10 @@ void FaultManager::stopScope(FaultReport& r, ComponentHandling& h) {
   bool hung = false;
   if (faulty) {
     auto& core = coreOf(*faulty);
-    if (core.executor && core.callback_since_ns.load(std::memory_order_acquire) != 0) {
+    runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
+    if (ex && !ex->abandoned() && core.callback_since_ns.load(std::memory_order_acquire) != 0) {
       core.interrupt.store(true, std::memory_order_release);
-      core.executor->interrupt();
+      ex->interrupt();
       hung = !waitFor(kInterruptBound, [&] { return core.callback_since_ns.load(std::memory_order_acquire) == 0; });
     }
   }
@@ -465,11 +483,71 @@ void FaultManager::stopScope(FaultReport& r, ComponentHandling& h) {
   for (const auto& a : applications)
     log_.write({{"event", "state"}, {"application", a}, {"from", "running"}, {"to", "stopped"},
                 {"fault_id", r.id}, {"t_ns", log_.sinceStart(t)}});
-  if (hung && !r.emergency_done) {
-    r.add(ActionKind::Escalate, true, steadyNowNs(), "stop → emergency: the executor of {} is hung", name);
-    r.next = Step::Emergency;
+  r.next = Step::Done;
+  if (hung && host_) {  // its executor cannot come back: the others move to a new thread
+    auto moved = host_->abandonExecutor(*faulty, nullptr);
+    r.add(ActionKind::Stop, static_cast<bool>(moved), steadyNowNs(), "executor abandoned{}{}", moved ? "; its other components now run on " : ": ",
+          moved ? *moved : moved.error().message);
+  }
+}
+
+void FaultManager::checkInterrupted(const FaultReport& handed) {
+  auto& core = coreOf(*handed.accused);
+  ComponentHandling* h = handlingOf(*handed.accused);
+  if (h == nullptr) return;
+  if (waitFor(kInterruptBound, [&] { return !core.pending.load(std::memory_order_acquire); })) return;
+  FaultReport r;
+  {
+    std::lock_guard lock(h->mutex);
+    if (!core.pending.exchange(false, std::memory_order_acq_rel)) return;  // it came back just now
+    r = h->pending;
+  }
+  core.interrupt.store(false, std::memory_order_release);
+  abandonHung(r, *h);
+  advance(r, kManager);
+}
+
+void FaultManager::abandonHung(FaultReport& r, ComponentHandling& h) {
+  Component& hung = *r.accused;
+  const std::string from(toString(r.next));
+  Component* alt = nullptr;
+  bool available = false;
+  {
+    std::lock_guard lock(h.mutex);
+    available = h.rules.alternative && !h.replaced && !h.intensityExceeded(steadyNowNs());
+    alt = h.standby;
+  }
+  if (available && alt == nullptr && host_) {
+    auto made = host_->createAlternative(h, hung);
+    if (made) alt = *made;
+    else r.add(ActionKind::Replace, false, steadyNowNs(), "loading the alternative failed: {}", made.error().message);
+  }
+  if (alt) runtime::copyCheckpoint(coreOf(hung), coreOf(*alt));
+  r.add(ActionKind::Escalate, true, steadyNowNs(), "{} → {}: the hung callback did not return when interrupted",
+        from, alt ? "replace" : "stop");
+  auto moved = host_ ? host_->abandonExecutor(hung, alt) : Result<std::string>(fail("no runtime"));
+  const std::int64_t t = steadyNowNs();
+  if (!moved) {
+    r.add(ActionKind::Stop, false, t, "executor not abandoned: {}", moved.error().message);
+    r.next = Step::Stop;
+    return;
+  }
+  if (alt) {
+    {
+      std::lock_guard lock(h.mutex);
+      h.standby = nullptr;
+      h.replaced = true;
+      h.noteRecovery(t);
+    }
+    r.replacement = alt;
+    const bool started = alt->state() == State::Active;
+    r.add(ActionKind::Replace, started, t, "alternative {} took over on the new executor {}", coreOf(*alt).class_name,
+          *moved);
+    if (started) markRecovering(r, *alt);
+    r.next = started ? Step::Done : Step::Stop;
   } else {
-    r.next = Step::Done;
+    r.add(ActionKind::Stop, true, t, "executor abandoned; its other components now run on {}", *moved);
+    r.next = Step::Stop;
   }
 }
 
@@ -533,6 +611,12 @@ void FaultManager::enqueue(const Item& item, bool wake) {
 
 void FaultManager::run() {
   pthread_setname_np(pthread_self(), "keel-faults");
+  // Real-time when permitted (as the watchdog, one step below it): a cold replacement or a
+  // fault stop must not queue behind the load it protects. Refused: normal priority, silently
+  // (the watchdog already warned about the same limit).
+  sched_param sp{};
+  sp.sched_priority = sched_get_priority_max(SCHED_FIFO) - 1;
+  (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
   thread_id_.store(std::this_thread::get_id());
   auto item = std::make_unique<Item>();
   for (;;) {
@@ -561,6 +645,10 @@ void FaultManager::run() {
 void FaultManager::process(Item& item) {
   if (item.type == Item::Type::Recovered) {
     logRecovered(item.report, item.report.event.t_ns);
+    return;
+  }
+  if (item.type == Item::Type::CheckInterrupted) {
+    checkInterrupted(item.report);
     return;
   }
   FaultReport& r = item.report;

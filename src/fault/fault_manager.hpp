@@ -77,6 +77,11 @@ class HandlingHost {
   /// On `failed`'s own thread: `alternative` takes its place — inputs retargeted, provided
   /// services rebound, executor member swapped, lookups by name answer the alternative.
   virtual void switchTo(Component& failed, Component& alternative) = 0;
+  /// `hung`'s executor thread is stuck in its callback and cannot be interrupted: the executor
+  /// is abandoned and a new one (same configuration) takes its other members, and
+  /// `replacement` (may be null) in `hung`'s place, started on the calling thread before the
+  /// new executor runs. Returns the new executor's name, or why it could not be done.
+  virtual Result<std::string> abandonExecutor(Component& hung, Component* replacement) = 0;
 };
 
 class FaultManager {
@@ -139,11 +144,17 @@ class FaultManager {
   bool replace(FaultReport& r, ComponentHandling& h);
   void stopScope(FaultReport& r, ComponentHandling& h);
   void markRecovering(FaultReport& r, Component& c);
+  void checkInterrupted(const FaultReport& handed);
+  /// The hung callback of `r.accused` did not come back: its executor is abandoned, the
+  /// alternative (if any) takes its place on the new executor, else it stays stopped.
+  void abandonHung(FaultReport& r, ComponentHandling& h);
   Step afterReset(ComponentHandling& h);
 
   // the manager's thread and its queue
   struct Item {
-    enum class Type : std::uint8_t { Report, Recovered } type = Type::Report;
+    // Report: carry on handling; Recovered: log it; CheckInterrupted: verify that a hung
+    // callback came back when interrupted, else abandon its executor.
+    enum class Type : std::uint8_t { Report, Recovered, CheckInterrupted } type = Type::Report;
     FaultReport report;
   };
   void enqueue(const Item& item, bool wake);

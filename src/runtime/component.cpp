@@ -56,7 +56,7 @@ void registerPort(Component* owner, PortBase* port) {
 void notifyInput(Component& owner, bool is_event) {
   ComponentCore& core = ComponentAccess::core(owner);
   (is_event ? core.event_pending : core.input_pending).store(true, std::memory_order_release);
-  if (core.executor) core.executor->wake();
+  if (runtime::Executor* ex = core.executor.load(std::memory_order_acquire)) ex->wake();
   else if (is_event) runtime::dispatchEventsPassive(owner);
 }
 

@@ -50,7 +50,9 @@ class ComponentCore {
   std::vector<PortBase*> ports;
   std::map<std::string, PropertyValue, std::less<>> properties;
   std::vector<runtime::CriticalRegion> critical;
-  runtime::Executor* executor = nullptr;      // null: passive
+  // null: passive. Atomic: an executor abandoned with a hung thread hands its components to a
+  // new one while other threads wake them (notifyInput) or post to them.
+  std::atomic<runtime::Executor*> executor{nullptr};
   runtime::RuntimeHooks* hooks = nullptr;     // null: not yet managed by a runtime
   // Serialises callbacks of passive components. Not a timed mutex: TSan does not see
   // pthread_mutex_clocklock, which try_lock_for uses (timeouts poll try_lock instead).

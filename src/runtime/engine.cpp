@@ -127,19 +127,26 @@ void Engine::shutdown() {
   shut_down_ = true;
   if (injector_) injector_->stop();
   if (watchdog_) watchdog_->stop();
-  for (Component* c : components()) coreOf(*c).release_hang.store(true);  // injected hangs
+  fault_manager_.stop();  // handles and logs what is queued; adds no executor after this
+  for (auto& inst : instances_) {  // injected hangs, of replaced components too
+    coreOf(*inst.component).release_hang.store(true);
+    coreOf(*inst.active()).release_hang.store(true);
+  }
   for (auto& ex : executors_) ex->requestStop();
   std::vector<const Executor*> abandoned;
   for (auto& ex : executors_) {
-    if (ex->join(options_.stop_timeout)) continue;
+    if (!ex->abandoned() && ex->join(options_.stop_timeout)) continue;
+    if (ex->abandoned() && ex->join(std::chrono::milliseconds(50))) continue;  // it came back meanwhile
     abandoned.push_back(ex.get());
-    warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components",
-                     ex->config().name, options_.stop_timeout.count()));
+    if (!ex->abandoned())
+      warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components",
+                       ex->config().name, options_.stop_timeout.count()));
   }
-  auto isAbandoned = [&abandoned](const Instance& i) {
-    return std::find(abandoned.begin(), abandoned.end(), i.executor) != abandoned.end();
+  // A component whose executor is abandoned may still be in use by its stuck thread.
+  auto stuck = [&abandoned](const Component& c) {
+    const Executor* ex = coreOf(c).executor.load(std::memory_order_acquire);
+    return ex && std::find(abandoned.begin(), abandoned.end(), ex) != abandoned.end();
   };
-  fault_manager_.stop();  // handles and logs what is still queued
   for (auto& inst : instances_) {
     if (inst.executor) continue;
     Component& c = *inst.active();
@@ -148,26 +155,24 @@ void Engine::shutdown() {
   }
   fault_manager_.flushUndetected(components());
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
-    if (isAbandoned(*it)) continue;
-    transition(*it->active(), Transition::Destroy);
-    if (it->active() != it->component.get()) transition(*it->component, Transition::Destroy);  // replaced
+    if (!stuck(*it->active())) transition(*it->active(), Transition::Destroy);
+    if (it->active() != it->component.get() && !stuck(*it->component))
+      transition(*it->component, Transition::Destroy);  // replaced
   }
   {
     std::lock_guard lock(spares_mutex_);
     for (auto& spare : spares_)  // alternatives still standing by
-      if (spare->state() != State::Destroyed) transition(*spare, Transition::Destroy);
+      if (spare->state() != State::Destroyed && !stuck(*spare)) transition(*spare, Transition::Destroy);
   }
   if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
-  // A hung thread still uses its components: they are left allocated (the process is ending).
+  // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
-    if (isAbandoned(*it)) {
-      (void)it->component.release();
-      for (auto& spare : spares_)
-        if (spare.get() == it->active()) (void)spare.release();
-    } else {
-      it->component.reset();
-    }
+    it->current->store(nullptr, std::memory_order_release);
+    if (stuck(*it->component)) (void)it->component.release();
+    else it->component.reset();
   }
+  for (auto& spare : spares_)
+    if (stuck(*spare)) (void)spare.release();
   spares_.clear();
   for (auto& ex : executors_)
     if (std::find(abandoned.begin(), abandoned.end(), ex.get()) != abandoned.end()) (void)ex.release();
@@ -181,6 +186,13 @@ void Engine::stateChanged(Component& c, State from, State to) {
 }
 
 void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manager_.onFault(c, fault); }
+
+std::vector<const Executor*> Engine::executors() const {
+  std::lock_guard lock(executors_mutex_);
+  std::vector<const Executor*> out;
+  for (const auto& ex : executors_) out.push_back(ex.get());
+  return out;
+}
 
 std::vector<Component*> Engine::components() const {
   std::vector<Component*> out;

@@ -77,7 +77,8 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   Component* find(std::string_view instance) const override;
   const Plan& plan() const { return plan_; }
   const std::vector<Instance>& instances() const { return instances_; }
-  const std::vector<std::unique_ptr<Executor>>& executors() const { return executors_; }
+  /// The executors, including those that took over from an abandoned one (a snapshot).
+  std::vector<const Executor*> executors() const;
   fault::FaultLog& log() { return log_; }
   fault::FaultManager& faultManager() { return fault_manager_; }
   const fault::FaultManager& faultManager() const { return fault_manager_; }
@@ -100,6 +101,7 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   // fault::HandlingHost (engine_recovery.cpp)
   Result<Component*> createAlternative(fault::ComponentHandling& h, Component& failed) override;
   void switchTo(Component& failed, Component& alternative) override;
+  Result<std::string> abandonExecutor(Component& hung, Component* replacement) override;
 
  private:
   explicit Engine(EngineOptions options);
@@ -127,6 +129,7 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   std::deque<PlannedInstance> spare_plans_;  // the alternatives' plans (stable addresses)
   std::vector<std::unique_ptr<Component>> spares_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
+  mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
   std::vector<std::unique_ptr<Executor>> executors_;
   fault::FaultManager fault_manager_;
   std::unique_ptr<fault::Watchdog> watchdog_;

@@ -24,7 +24,8 @@ void Engine::setUpHandling() {
     auto h = std::make_unique<fault::ComponentHandling>();
     h->name = inst.plan->name;
     h->rules = fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components);
-    h->recoveries.reserve(static_cast<std::size_t>(std::clamp(h->rules.intensity, 0, 1024)));
+    // the whole window now: recording a recovery never allocates on the executor's thread
+    h->recoveries.reserve(static_cast<std::size_t>(std::max(h->rules.intensity, 0)));
     coreOf(*inst.component).handling = h.get();
     inst.handling = std::move(h);
   }
@@ -89,6 +90,9 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
 }
 
 void Engine::switchTo(Component& failed, Component& alternative) {
+  // The executor first: a value that reaches the alternative through a re-pointed connection
+  // wakes the alternative's executor.
+  if (Executor* ex = coreOf(failed).executor.load(std::memory_order_acquire)) ex->replaceMember(failed, alternative);
   for (const Wire& w : wires_) {
     if (&w.target->owner() != &failed) continue;
     detail::PortBase* port = coreOf(alternative).findPort(w.target->name());
@@ -96,9 +100,51 @@ void Engine::switchTo(Component& failed, Component& alternative) {
     if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
     else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
   }
-  if (Executor* ex = coreOf(failed).executor) ex->replaceMember(failed, alternative);
   for (auto& inst : instances_)
     if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
+}
+
+Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacement) {
+  Executor* old = coreOf(hung).executor.load(std::memory_order_acquire);
+  if (old == nullptr) return fail("'" + hung.instanceName() + "' has no executor");
+  ExecutorConfig cfg = old->config();
+  cfg.name += "+";
+  auto fresh = std::make_unique<Executor>(cfg, [this](const std::string& m) { warn(m); });
+  // The old thread is stuck in `hung`'s callback and does not touch its members meanwhile;
+  // abandon() makes sure it never does again should it come back.
+  const std::vector<Component*> members = old->members();
+  old->abandon();
+  for (Component* m : members) {
+    if (m != &hung) {
+      fresh->add(*m);
+    } else if (replacement) {
+      fresh->add(*replacement);
+      for (const Wire& w : wires_) {  // as switchTo, minus the executor slot
+        if (&w.target->owner() != &hung) continue;
+        detail::PortBase* port = coreOf(*replacement).findPort(w.target->name());
+        if (port == nullptr) continue;
+        if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
+        else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
+      }
+    }
+  }
+  for (auto& inst : instances_) {
+    if (inst.executor == old && inst.active() != &hung) inst.executor = fresh.get();
+    if (replacement && inst.active() == &hung) {
+      inst.current->store(replacement, std::memory_order_release);
+      inst.executor = fresh.get();
+    }
+  }
+  if (replacement) {  // started here: its new executor does not run yet
+    GuardOutcome out = invokeRecovery(*replacement, Callback::Start);
+    setStateQuiet(*replacement, out.ok() ? State::Active : State::Error);
+    if (out.ok() && !coreOf(*replacement).critical.empty()) takeCheckpoint(coreOf(*replacement), steadyNs());
+  }
+  fresh->start(/*adopt=*/true);
+  std::string name = cfg.name;
+  std::lock_guard lock(executors_mutex_);
+  executors_.push_back(std::move(fresh));
+  return name;
 }
 
 }  // namespace keel::runtime

@@ -55,12 +55,18 @@ Executor::~Executor() {
 
 void Executor::add(Component& c) {
   members_.push_back(&c);
-  coreOf(c).executor = this;
+  coreOf(c).executor.store(this, std::memory_order_release);
 }
 
-void Executor::start() {
+void Executor::start(bool adopt) {
+  adopt_ = adopt;
   thread_ = std::thread([this] { threadMain(); });
   while (!started_.load(std::memory_order_acquire) && !exited_.load()) std::this_thread::yield();
+}
+
+void Executor::abandon() {
+  abandoned_.store(true, std::memory_order_release);
+  requestStop();
 }
 
 void Executor::requestStop() {
@@ -106,7 +112,7 @@ void Executor::interrupt() {
 void Executor::replaceMember(Component& failed, Component& replacement) {
   for (Component*& m : members_)
     if (m == &failed) m = &replacement;
-  coreOf(replacement).executor = this;
+  coreOf(replacement).executor.store(this, std::memory_order_release);
 }
 
 void Executor::setUpThread() {
@@ -132,12 +138,16 @@ void Executor::setUpThread() {
 void Executor::threadMain() {
   setUpThread();
   for (Component* c : members_) {
-    transition(*c, Transition::Start);
+    if (!adopt_) transition(*c, Transition::Start);
     if (!coreOf(*c).critical.empty()) takeCheckpoint(coreOf(*c), nowNs());  // the state to return to
   }
   started_.store(true, std::memory_order_release);
   if (config_.kind == ExecutorKind::Periodic) runPeriodic();
   else runAperiodic();
+  if (abandoned_.load(std::memory_order_acquire)) {  // came back after all: the members are not ours
+    exited_.store(true, std::memory_order_release);
+    return;
+  }
   serviceBetweenCycles();
   for (auto it = members_.rbegin(); it != members_.rend(); ++it) transition(**it, Transition::Stop);
   runMail();  // answer calls that arrived meanwhile (they fail fast: provider not active)
@@ -146,7 +156,10 @@ void Executor::threadMain() {
 
 void Executor::serviceBetweenCycles() {
   runMail();
-  for (Component* c : members_) dispatchEvents(*c);
+  for (Component* c : members_) {
+    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;
+    dispatchEvents(*c);
+  }
 }
 
 bool Executor::execute(Component& c) {
@@ -171,7 +184,9 @@ void Executor::cycle() {
     detail::ComponentCore& core = coreOf(*c);
     if (core.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
     core.input_pending.store(false, std::memory_order_relaxed);
-    if (execute(*c)) continue;
+    const bool ok = execute(*c);
+    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;  // back from a hang, too late
+    if (ok) continue;
     // Recovered at once on this thread (reset, or a preloaded replacement): the step this
     // cycle owes is run now, once — not at the next release.
     Component* now = members_[i];
@@ -182,6 +197,7 @@ void Executor::cycle() {
   for (Component* c : members_) {
     if (c->state() != State::Active) continue;
     invoke(*c, Callback::Updated);
+    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;
     checkpointIfDue(coreOf(*c), now);  // the cycle boundary: no callback of c is running
   }
   cycles_.fetch_add(1, std::memory_order_relaxed);

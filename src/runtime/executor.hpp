@@ -56,8 +56,13 @@ class Executor {
   const std::vector<Component*>& members() const { return members_; }
   const ExecutorConfig& config() const { return config_; }
 
-  /// Starts the thread; it starts its members (onStart) and returns once they have.
-  void start();
+  /// Starts the thread; it starts its members (onStart) and returns once they have. With
+  /// `adopt`, the members are taken over as they are (already started by another executor).
+  void start(bool adopt = false);
+  /// Gives up a thread stuck in a callback that could not be interrupted: it is asked to stop,
+  /// and should it ever come back it touches no member again (they run on another executor).
+  void abandon();
+  bool abandoned() const { return abandoned_.load(std::memory_order_acquire); }
   /// Asks the thread to finish its cycle, stop its members (onStop) and exit.
   void requestStop();
   /// Waits for the thread to exit; false if it did not within `timeout` (it is then left).
@@ -71,6 +76,9 @@ class Executor {
   /// Ends the hung callback running on this executor's thread, if its component's `interrupt`
   /// flag is set (runtime/guard.hpp interruptThread).
   void interrupt();
+  /// Runs `c`'s onExecute now, outside the schedule: the step a component recovered between
+  /// cycles still owes. Only on this executor's thread.
+  bool runStep(Component& c) { return execute(c); }
   /// Puts `replacement` in `failed`'s place among the members (a fault's replacement). Only on
   /// this executor's thread (the members are iterated there without a lock).
   void replaceMember(Component& failed, Component& replacement);
@@ -101,6 +109,8 @@ class Executor {
   std::atomic<bool> stop_{false};
   std::atomic<bool> started_{false};
   std::atomic<bool> exited_{false};
+  std::atomic<bool> abandoned_{false};
+  bool adopt_ = false;
   std::mutex mail_mutex_;
   std::vector<std::function<void()>> mail_;
   std::atomic<bool> has_mail_{false};

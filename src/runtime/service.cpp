@@ -46,7 +46,7 @@ std::string keel::detail::invokeService(Component& provider, const std::string& 
                                         std::chrono::nanoseconds timeout) {
   using namespace keel::runtime;
   auto& core = coreOf(provider);
-  Executor* ex = core.executor;
+  Executor* ex = core.executor.load(std::memory_order_acquire);
   if (ex == nullptr || ex->onThisThread()) {
     std::unique_lock lock(core.passive_mutex, std::defer_lock);
     const auto give_up = std::chrono::steady_clock::now() + timeout;
