@@ -488,6 +488,10 @@ void FaultManager::stopScope(FaultReport& r, ComponentHandling& h) {
     auto moved = host_->abandonExecutor(*faulty, nullptr);
     r.add(ActionKind::Stop, static_cast<bool>(moved), steadyNowNs(), "executor abandoned{}{}", moved ? "; its other components now run on " : ": ",
           moved ? *moved : moved.error().message);
+    if (!moved && !r.emergency_done) {  // a thread keel cannot control runs on: make the robot safe
+      r.add(ActionKind::Escalate, true, steadyNowNs(), "stop → emergency: {} cannot be stopped", name);
+      r.next = Step::Emergency;
+    }
   }
 }
 
