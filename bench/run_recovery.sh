@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Recovery latency per handling mechanism, idle and under 80% CPU load (stress-ng), as
+# docs/performance.md reports it. Builds keel_bench_recovery in BUILD_DIR (default build/, the
+# README's RelWithDebInfo build) and needs stress-ng (scripts/deps.sh).
+#   bench/run_recovery.sh [N] [BUILD_DIR]     (N faults per mechanism and policy, default 1000)
+set -euo pipefail
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+n=${1:-1000}
+build=${2:-build}
+[ -f "$build/CMakeCache.txt" ] || cmake -S . -B "$build" -G Ninja >/dev/null
+cmake --build "$build" --target keel_bench_recovery >/dev/null
+bin=$build/bin/keel_bench_recovery
+echo "## idle"
+"$bin" --n "$n" --load 0 --json "$build/recovery_idle.jsonl"
+echo
+echo "## under load: stress-ng --cpu 2 --cpu-load 80"
+stress-ng --cpu 2 --cpu-load 80 --timeout 3600 >/dev/null 2>&1 &
+stress=$!
+trap 'kill $stress 2>/dev/null || true' EXIT
+sleep 2
+"$bin" --n "$n" --load 80 --json "$build/recovery_load80.jsonl"
