@@ -562,17 +562,25 @@ std::vector<std::string> FaultManager::emergencyStop(std::string_view by) {
   for (Component* c : all) coreOf(*c).emergency.store(true, std::memory_order_release);
   const std::int64_t t0 = steadyNowNs();
   log_.write({{"event", "emergency"}, {"phase", "latched"}, {"by", by}, {"t_ns", log_.sinceStart(t0)}});
-  std::vector<std::string> ran, direct;
+  std::vector<std::string> ran, direct, late;
   for (Component* c : all) {
     if (c->instanceName() == kFaultManagerInstance) continue;
     // Whoever claims it first runs it: the executor, or this thread once the executor is late.
     auto claimed = std::make_shared<std::atomic<bool>>(false);
-    auto job = [c, claimed] {
-      if (!claimed->exchange(true)) runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);
+    auto done = std::make_shared<std::atomic<bool>>(false);
+    auto job = [c, claimed, done] {
+      if (claimed->exchange(true)) return;
+      runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);
+      done->store(true, std::memory_order_release);
     };
-    if (!onItsThread(*c, kEmergencyBound, job) && !claimed->exchange(true)) {
-      runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);  // its executor is hung
-      direct.push_back(c->instanceName());
+    if (!onItsThread(*c, kEmergencyBound, job)) {
+      if (!claimed->exchange(true)) {
+        runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);  // its executor is hung
+        direct.push_back(c->instanceName());
+      } else if (!waitFor(1s, [&] { return done->load(std::memory_order_acquire); })) {
+        late.push_back(c->instanceName());  // its executor started it and has not finished
+        continue;
+      }
     }
     ran.push_back(c->instanceName());
   }
@@ -580,6 +588,10 @@ std::vector<std::string> FaultManager::emergencyStop(std::string_view by) {
   nlohmann::json rec = {{"event", "action"}, {"action", "emergency_stop"}, {"outcome", "ok"}, {"by", by},
                         {"components", ran},  {"t_ns", log_.sinceStart(t)}, {"latency_us", (t - t0) / 1e3}};
   if (!direct.empty()) rec["on_fault_manager_thread"] = direct;
+  if (!late.empty()) {
+    rec["outcome"] = "failed";
+    rec["not_finished"] = late;
+  }
   log_.write(std::move(rec));
   return ran;
 }

@@ -99,10 +99,15 @@ Result<void> Engine::start() {
     transition(*inst.component, Transition::Start);
     if (!core.critical.empty()) takeCheckpoint(core, steadyNs());
   }
-  for (auto& ex : executors_) ex->start();
+  std::size_t executors = 0;
+  {
+    std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
+    for (auto& ex : executors_) ex->start();
+    executors = executors_.size();
+  }
   started_ = true;
   startDetectors();
-  log_.write({{"event", "engine"}, {"phase", "started"}, {"executors", executors_.size()}});
+  log_.write({{"event", "engine"}, {"phase", "started"}, {"executors", executors}});
   return {};
 }
 

@@ -20,6 +20,20 @@ constexpr int kCaught[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 // a lazily allocated TLS block would not be safe.
 thread_local guard_detail::GuardFrame* t_frame __attribute__((tls_model("initial-exec"))) = nullptr;
 
+// Under ThreadSanitizer our handler runs inside TSan's own, which the kernel entered with every
+// signal blocked (TSan installs it with a full sa_mask): jumping out would leave them blocked on
+// this thread, and its next SIGSEGV would kill the process. Unblock what we catch before the
+// jump. Not needed otherwise (SA_NODEFER, empty sa_mask): no syscall on the normal fault path.
+void unblockBeforeJump() {
+#if defined(__SANITIZE_THREAD__)
+  sigset_t set;
+  sigemptyset(&set);
+  for (int s : kCaught) sigaddset(&set, s);
+  sigaddset(&set, interruptSignal());
+  pthread_sigmask(SIG_UNBLOCK, &set, nullptr);
+#endif
+}
+
 void onSignal(int signo, siginfo_t* info, void*) {
   guard_detail::GuardFrame* frame = t_frame;
   if (frame == nullptr) {
@@ -36,6 +50,7 @@ void onSignal(int signo, siginfo_t* info, void*) {
   frame->t_ns = std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
   frame->signo = signo;
   frame->addr = info ? info->si_addr : nullptr;
+  unblockBeforeJump();
   siglongjmp(frame->env, 1);
 }
 
@@ -51,6 +66,7 @@ void onInterrupt(int signo, siginfo_t*, void*) {
   frame->t_ns = std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
   frame->signo = signo;
   frame->addr = nullptr;
+  unblockBeforeJump();
   siglongjmp(frame->env, 1);
 }
 
