@@ -4,7 +4,7 @@
 #
 #   scripts/test.sh          build/       the full suite (the README's plain build)
 #   scripts/test.sh asan     build-asan/  the full suite under ASan + UBSan (UBSan fatal)
-#   scripts/test.sh tsan     build-tsan/  the tests labelled `concurrency` under TSan
+#   scripts/test.sh tsan     build-tsan/  the tests labelled `concurrency` or `scenario` under TSan
 #
 # Each mode is the CMake preset of the same name in CMakePresets.json (asan = asan-ubsan), so
 # `cmake --workflow --preset <name>` does the same by hand. Arguments after the mode go to

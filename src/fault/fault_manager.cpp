@@ -518,7 +518,7 @@ void FaultManager::abandonHung(FaultReport& r, ComponentHandling& h) {
   bool available = false;
   {
     std::lock_guard lock(h.mutex);
-    available = h.rules.alternative && !h.replaced && !h.intensityExceeded(steadyNowNs());
+    available = h.rules.alternative && !h.replaced;
     alt = h.standby;
   }
   if (available && alt == nullptr && host_) {
