@@ -210,8 +210,11 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
           r.next = Step::Stop;
           break;
         }
-        if (standby == nullptr) {  // not preloaded: load it now, off the executor's thread
-          if (!(where & kManager)) return handOverManager(r);
+        if (standby == nullptr) {
+          // Not preloaded: load it now, on the component's own thread when this is it (no
+          // thread hand-off: under load a wake-up costs more than the dlopen; the executor's
+          // other members are one cycle late instead), else on the manager's.
+          if (!(where & (kLocal | kManager))) return handOverLocal(r, where);
           auto alt = host_ ? host_->createAlternative(*h, *r.accused) : Result<Component*>(fail("no runtime"));
           if (!alt) {
             r.add(ActionKind::Replace, false, steadyNowNs(), "loading the alternative failed: {}", alt.error().message);

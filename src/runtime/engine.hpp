@@ -125,7 +125,8 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;
-  std::mutex spares_mutex_;                  // guards the two below (fault manager's thread)
+  std::mutex create_mutex_;                  // one alternative created at a time (any thread)
+  std::mutex spares_mutex_;                  // guards the two below
   std::deque<PlannedInstance> spare_plans_;  // the alternatives' plans (stable addresses)
   std::vector<std::unique_ptr<Component>> spares_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;

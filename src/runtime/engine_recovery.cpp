@@ -44,6 +44,7 @@ Result<void> Engine::preloadAlternatives() {
 }
 
 Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Component& failed) {
+  std::lock_guard creating(create_mutex_);  // executors may load alternatives concurrently
   auto it = std::find_if(instances_.begin(), instances_.end(), [&](const Instance& i) { return i.plan->name == h.name; });
   if (it == instances_.end() || h.rules.alternative == nullptr) return fail("no alternative for '" + h.name + "'");
   const profile::ComponentProfile& cp = *h.rules.alternative;
