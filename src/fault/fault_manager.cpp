@@ -656,8 +656,9 @@ void FaultManager::run() {
     }
     if (stop_.load(std::memory_order_acquire)) break;
     // A recovery queues its report without a wake-up (nothing but the recovery may be on its
-    // path): such a report waits at most this long.
-    signal_.waitUntil(runtime::WakeSignal::Clock::now() + 2ms);
+    // path); its `recovered` record, or the next step, wakes this thread. The timeout is only a
+    // safety net: waking more often would put this real-time thread in the executors' way.
+    signal_.waitUntil(runtime::WakeSignal::Clock::now() + 100ms);
   }
 }
 
