@@ -13,6 +13,9 @@ bin=$build/bin/keel_bench_recovery
 echo "## idle"
 "$bin" --n "$n" --load 0 --json "$build/recovery_idle.jsonl"
 echo
+echo "## idle, /dev/cpu_dma_latency held at 0 (idle CPUs poll instead of halting)"
+"$bin" --n "$n" --load 0 --low-latency --json "$build/recovery_idle_lowlat.jsonl"
+echo
 echo "## under load: stress-ng --cpu 2 --cpu-load 80"
 stress-ng --cpu 2 --cpu-load 80 --timeout 3600 >/dev/null 2>&1 &
 stress=$!

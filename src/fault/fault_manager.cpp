@@ -754,6 +754,7 @@ void FaultManager::logRecovered(const FaultReport& r, std::int64_t t_ns) {
     rec["latency_us"] = (t_ns - hd->detected_ns) / 1e3;
   }
   log_.write(std::move(rec));
+  recovered_count_.fetch_add(1, std::memory_order_release);
 }
 
 // ---- readers -------------------------------------------------------------------------------
@@ -771,6 +772,13 @@ std::vector<Detection> FaultManager::detections() const {
 std::vector<Handling> FaultManager::handlings() const {
   std::lock_guard lock(mutex_);
   return handlings_;
+}
+
+std::optional<Handling> FaultManager::handling(std::uint64_t id) const {
+  std::lock_guard lock(mutex_);
+  for (auto it = handlings_.rbegin(); it != handlings_.rend(); ++it)
+    if (it->fault_id == id) return *it;
+  return std::nullopt;
 }
 
 std::set<std::string> FaultManager::stoppedComponents() const {

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -123,6 +124,10 @@ class FaultManager {
   std::vector<FaultCount> counts() const;
   std::vector<Detection> detections() const;
   std::vector<Handling> handlings() const;
+  /// The handling of fault `id`, if it was logged (no copy of the others).
+  std::optional<Handling> handling(std::uint64_t id) const;
+  /// How many `recovered` records were logged so far (cheap: for waiting on a recovery).
+  std::size_t recoveredCount() const { return recovered_count_.load(std::memory_order_acquire); }
   /// How many faults were detected so far (cheap: no copy, no lock).
   std::size_t detectionCount() const { return detection_count_.load(std::memory_order_acquire); }
   /// The components and applications fault-stopped so far.
@@ -189,6 +194,7 @@ class FaultManager {
   std::set<std::string> stopped_components_;
   std::set<std::string> stopped_applications_;
   std::atomic<std::size_t> detection_count_{0};
+  std::atomic<std::size_t> recovered_count_{0};
 };
 
 }  // namespace keel::fault
