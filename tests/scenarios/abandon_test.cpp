@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <thread>
@@ -116,7 +117,10 @@ class Abandon : public ::testing::Test {
     return false;
   }
 
-  std::string log_ = ::testing::TempDir() + "abandon.jsonl";
+  // one file per test and process: ctest runs the tests of this binary in parallel
+  std::string log_ = ::testing::TempDir() + "abandon_" +
+                     ::testing::UnitTest::GetInstance()->current_test_info()->name() + "_" +
+                     std::to_string(::getpid()) + ".jsonl";
 };
 
 TEST_F(Abandon, AnUninterruptibleHangAbandonsItsExecutorAndTheOthersMoveToANewOne) {
