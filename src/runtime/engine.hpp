@@ -109,6 +109,8 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   Result<Instance> makeInstance(const PlannedInstance& pi);  // created, named, ports checked
   void setUpHandling();       // rules and checkpoints per instance, the dependency graph
   Result<void> preloadAlternatives();
+  /// Re-points the input connections and provided services of `failed` to `alternative`.
+  void redirectInputs(Component& failed, Component& alternative);
   Result<void> checkPorts(const Instance& inst) const;
   Result<void> configurePorts(Instance& inst);  // queues, validity rules, call timeouts
   Result<void> connect();

@@ -90,17 +90,21 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   return alt;
 }
 
+void Engine::redirectInputs(Component& failed, Component& alternative) {
+  for (const Wire& w : wires_) {
+    if (&w.target->owner() != &failed) continue;
+    detail::PortBase* port = coreOf(alternative).findPort(w.target->name());
+    if (port == nullptr) continue;  // the loader checked that the ports are the same
+    if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
+    else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
+  }
+}
+
 void Engine::switchTo(Component& failed, Component& alternative) {
   // The executor first: a value that reaches the alternative through a re-pointed connection
   // wakes the alternative's executor.
   if (Executor* ex = coreOf(failed).executor.load(std::memory_order_acquire)) ex->replaceMember(failed, alternative);
-  for (const Wire& w : wires_) {
-    if (&w.target->owner() != &failed) continue;
-    detail::PortBase* port = coreOf(alternative).findPort(w.target->name());
-    if (port == nullptr) continue;
-    if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
-    else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
-  }
+  redirectInputs(failed, alternative);
   for (auto& inst : instances_)
     if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
 }
@@ -120,13 +124,7 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacem
       fresh->add(*m);
     } else if (replacement) {
       fresh->add(*replacement);
-      for (const Wire& w : wires_) {  // as switchTo, minus the executor slot
-        if (&w.target->owner() != &hung) continue;
-        detail::PortBase* port = coreOf(*replacement).findPort(w.target->name());
-        if (port == nullptr) continue;
-        if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
-        else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
-      }
+      redirectInputs(hung, *replacement);
     }
   }
   for (auto& inst : instances_) {
