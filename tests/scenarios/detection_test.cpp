@@ -64,19 +64,17 @@ class Detection : public ::testing::Test {
     return r;
   }
 
-  /// The `detected` record of `kind`, and checks that its injection shares the fault_id.
+  /// The `detected` record of `kind` — with `injected`, the one whose injection shares its
+  /// fault_id and came before it (a loaded machine may starve a component into an unrelated
+  /// heartbeat fault first).
   json detected(const RunResult& r, const std::string& kind, bool injected = true) {
     for (const auto& d : test::eventsOf(r.log, "detected")) {
       if (d["kind"] != kind) continue;
-      if (injected) {
-        bool found = false;
-        for (const auto& i : test::eventsOf(r.log, "injected"))
-          found |= i["fault_id"] == d["fault_id"] && i["t_ns"].get<std::int64_t>() <= d["t_ns"].get<std::int64_t>();
-        EXPECT_TRUE(found) << "no injected record before detection " << d.dump();
-      }
-      return d;
+      if (!injected) return d;
+      for (const auto& i : test::eventsOf(r.log, "injected"))
+        if (i["fault_id"] == d["fault_id"] && i["t_ns"].get<std::int64_t>() <= d["t_ns"].get<std::int64_t>()) return d;
     }
-    ADD_FAILURE() << "no detected record of kind " << kind;
+    ADD_FAILURE() << "no detected record of kind " << kind << (injected ? " answering an injection" : "");
     return json::object();
   }
 

@@ -1,0 +1,147 @@
+// Differential-drive physics of the simulated motion board. Motor speed follows its target
+// with an exact first-order response over each step, so the result does not depend on how the
+// caller slices time; encoders and pose integrate that response exactly per step.
+#include "robot/motion_board/simulator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace keel::robot {
+namespace {
+
+/// Body-frame mount of each sonar (SonarId order): offset forward, offset left, bearing.
+struct Mount {
+  double forward;  // fraction of half length
+  double left;     // fraction of half width
+  double bearing_rad;
+};
+constexpr std::array<Mount, kSonarCount> kMounts{{
+    {1.0, 0.0, 0.0},
+    {0.0, 1.0, std::numbers::pi / 2},
+    {0.0, -1.0, -std::numbers::pi / 2},
+    {-1.0, 0.0, std::numbers::pi},
+}};
+
+double normaliseAngle(double a) {
+  a = std::remainder(a, 2 * std::numbers::pi);
+  return a <= -std::numbers::pi ? a + 2 * std::numbers::pi : a;
+}
+
+}  // namespace
+
+Simulator::Simulator(SimulatorConfig config)
+    : config_(std::move(config)), rng_(config_.seed), pose_(config_.start) {
+  sampleSonars();
+}
+
+void Simulator::command(const MotionCommand& command) {
+  command_ = command;
+  last_command_s_ = time_s_;
+  deadman_tripped_ = false;
+}
+
+void Simulator::applyFault(const FaultCommand& fault) {
+  const std::size_t i = fault.index;
+  switch (fault.kind) {
+    case FaultKind::SensorUnplugged:
+      if (i < kSonarCount) sensor_state_[i] = SensorState::Unplugged;
+      break;
+    case FaultKind::SensorStuck:
+      if (i < kSonarCount) {
+        sensor_state_[i] = SensorState::Stuck;
+        stuck_cm_[i] = fault.value;
+      }
+      break;
+    case FaultKind::SensorOk:
+      if (i < kSonarCount) sensor_state_[i] = SensorState::Ok;
+      break;
+    case FaultKind::MotorPowerOff:
+      if (i < 2) powered_[i] = false;
+      break;
+    case FaultKind::MotorPowerOn: powered_ = {true, true}; break;
+    case FaultKind::Noise: noise_sigma_cm_ = fault.value / 10.0; break;
+  }
+  sampleSonars();  // a fault shows in the very next status frame
+}
+
+double Simulator::targetRpm(Wheel wheel) const {
+  if (!powered_[index(wheel)] || deadman_tripped_) return 0.0;
+  const double p = std::clamp<double>(command_.parameter, -config_.max_rpm, config_.max_rpm);
+  const bool left = wheel == Wheel::Left;
+  switch (command_.type) {
+    case MotionType::Stop: return 0.0;
+    case MotionType::Forward: return p;
+    case MotionType::Backward: return -p;
+    case MotionType::TurnLeft: return left ? -p / 2 : p / 2;  // in place, counter-clockwise
+    case MotionType::TurnRight: return left ? p / 2 : -p / 2;
+  }
+  return 0.0;
+}
+
+void Simulator::checkDeadman() {
+  if (config_.deadman_ms <= 0 || deadman_tripped_) return;
+  if (time_s_ - last_command_s_ >= config_.deadman_ms / 1000.0) deadman_tripped_ = true;
+}
+
+void Simulator::step(double dt_s) {
+  if (!(dt_s > 0.0)) return;
+  time_s_ += dt_s;
+  checkDeadman();
+  const double decay = std::exp(-dt_s / config_.motor_time_constant_s);
+  std::array<double, 2> distance_m{};
+  for (Wheel wheel : {Wheel::Left, Wheel::Right}) {
+    const std::size_t w = index(wheel);
+    const double target = targetRpm(wheel);
+    // ∫ rpm dt over the step for rpm(t) = target + (rpm0 − target)·e^(−t/τ).
+    const double rev = (target * dt_s + (rpm_[w] - target) * config_.motor_time_constant_s * (1 - decay)) / 60.0;
+    rpm_[w] = target + (rpm_[w] - target) * decay;
+    encoder_counts_[w] += rev * config_.counts_per_revolution;
+    distance_m[w] = rev * 2 * std::numbers::pi * config_.wheel_radius_m;
+  }
+  const double d = (distance_m[0] + distance_m[1]) / 2;
+  const double dtheta = (distance_m[1] - distance_m[0]) / config_.track_width_m;
+  const double mid = pose_.heading_rad + dtheta / 2;
+  pose_.x_m += d * std::cos(mid);
+  pose_.y_m += d * std::sin(mid);
+  pose_.heading_rad = normaliseAngle(pose_.heading_rad + dtheta);
+  sampleSonars();
+}
+
+std::int32_t Simulator::encoder(Wheel wheel) const {
+  const auto counts = static_cast<std::int64_t>(std::floor(encoder_counts_[index(wheel)]));
+  return static_cast<std::int32_t>(static_cast<std::uint32_t>(counts));  // a 32-bit counter wraps
+}
+
+StatusReport Simulator::status() const {
+  return StatusReport{encoder(Wheel::Left), encoder(Wheel::Right), sonar_cm_};
+}
+
+double Simulator::rawRangeCm(std::size_t sonar) const {
+  const Mount& m = kMounts[sonar];
+  const double fwd = m.forward * config_.body_length_m / 2;
+  const double left = m.left * config_.track_width_m / 2;
+  const double c = std::cos(pose_.heading_rad), s = std::sin(pose_.heading_rad);
+  const double x = pose_.x_m + c * fwd - s * left;
+  const double y = pose_.y_m + s * fwd + c * left;
+  const double heading = normaliseAngle(pose_.heading_rad + m.bearing_rad);
+  return config_.ray_cast ? config_.ray_cast(x, y, heading) : kFreeSpaceCm;
+}
+
+void Simulator::sampleSonars() {
+  for (std::size_t i = 0; i < kSonarCount; ++i) {
+    switch (sensor_state_[i]) {
+      case SensorState::Unplugged: sonar_cm_[i] = 0; break;
+      case SensorState::Stuck: sonar_cm_[i] = stuck_cm_[i]; break;
+      case SensorState::Ok: {
+        double cm = rawRangeCm(i);
+        if (noise_sigma_cm_ > 0) cm += std::normal_distribution<double>(0.0, noise_sigma_cm_)(rng_);
+        if (!std::isfinite(cm)) cm = kMaxRangeCm;
+        sonar_cm_[i] = static_cast<std::uint16_t>(std::lround(std::clamp(cm, kMinRangeCm, kMaxRangeCm)));
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace keel::robot
