@@ -79,10 +79,17 @@ void FaultManager::start() {
   stop_.store(false, std::memory_order_release);
   thread_ = std::thread([this] { run(); });
   while (thread_id_.load() == std::thread::id{}) std::this_thread::yield();
+  std::lock_guard lock(queue_mutex_);
+  accepting_ = true;
 }
 
 void FaultManager::stop() {
   if (!thread_.joinable()) return;
+  {
+    // From now on reporters handle their reports themselves; what is queued is the thread's.
+    std::lock_guard lock(queue_mutex_);
+    accepting_ = false;
+  }
   stop_.store(true, std::memory_order_release);
   signal_.notify();
   thread_.join();
@@ -609,12 +616,13 @@ bool FaultManager::clearEmergency(std::string_view by) {
 }
 
 void FaultManager::enqueue(const Item& item, bool wake) {
-  if (thread_id_.load() == std::thread::id{} || onManagerThread()) {  // no thread: handle here
+  std::unique_lock lock(queue_mutex_);
+  if (!accepting_ || onManagerThread()) {  // no thread (not started, or stopping): handle here
+    lock.unlock();
     Item copy = item;
     process(copy);
     return;
   }
-  std::unique_lock lock(queue_mutex_);
   while (size_ == ring_.size()) {  // full: let the manager catch up (never drops a fault)
     lock.unlock();
     signal_.notify();

@@ -182,6 +182,7 @@ class FaultManager {
   std::mutex queue_mutex_;
   std::vector<Item> ring_;  // fixed capacity: enqueue never allocates
   std::size_t head_ = 0, size_ = 0;
+  bool accepting_ = false;  // the thread runs and takes reports (guarded by queue_mutex_)
   std::atomic<std::uint64_t> enqueued_{0}, processed_{0};
 
   std::atomic<bool> emergency_{false};
