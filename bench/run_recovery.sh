@@ -5,6 +5,7 @@
 #   bench/run_recovery.sh [N] [BUILD_DIR]     (N faults per mechanism and policy, default 1000)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+source bench/load80.sh
 n=${1:-1000}
 build=${2:-build}
 [ -f "$build/CMakeCache.txt" ] || cmake -S . -B "$build" -G Ninja >/dev/null
@@ -16,9 +17,5 @@ echo
 echo "## idle, /dev/cpu_dma_latency held at 0 (idle CPUs poll instead of halting)"
 "$bin" --n "$n" --load 0 --low-latency --json "$build/recovery_idle_lowlat.jsonl"
 echo
-echo "## under load: stress-ng --cpu 2 --cpu-load 80"
-stress-ng --cpu 2 --cpu-load 80 --timeout 3600 >/dev/null 2>&1 &
-stress=$!
-trap 'kill $stress 2>/dev/null || true' EXIT
-sleep 2
+start_load80
 "$bin" --n "$n" --load 80 --json "$build/recovery_load80.jsonl"

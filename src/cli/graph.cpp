@@ -50,18 +50,9 @@ std::string quote(const std::string& s) { return "\"" + escape(s) + "\""; }
 
 std::string list(const std::vector<std::string>& names) { return fmt::format("[{}]", fmt::join(names, ", ")); }
 
-const char* scopeName(profile::Scope s) {
-  switch (s) {
-    case profile::Scope::Component: return "component";
-    case profile::Scope::Executor: return "executor";
-    case profile::Scope::System: return "system";
-  }
-  return "?";
-}
-
 std::optional<profile::Scope> parseScope(const std::string& s) {
   for (auto scope : {profile::Scope::Component, profile::Scope::Executor, profile::Scope::System})
-    if (s == scopeName(scope)) return scope;
+    if (s == profile::toString(scope)) return scope;
   return std::nullopt;
 }
 
@@ -184,7 +175,7 @@ std::optional<std::string> blastRadius(const Options& o, const runtime::Plan& pl
     const auto s = o.scope.empty() ? graph->policyScope(c) : *parseScope(o.scope);
     auto members = graph->scopeOf(c, s);
     scope.insert(members.begin(), members.end());
-    where.push_back(fmt::format("{} (scope {})", c, scopeName(s)));
+    where.push_back(fmt::format("{} (scope {})", c, profile::toString(s)));
     marks.failed.insert(c);
   }
   const fault::Impact impact = graph->impactOf(scope);

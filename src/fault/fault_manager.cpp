@@ -297,17 +297,12 @@ void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
   if (r.event.kind == FaultKind::Heartbeat && core.callback_since_ns.load(std::memory_order_acquire) != 0) {
     core.interrupt.store(true, std::memory_order_release);
     ex->interrupt();
-    Item item;
-    item.type = Item::Type::CheckInterrupted;
-    item.report = r;
-    enqueue(item, true);
+    enqueue(Item::Type::CheckInterrupted, r, true);
   }
 }
 
 void FaultManager::handOverManager(FaultReport& r) {
-  Item item;
-  item.report = r;
-  enqueue(item, true);
+  enqueue(Item::Type::Report, r, true);
 }
 
 void FaultManager::runPending(Component& c) {
@@ -334,10 +329,8 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
   if ((where & kManager) && onManagerThread()) {
     logReport(r);
   } else {
-    Item item;
-    item.report = r;
     // A recovery wakes the manager with its `recovered` record; nothing else is on the path.
-    enqueue(item, !awaits_recovery);
+    enqueue(Item::Type::Report, r, !awaits_recovery);
   }
   // A passive component has no next step of its own: it is back as soon as it is Active.
   if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr) recovered(*recovering, steadyNowNs());
@@ -425,13 +418,12 @@ void FaultManager::markRecovering(FaultReport& r, Component& c) {
 void FaultManager::recovered(Component& c, std::int64_t t_ns) {
   const std::uint64_t id = coreOf(c).recovering_id.exchange(0, std::memory_order_acq_rel);
   if (id == 0) return;
-  Item item;
-  item.type = Item::Type::Recovered;
-  item.report.id = id;
-  item.report.accused = &c;
-  item.report.event.t_ns = t_ns;
-  FaultEvent::copyInto(item.report.event.component, c.instanceName());
-  enqueue(item, true);
+  FaultReport r;  // only the id, the component and the time are read
+  r.id = id;
+  r.accused = &c;
+  r.event.t_ns = t_ns;
+  FaultEvent::copyInto(r.event.component, c.instanceName());
+  enqueue(Item::Type::Recovered, r, true);
 }
 
 // ---- the manager's thread: fault stop, emergency stop, the log --------------------------
@@ -439,7 +431,7 @@ void FaultManager::recovered(Component& c, std::int64_t t_ns) {
 void FaultManager::stopScope(FaultReport& r, ComponentHandling& h) {
   logReport(r);
   const std::string name(r.event.componentName());
-  const profile::Scope scope = h.rules.has_policy ? h.rules.scope : profile::Scope::Component;
+  const profile::Scope scope = h.rules.scope;  // `component` without a policy
   std::set<std::string> targets = graph_ ? graph_->scopeOf(name, scope) : std::set<std::string>{};
   targets.insert(name);
   std::vector<std::string> components, applications;
@@ -615,12 +607,12 @@ bool FaultManager::clearEmergency(std::string_view by) {
   return true;
 }
 
-void FaultManager::enqueue(const Item& item, bool wake) {
+void FaultManager::enqueue(Item::Type type, const FaultReport& report, bool wake) {
   std::unique_lock lock(queue_mutex_);
   if (!accepting_ || onManagerThread()) {  // no thread (not started, or stopping): handle here
     lock.unlock();
-    Item copy = item;
-    process(copy);
+    Item item{type, report};
+    process(item);
     return;
   }
   while (size_ == ring_.size()) {  // full: let the manager catch up (never drops a fault)
@@ -629,7 +621,9 @@ void FaultManager::enqueue(const Item& item, bool wake) {
     std::this_thread::yield();
     lock.lock();
   }
-  ring_[(head_ + size_) % ring_.size()] = item;
+  Item& slot = ring_[(head_ + size_) % ring_.size()];  // one copy, straight into its slot
+  slot.type = type;
+  slot.report = report;
   ++size_;
   enqueued_.fetch_add(1, std::memory_order_release);
   lock.unlock();
@@ -672,7 +666,7 @@ void FaultManager::run() {
 
 void FaultManager::process(Item& item) {
   if (item.type == Item::Type::Recovered) {
-    logRecovered(item.report, item.report.event.t_ns);
+    logRecovered(item.report);
     return;
   }
   if (item.type == Item::Type::CheckInterrupted) {
@@ -710,7 +704,7 @@ void FaultManager::logReport(FaultReport& r) {
                 {"component", who},
                 {"severity", toString(r.severity)},
                 {"rules", has_policy ? "fault_policy" : "none (contained, not recovered)"},
-                {"scope", toString(has_policy ? h->rules.scope : profile::Scope::Component)},
+                {"scope", toString(h ? h->rules.scope : profile::Scope::Component)},
                 {"handling", toString(r.first)},
                 {"t_ns", log_.sinceStart(r.event.t_ns)}});
     detections_.push_back({r.id, who, r.event.kind, r.event.t_ns, r.injected_ns});
@@ -723,8 +717,7 @@ void FaultManager::logReport(FaultReport& r) {
                           r.injected_ns, 0});
   }
   auto hd = std::find_if(handlings_.rbegin(), handlings_.rend(), [&](const Handling& x) { return x.fault_id == r.id; });
-  for (std::size_t i = 0; i < r.n_actions; ++i) {
-    if (i < r.logged_actions) continue;
+  for (std::size_t i = r.logged_actions; i < r.n_actions; ++i) {  // what is new since last time
     const Action& a = r.actions[i];
     nlohmann::json rec = {{"event", "action"},         {"fault_id", r.id},
                           {"component", who},          {"action", toString(a.kind)},
@@ -752,7 +745,8 @@ void FaultManager::logReport(FaultReport& r) {
   r.logged_actions = r.n_actions;
 }
 
-void FaultManager::logRecovered(const FaultReport& r, std::int64_t t_ns) {
+void FaultManager::logRecovered(const FaultReport& r) {
+  const std::int64_t t_ns = r.event.t_ns;
   std::lock_guard lock(mutex_);
   auto hd = std::find_if(handlings_.rbegin(), handlings_.rend(), [&](const Handling& x) { return x.fault_id == r.id; });
   nlohmann::json rec = {{"event", "recovered"}, {"fault_id", r.id}, {"component", std::string(r.event.componentName())},

@@ -162,11 +162,13 @@ class FaultManager {
     enum class Type : std::uint8_t { Report, Recovered, CheckInterrupted } type = Type::Report;
     FaultReport report;
   };
-  void enqueue(const Item& item, bool wake);
+  /// Hands `report` to the manager's thread (written straight into the queue: one copy), or
+  /// handles it here when the thread does not run.
+  void enqueue(Item::Type type, const FaultReport& report, bool wake);
   void run();
   void process(Item& item);
   void logReport(FaultReport& r);
-  void logRecovered(const FaultReport& r, std::int64_t t_ns);
+  void logRecovered(const FaultReport& r);  // r: id, component, event.t_ns = the recovery
   bool onManagerThread() const { return std::this_thread::get_id() == thread_id_.load(); }
 
   FaultLog& log_;

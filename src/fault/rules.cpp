@@ -18,25 +18,6 @@ std::string_view toString(Step s) {
   return "?";
 }
 
-std::string_view toString(profile::Severity s) {
-  switch (s) {
-    case profile::Severity::Ignore: return "ignore";
-    case profile::Severity::Reset: return "reset";
-    case profile::Severity::Stop: return "stop";
-    case profile::Severity::Emergency: return "emergency";
-  }
-  return "?";
-}
-
-std::string_view toString(profile::Scope s) {
-  switch (s) {
-    case profile::Scope::Component: return "component";
-    case profile::Scope::Executor: return "executor";
-    case profile::Scope::System: return "system";
-  }
-  return "?";
-}
-
 profile::Severity Rules::severityOf(FaultKind kind) const {
   if (!has_policy) return stopsTheComponent(kind) ? profile::Severity::Stop : profile::Severity::Ignore;
   return severity[static_cast<std::size_t>(kind)];

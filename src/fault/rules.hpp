@@ -21,8 +21,7 @@ inline constexpr std::size_t kFaultKinds = static_cast<std::size_t>(FaultKind::R
 /// The steps of handling, in escalation order (SPEC §3: reset → replace → stop → emergency).
 enum class Step : std::uint8_t { Ignore, Reset, Replace, Stop, Emergency, Done };
 std::string_view toString(Step s);
-std::string_view toString(profile::Severity s);
-std::string_view toString(profile::Scope s);
+using profile::toString;  // Severity, Scope
 
 /// Kinds after which a component cannot simply go on (its callback did not finish).
 constexpr bool stopsTheComponent(FaultKind k) {

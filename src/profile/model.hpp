@@ -9,6 +9,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -33,6 +34,25 @@ enum class PortType { Data, Event, Service };     // port_connection@port_type
 enum class Severity { Ignore, Reset, Stop, Emergency };
 /// Containment scope of a fault (paper §5.2 <dependency>).
 enum class Scope { Component, Executor, System };
+
+/// The profile's spelling of a severity and a scope (the log and the CLI use it too).
+constexpr std::string_view toString(Severity s) {
+  switch (s) {
+    case Severity::Ignore: return "ignore";
+    case Severity::Reset: return "reset";
+    case Severity::Stop: return "stop";
+    case Severity::Emergency: return "emergency";
+  }
+  return "?";
+}
+constexpr std::string_view toString(Scope s) {
+  switch (s) {
+    case Scope::Component: return "component";
+    case Scope::Executor: return "executor";
+    case Scope::System: return "system";
+  }
+  return "?";
+}
 
 /// A property value, typed by the profile's `type` attribute.
 /// Types: bool, int (int64), double, string, and vector<double> ("double[]").

@@ -21,6 +21,10 @@
 #include "keel/fault_event.hpp"
 #include "keel/return_code.hpp"
 
+namespace keel {
+class Component;
+}
+
 namespace keel::runtime {
 
 struct GuardOutcome {
@@ -45,6 +49,7 @@ struct GuardFrame {
   const void* volatile addr = nullptr;
   volatile std::int64_t t_ns = 0;
   const std::atomic<bool>* interrupt = nullptr;  // set: interruptSignal() ends this call
+  Component* owner = nullptr;                     // whose callback this is (runningComponent)
   GuardFrame* prev = nullptr;
 };
 GuardFrame*& currentFrame() noexcept;  // this thread's innermost frame
@@ -66,13 +71,15 @@ int interruptSignal();
 /// thread outside such a call ignores the signal. Async: returns at once.
 void interruptThread(pthread_t thread);
 
-/// Runs `f` (returning ReturnCode) under the guard. While `*interrupt` is set, the call can be
-/// ended from another thread with interruptThread().
+/// Runs `f` (returning ReturnCode) under the guard, as a callback of `owner` (may be null).
+/// While `*interrupt` is set, the call can be ended from another thread with interruptThread().
 template <class F>
-[[gnu::noinline]] GuardOutcome guarded(F&& f, const std::atomic<bool>* interrupt = nullptr) noexcept {
+[[gnu::noinline]] GuardOutcome guarded(F&& f, Component* owner = nullptr,
+                                       const std::atomic<bool>* interrupt = nullptr) noexcept {
   GuardOutcome out;
   guard_detail::GuardFrame frame;
   frame.interrupt = interrupt;
+  frame.owner = owner;
   guard_detail::GuardFrame*& top = guard_detail::currentFrame();
   frame.prev = top;
   top = &frame;

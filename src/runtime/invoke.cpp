@@ -46,24 +46,13 @@ ReturnCode call(Component& c, Callback cb) {
   return ReturnCode::Unsupported;
 }
 
-thread_local Component* t_running = nullptr;
-
-/// Marks `c` as the component whose callback runs on this thread (restored on scope exit).
-struct Running {
-  explicit Running(Component& c) : prev(t_running) { t_running = &c; }
-  ~Running() { t_running = prev; }
-  Running(const Running&) = delete;
-  Running& operator=(const Running&) = delete;
-  Component* prev;
-};
-
 bool isLifecycle(Callback cb) {
   return cb == Callback::Initialize || cb == Callback::Start || cb == Callback::Stop || cb == Callback::Destroy;
 }
 
-/// After a guarded call of `c`: an interrupt ends the hung call whose fault is already being
-/// handled (no new fault); a fault noticed inside the call is handled now that it returned.
-bool afterCall(Component& c, const GuardOutcome& out, Callback cb) {
+}  // namespace
+
+bool finishCall(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   if (out.kind == GuardOutcome::Kind::Signal && out.signo == interruptSignal()) [[unlikely]] {
     core.interrupt.store(false, std::memory_order_release);
@@ -78,9 +67,10 @@ bool afterCall(Component& c, const GuardOutcome& out, Callback cb) {
   return out.ok() && !pending;
 }
 
-}  // namespace
-
-Component* runningComponent() { return t_running; }
+Component* runningComponent() {
+  const guard_detail::GuardFrame* frame = guard_detail::currentFrame();
+  return frame ? frame->owner : nullptr;  // the innermost guarded call's, as calls nest
+}
 
 void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
@@ -118,30 +108,25 @@ bool invoke(Component& c, Callback cb) {
     core.callback_since_ns.store(t, std::memory_order_relaxed);
     if (cb == Callback::Execute) core.last_beat_ns.store(t, std::memory_order_relaxed);
   }
-  GuardOutcome out;
-  {
-    Running running(c);
-    out = guarded(
-        [&c, &core, cb] {
-          if (cb == Callback::Execute) {
-            // acquire (free on x86): pairs with arm()'s release, so inject_id is the armed one.
-            if (auto k = core.inject_kind.load(std::memory_order_acquire)) [[unlikely]] {
-              core.inject_kind.store(0, std::memory_order_relaxed);
-              return fire(c, static_cast<InjectKind>(k));
-            }
+  GuardOutcome out = guarded(
+      [&c, &core, cb] {
+        if (cb == Callback::Execute) {
+          // acquire (free on x86): pairs with arm()'s release, so inject_id is the armed one.
+          if (auto k = core.inject_kind.load(std::memory_order_acquire)) [[unlikely]] {
+            core.inject_kind.store(0, std::memory_order_relaxed);
+            return fire(c, static_cast<InjectKind>(k));
           }
-          return call(c, cb);
-        },
-        &core.interrupt);
-  }
+        }
+        return call(c, cb);
+      },
+      &c, &core.interrupt);
   if (watched) core.callback_since_ns.store(0, std::memory_order_relaxed);
   if (out.ok() && !core.pending.load(std::memory_order_relaxed)) [[likely]] return true;
-  return afterCall(c, out, cb);
+  return finishCall(c, out, cb);
 }
 
 GuardOutcome invokeRecovery(Component& c, Callback cb) {
-  Running running(c);
-  return guarded([&c, cb] { return call(c, cb); });
+  return guarded([&c, cb] { return call(c, cb); }, &c);
 }
 
 bool transition(Component& c, Transition t) {
@@ -169,12 +154,8 @@ void dispatchEvents(Component& c) {
       continue;
     auto& port = static_cast<InputEventPortBase&>(*p);
     while (c.state() == State::Active && port.takeNext()) {
-      GuardOutcome out;
-      {
-        Running running(c);
-        out = guarded([&c, &port] { return c.onEvent(port); }, &core.interrupt);
-      }
-      if (!out.ok() || core.pending.load(std::memory_order_relaxed)) afterCall(c, out, Callback::Event);
+      GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); }, &c, &core.interrupt);
+      if (!out.ok() || core.pending.load(std::memory_order_relaxed)) finishCall(c, out, Callback::Event);
     }
   }
 }

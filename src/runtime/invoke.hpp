@@ -1,6 +1,7 @@
 // Running one component's callbacks: each under the guard (runtime/guard.hpp), a failure
-// turned into a FaultEvent, the component moved to Error and the fault reported to the
-// runtime hooks. Lifecycle transitions check the OPRoS table (keel/lifecycle.hpp) first.
+// turned into a FaultEvent and reported to the runtime hooks, whose fault manager handles it by
+// the component's rules (a failed lifecycle callback leaves it in Error). Lifecycle
+// transitions check the OPRoS table (keel/lifecycle.hpp) first.
 // Called by executors (on their thread) and by the engine for passive components and for
 // initialize/destroy, which happen while no executor runs the component.
 // Thread-safety: the caller guarantees that no other callback of `c` runs at the same time.
@@ -20,8 +21,8 @@ enum class Callback : std::uint8_t {
 
 const char* callbackName(Callback cb);
 
-/// Runs `cb` on `c` under the guard. On failure the fault is recorded and reported, and `c`
-/// goes to Error. Returns true on success.
+/// Runs `cb` on `c` under the guard. On failure the fault is recorded and reported (and may
+/// already be recovered from when this returns). Returns true on success.
 bool invoke(Component& c, Callback cb);
 
 /// Performs a lifecycle transition: checks the table, runs the callback, sets the state.
@@ -49,7 +50,14 @@ GuardOutcome invokeRecovery(Component& c, Callback cb);
 /// The component whose callback is running on this thread, or null between callbacks.
 Component* runningComponent();
 
-/// Records a failed guarded call of `cb`: counts it, moves `c` to Error, reports it.
+/// After a guarded call of `c`'s `cb` (made with `c` as owner and its interrupt flag): an
+/// interrupt ends a hung call whose fault is already being handled (no new fault); a failure
+/// is recorded; a fault noticed inside the call is handled now that it returned. True when the
+/// call succeeded and nothing was pending.
+bool finishCall(Component& c, const GuardOutcome& out, Callback cb);
+
+/// Records a failed guarded call of `cb` and reports it; a failed lifecycle callback (not
+/// Destroy) moves `c` to Error here, other failures are the fault manager's to handle.
 void recordFault(Component& c, const GuardOutcome& out, Callback cb);
 
 /// Reports a fault detected outside a callback (port validity, watchdog, ...).

@@ -26,12 +26,14 @@ std::string runCall(Component& provider, const std::string& port, detail::Servic
   if (provider.state() != State::Active)
     return fmt::format("service '{}' of '{}': provider is {}, not Active", port,
                        provider.instanceName(), toString(provider.state()));
-  GuardOutcome out = guarded([&call] {
-    call.run();
-    return ReturnCode::Ok;
-  });
-  if (out.ok()) return {};
-  recordFault(provider, out, Callback::Service);
+  GuardOutcome out = guarded(
+      [&call] {
+        call.run();
+        return ReturnCode::Ok;
+      },
+      &provider, &coreOf(provider).interrupt);
+  finishCall(provider, out, Callback::Service);  // a fault it raised meanwhile is handled now
+  if (out.ok()) return {};                       // ... but the call itself returned its result
   FaultEvent ev;
   out.describe(ev, "service call");
   return fmt::format("service '{}' of '{}' faulted: {}", port, provider.instanceName(),

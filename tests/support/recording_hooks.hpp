@@ -10,6 +10,7 @@
 #include <thread>
 #include <vector>
 
+#include "fault/rules.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
 
@@ -36,11 +37,9 @@ class RecordingHooks : public runtime::RuntimeHooks {
       if (f.component[0] == '\0') FaultEvent::copyInto(f.component, c.instanceName());
       faults_.push_back(f);
     }
-    const bool cannot_go_on = fault.kind == FaultKind::Signal || fault.kind == FaultKind::Exception ||
-                              fault.kind == FaultKind::ErrorCode || fault.kind == FaultKind::Heartbeat;
-    if (cannot_go_on && fault.componentName().empty() == false && fault.componentName() != c.instanceName())
-      return;  // about another component: not ours to contain here
-    if (cannot_go_on && allowed(c.state(), Transition::Fault)) runtime::setState(c, State::Error);
+    const bool about_c = fault.componentName().empty() || fault.componentName() == c.instanceName();
+    if (about_c && fault::stopsTheComponent(fault.kind) && allowed(c.state(), Transition::Fault))
+      runtime::setState(c, State::Error);
   }
   void runPending(Component&) override {}
   void recovered(Component&, std::int64_t) override {}
