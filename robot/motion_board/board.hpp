@@ -20,6 +20,8 @@ class Board {
   /// Decodes whatever arrived: motion commands go to the simulator (restarting the deadman),
   /// fault commands are applied, status frames (never sent by a main board) are ignored.
   void onBytes(std::span<const std::uint8_t> bytes);
+  /// A hardware fault applied directly (the simulator's own options, e.g. noise from start).
+  void applyFault(const FaultCommand& fault) { simulator_.applyFault(fault); }
   /// Advances the simulation by dt_s and returns the encoded status frame of this step.
   [[nodiscard]] std::vector<std::uint8_t> step(double dt_s);
 

@@ -1,13 +1,16 @@
-// keel_motion_board: the simulated motion board as a separate program behind a pseudo-terminal.
-// Prints the slave path (one line on stdout), then every --period-ms reads main-board bytes
-// (motion and fault commands), steps the simulation and writes one status frame, until
-// SIGINT/SIGTERM. Touches only its own pty; status frames nobody reads are dropped.
+// keel_motion_board: the simulated robot's motion board as a separate program behind a
+// pseudo-terminal, driving the body in a world (--world, default the paper arena) and
+// publishing the ground truth (--truth PATH) for the camera and the referee. Prints the slave
+// path (one line on stdout), then serves the board in real time (robot/sim/board_server.hpp)
+// until SIGINT/SIGTERM. Touches only its pty and the truth file.
 #include <fcntl.h>
 #include <poll.h>
 #include <termios.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <memory>
 #include <array>
 #include <cerrno>
 #include <chrono>
@@ -18,17 +21,20 @@
 #include <limits>
 #include <string>
 
-#include "robot/motion_board/board.hpp"
+#include "robot/sim/board_server.hpp"
 
 namespace {
 
-volatile std::sig_atomic_t g_stop = 0;
-void onSignal(int) { g_stop = 1; }
+std::atomic<bool> g_stop{false};
+void onSignal(int) { g_stop.store(true); }
 
 struct Options {
-  keel::robot::SimulatorConfig sim;
+  keel::robot::SimHostConfig host;
   int period_ms = 20;
 };
+
+constexpr const char* kUsage =
+    "use --seed N, --deadman-ms N, --period-ms N, --world NAME, --truth PATH, --noise CM";
 
 bool parseInt(const char* text, long long min, long long& out) {
   char* end = nullptr;
@@ -37,24 +43,46 @@ bool parseInt(const char* text, long long min, long long& out) {
   return errno == 0 && end != text && *end == '\0' && out >= min;
 }
 
+bool parseNumberOption(const std::string& flag, const char* text, Options& options) {
+  if (flag == "--noise") {
+    char* end = nullptr;
+    const double cm = std::strtod(text, &end);
+    if (end == text || *end != '\0' || !(cm >= 0 && cm <= 1000)) {
+      std::fprintf(stderr, "keel_motion_board: --noise needs a sigma in cm in [0, 1000]\n");
+      return false;
+    }
+    options.host.sonar_noise_cm = cm;
+    return true;
+  }
+  long long value = 0;
+  const long long min = flag == "--period-ms" ? 1 : 0;
+  const long long max = flag == "--seed" ? std::numeric_limits<long long>::max() : 3'600'000;
+  if (!parseInt(text, min, value) || value > max) {
+    std::fprintf(stderr, "keel_motion_board: %s needs an integer in [%lld, %lld]\n", flag.c_str(), min, max);
+    return false;
+  }
+  if (flag == "--seed") options.host.seed = static_cast<std::uint64_t>(value);
+  else if (flag == "--deadman-ms") options.host.deadman_ms = static_cast<int>(value);
+  else options.period_ms = static_cast<int>(value);
+  return true;
+}
+
 bool parseOptions(int argc, char** argv, Options& options) {
   for (int i = 1; i < argc; i += 2) {
     const std::string flag = argv[i];
-    if (flag != "--seed" && flag != "--deadman-ms" && flag != "--period-ms") {
-      std::fprintf(stderr, "keel_motion_board: unknown option %s "
-                           "(use --seed N, --deadman-ms N, --period-ms N)\n", flag.c_str());
+    const bool known = flag == "--seed" || flag == "--deadman-ms" || flag == "--period-ms" ||
+                       flag == "--world" || flag == "--truth" || flag == "--noise";
+    if (!known) {
+      std::fprintf(stderr, "keel_motion_board: unknown option %s (%s)\n", flag.c_str(), kUsage);
       return false;
     }
-    long long value = 0;
-    const long long min = flag == "--period-ms" ? 1 : 0;
-    const long long max = flag == "--seed" ? std::numeric_limits<long long>::max() : 3'600'000;
-    if (i + 1 >= argc || !parseInt(argv[i + 1], min, value) || value > max) {
-      std::fprintf(stderr, "keel_motion_board: %s needs an integer in [%lld, %lld]\n", flag.c_str(), min, max);
+    if (i + 1 >= argc) {
+      std::fprintf(stderr, "keel_motion_board: %s needs a value (%s)\n", flag.c_str(), kUsage);
       return false;
     }
-    if (flag == "--seed") options.sim.seed = static_cast<std::uint64_t>(value);
-    else if (flag == "--deadman-ms") options.sim.deadman_ms = static_cast<int>(value);
-    else options.period_ms = static_cast<int>(value);
+    if (flag == "--world") options.host.world = argv[i + 1];
+    else if (flag == "--truth") options.host.truth_path = argv[i + 1];
+    else if (!parseNumberOption(flag, argv[i + 1], options)) return false;
   }
   return true;
 }
@@ -90,6 +118,13 @@ int main(int argc, char** argv) {
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
 
+  std::unique_ptr<keel::robot::SimHost> host;
+  try {
+    host = std::make_unique<keel::robot::SimHost>(options.host);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "keel_motion_board: %s\n", e.what());
+    return 2;
+  }
   std::string slave_path;
   int slave_fd = -1;
   const int master = openPty(slave_path, slave_fd);
@@ -97,24 +132,7 @@ int main(int argc, char** argv) {
   std::printf("%s\n", slave_path.c_str());
   std::fflush(stdout);
 
-  keel::robot::Board board(options.sim);
-  const auto period = std::chrono::milliseconds(options.period_ms);
-  auto next = std::chrono::steady_clock::now() + period;
-  std::array<std::uint8_t, 256> buffer{};
-  while (!g_stop) {
-    const auto wait = std::chrono::duration_cast<std::chrono::milliseconds>(next - std::chrono::steady_clock::now());
-    pollfd pfd{master, POLLIN, 0};
-    if (poll(&pfd, 1, static_cast<int>(std::max<long long>(wait.count(), 0))) > 0 && (pfd.revents & POLLIN)) {
-      const ssize_t n = read(master, buffer.data(), buffer.size());
-      if (n > 0) board.onBytes(std::span(buffer.data(), static_cast<std::size_t>(n)));
-    }
-    const auto now = std::chrono::steady_clock::now();
-    if (now < next) continue;
-    const auto frame = board.step(options.period_ms / 1000.0);
-    if (write(master, frame.data(), frame.size()) < 0) { /* nobody reading: drop the frame */ }
-    next += period;
-    if (now - next > 10 * period) next = now + period;  // fell far behind (stopped?): resync
-  }
+  keel::robot::serveBoard(master, *host, options.period_ms, g_stop);
   close(slave_fd);
   close(master);
   return 0;

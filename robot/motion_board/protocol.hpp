@@ -36,8 +36,10 @@ struct MotionCommand {
   bool operator==(const MotionCommand&) const = default;
 };
 
-/// Sonar order in a status frame and in fault indices.
-enum class SonarId : std::uint8_t { Front = 0, Left = 1, Right = 2, Back = 3 };
+/// Sonar order in a status frame and in fault indices: a triple-redundant forward rangefinder
+/// (three sonars side by side on the front bumper, for the voting experiment) and one looking
+/// back (docs/motion_board_protocol.md).
+enum class SonarId : std::uint8_t { FrontA = 0, FrontB = 1, FrontC = 2, Back = 3 };
 inline constexpr std::size_t kSonarCount = 4;
 
 struct StatusReport {

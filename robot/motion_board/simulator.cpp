@@ -10,7 +10,9 @@
 namespace keel::robot {
 namespace {
 
-/// Body-frame mount of each sonar (SonarId order): offset forward, offset left, bearing.
+/// Body-frame mount of each sonar (SonarId order): offset forward, offset left, bearing. The
+/// three front sonars sit side by side at the middle of the bumper (a few cm apart: at this
+/// scale one point), looking ahead; the fourth looks back.
 struct Mount {
   double forward;  // fraction of half length
   double left;     // fraction of half width
@@ -18,8 +20,8 @@ struct Mount {
 };
 constexpr std::array<Mount, kSonarCount> kMounts{{
     {1.0, 0.0, 0.0},
-    {0.0, 1.0, std::numbers::pi / 2},
-    {0.0, -1.0, -std::numbers::pi / 2},
+    {1.0, 0.0, 0.0},
+    {1.0, 0.0, 0.0},
     {-1.0, 0.0, std::numbers::pi},
 }};
 
@@ -65,18 +67,21 @@ void Simulator::applyFault(const FaultCommand& fault) {
   sampleSonars();  // a fault shows in the very next status frame
 }
 
+std::array<double, 2> wheelTargets(const MotionCommand& command, double max_rpm) {
+  const double p = std::clamp<double>(command.parameter, -max_rpm, max_rpm);
+  switch (command.type) {
+    case MotionType::Stop: return {0.0, 0.0};
+    case MotionType::Forward: return {p, p};
+    case MotionType::Backward: return {-p, -p};
+    case MotionType::TurnLeft: return {-p / 2, p / 2};  // in place, counter-clockwise
+    case MotionType::TurnRight: return {p / 2, -p / 2};
+  }
+  return {0.0, 0.0};
+}
+
 double Simulator::targetRpm(Wheel wheel) const {
   if (!powered_[index(wheel)] || deadman_tripped_) return 0.0;
-  const double p = std::clamp<double>(command_.parameter, -config_.max_rpm, config_.max_rpm);
-  const bool left = wheel == Wheel::Left;
-  switch (command_.type) {
-    case MotionType::Stop: return 0.0;
-    case MotionType::Forward: return p;
-    case MotionType::Backward: return -p;
-    case MotionType::TurnLeft: return left ? -p / 2 : p / 2;  // in place, counter-clockwise
-    case MotionType::TurnRight: return left ? p / 2 : -p / 2;
-  }
-  return 0.0;
+  return wheelTargets(command_, config_.max_rpm)[index(wheel)];
 }
 
 void Simulator::checkDeadman() {
@@ -125,7 +130,16 @@ double Simulator::rawRangeCm(std::size_t sonar) const {
   const double x = pose_.x_m + c * fwd - s * left;
   const double y = pose_.y_m + s * fwd + c * left;
   const double heading = normaliseAngle(pose_.heading_rad + m.bearing_rad);
-  return config_.ray_cast ? config_.ray_cast(x, y, heading) : kFreeSpaceCm;
+  if (!config_.ray_cast) return kFreeSpaceCm;
+  // A sonar answers with its nearest echo within its beam: the minimum over rays spread evenly
+  // across the cone (one ray when the cone is 0).
+  const int rays = config_.sonar_half_angle_rad > 0 ? std::max(config_.sonar_beam_rays, 2) : 1;
+  double nearest = kFreeSpaceCm;
+  for (int k = 0; k < rays; ++k) {
+    const double offset = rays == 1 ? 0.0 : config_.sonar_half_angle_rad * (2.0 * k / (rays - 1) - 1.0);
+    nearest = std::min(nearest, config_.ray_cast(x, y, normaliseAngle(heading + offset)));
+  }
+  return nearest;
 }
 
 void Simulator::sampleSonars() {

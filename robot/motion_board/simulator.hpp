@@ -31,6 +31,11 @@ enum class Wheel : std::uint8_t { Left = 0, Right = 1 };
 /// Distance in cm from a sensor at (x_m, y_m) looking along heading_rad to the first obstacle.
 using RayCast = std::function<double(double x_m, double y_m, double heading_rad)>;
 
+/// The wheel targets (left, right rpm) a motion command asks for, clamped to ±max_rpm, as the
+/// motion board applies them (docs/motion_board_protocol.md); the main board's reference model
+/// uses the same mapping.
+std::array<double, 2> wheelTargets(const MotionCommand& command, double max_rpm);
+
 struct SimulatorConfig {
   std::uint64_t seed = 1;
   int deadman_ms = 300;                  // 0 disables the deadman
@@ -40,6 +45,8 @@ struct SimulatorConfig {
   double body_length_m = 0.210;          // front/back sonars sit at ± half of it
   int counts_per_revolution = 360;
   double max_rpm = 300.0;                // commands are clamped to ± this
+  double sonar_half_angle_rad = 0.26;   // ±15° beam; 0 = a single ray
+  int sonar_beam_rays = 7;               // rays spread across the beam (at least 2 when > 0)
   Pose start{};
   RayCast ray_cast;                      // empty: free space, every ray reads kFreeSpaceCm
 };

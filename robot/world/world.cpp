@@ -118,9 +118,9 @@ World World::paperArena() {
       {-kWall, 3.0, 4.0 + kWall, 3.0 + kWall},  // north
       {-kWall, 0.0, 0.0, 3.0},  // west
       {4.0, 0.0, 4.0 + kWall, 3.0},  // east
-      {1.3, 1.55, 1.6, 2.1},  // A: clips the straight drive's left side, target still visible
-      {2.2, 0.5, 2.5, 1.2},   // B: below the line of sight
-      {2.8, 2.0, 3.0, 2.6},   // C: above and behind B, near the target
+      {1.4, 1.55, 1.7, 2.1},  // A: clips the straight drive's left side, target still visible
+      {2.4, 0.3, 2.7, 0.8},   // B: well below the line of sight
+      {2.6, 2.3, 2.9, 2.8},   // C: well above it, near the target
   };
   return World(std::move(boxes), Target{3.5, 1.5, 0.12, Rgb{220, 30, 30}}, Pose{0.4, 1.5, 0.0});
 }

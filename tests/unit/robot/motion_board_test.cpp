@@ -14,12 +14,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <numbers>
 #include <random>
 #include <string>
 #include <vector>
 
 #include "robot/motion_board/board.hpp"
+#include "robot/sim/truth.hpp"
+#include "robot/world/world.hpp"
 
 extern char** environ;
 
@@ -270,25 +273,42 @@ TEST(MotionBoardSimulator, SonarsReadTheRayCastClampedToTheValidRange) {
   config.ray_cast = [&](double, double, double) { return range; };
   Simulator sim(config);
   sim.step(kDt);
-  EXPECT_EQ(sim.sonarCm(SonarId::Front), 120);
+  EXPECT_EQ(sim.sonarCm(SonarId::FrontA), 120);
   range = 1.0;
   sim.step(kDt);
-  EXPECT_EQ(sim.sonarCm(SonarId::Left), 3);
+  EXPECT_EQ(sim.sonarCm(SonarId::FrontB), 3);
   range = 1e9;
   sim.step(kDt);
   EXPECT_EQ(sim.sonarCm(SonarId::Back), 3000);
-  EXPECT_EQ(Simulator{}.sonarCm(SonarId::Right), 3000);  // default: free space
+  EXPECT_EQ(Simulator{}.sonarCm(SonarId::FrontC), 3000);  // default: free space
 }
 
-TEST(MotionBoardSimulator, EachSonarLooksOutFromItsOwnSideOfTheBody) {
-  SimulatorConfig config;  // a wall at x = 1 m: only the front sonar sees it, from the nose
+TEST(MotionBoardSimulator, TheThreeFrontSonarsLookAheadFromTheNoseAndTheFourthBack) {
+  SimulatorConfig config;  // a wall at x = 1 m straight ahead only
   config.ray_cast = [](double x, double, double heading) {
     return std::abs(heading) < 1e-9 ? (1.0 - x) * 100 : kFreeSpaceCm;
   };
   Simulator sim(config);
-  EXPECT_EQ(sim.sonarCm(SonarId::Front), std::lround((1.0 - 0.105) * 100));
+  for (SonarId front : {SonarId::FrontA, SonarId::FrontB, SonarId::FrontC})
+    EXPECT_EQ(sim.sonarCm(front), std::lround((1.0 - 0.105) * 100));
   EXPECT_EQ(sim.sonarCm(SonarId::Back), 3000);
-  EXPECT_EQ(sim.sonarCm(SonarId::Left), 3000);
+}
+
+TEST(MotionBoardSimulator, ASonarAnswersWithTheNearestEchoWithinItsBeam) {
+  auto echoAt = [](double bearing_lo, double bearing_hi) {
+    SimulatorConfig config;  // something 50 cm away, seen only between two bearings
+    config.ray_cast = [=](double, double, double heading) {
+      return heading >= bearing_lo && heading <= bearing_hi ? 50.0 : kFreeSpaceCm;
+    };
+    return Simulator(config).sonarCm(SonarId::FrontB);
+  };
+  EXPECT_EQ(echoAt(0.15, 0.20), 50);    // inside the ±15° beam, off its axis
+  EXPECT_EQ(echoAt(-0.20, -0.15), 50);  // the other side
+  EXPECT_EQ(echoAt(0.30, 0.40), 3000);  // outside the beam
+  SimulatorConfig narrow;
+  narrow.sonar_half_angle_rad = 0.0;  // a single ray
+  narrow.ray_cast = [](double, double, double heading) { return heading > 0.1 ? 50.0 : kFreeSpaceCm; };
+  EXPECT_EQ(Simulator(narrow).sonarCm(SonarId::FrontB), 3000);
 }
 
 TEST(MotionBoardSimulator, UnpluggedSonarReadsZeroAndStuckSonarReadsItsValue) {
@@ -315,7 +335,7 @@ std::vector<std::uint16_t> noisyFrontReadings(std::uint64_t seed) {
   std::vector<std::uint16_t> readings;
   for (int i = 0; i < 200; ++i) {
     sim.step(kDt);
-    readings.push_back(sim.sonarCm(SonarId::Front));
+    readings.push_back(sim.sonarCm(SonarId::FrontA));
   }
   return readings;
 }
@@ -361,16 +381,21 @@ TEST(MotionBoardBoard, CommandBytesInStatusFramesOut) {
 /// keel_motion_board as a child process; stopped with SIGTERM on destruction.
 class BoardProcess {
  public:
-  BoardProcess() {
+  explicit BoardProcess(const std::string& truth = "") {
     int out[2];
     if (pipe(out) != 0) return;
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
     posix_spawn_file_actions_addclose(&actions, out[0]);
-    char* argv[] = {const_cast<char*>(KEEL_MOTION_BOARD), const_cast<char*>("--seed"), const_cast<char*>("3"),
-                    nullptr};
-    if (posix_spawn(&pid_, KEEL_MOTION_BOARD, &actions, nullptr, argv, environ) != 0) pid_ = -1;
+    std::vector<char*> argv = {const_cast<char*>(KEEL_MOTION_BOARD), const_cast<char*>("--seed"),
+                               const_cast<char*>("3")};
+    if (!truth.empty()) {
+      argv.push_back(const_cast<char*>("--truth"));
+      argv.push_back(const_cast<char*>(truth.c_str()));
+    }
+    argv.push_back(nullptr);
+    if (posix_spawn(&pid_, KEEL_MOTION_BOARD, &actions, nullptr, argv.data(), environ) != 0) pid_ = -1;
     posix_spawn_file_actions_destroy(&actions);
     close(out[1]);
     stdout_ = out[0];
@@ -411,8 +436,9 @@ class BoardProcess {
   int stdout_ = -1;
 };
 
-TEST(MotionBoardProcess, ServesTheProtocolOnAPseudoTerminal) {
-  BoardProcess process;
+TEST(MotionBoardProcess, ServesTheProtocolOnAPseudoTerminalAndPublishesTheTruth) {
+  const std::string truth_path = truthPath("board-test", getpid());
+  BoardProcess process(truth_path);
   ASSERT_GT(process.pid(), 0);
   const std::string path = process.readLine(std::chrono::seconds(2));
   ASSERT_EQ(path.rfind("/dev/pts/", 0), 0u) << path;
@@ -441,9 +467,19 @@ TEST(MotionBoardProcess, ServesTheProtocolOnAPseudoTerminal) {
   ASSERT_GE(reports.size(), 2u);
   EXPECT_GT(reports.back().left_encoder, reports.front().left_encoder);
   EXPECT_GT(reports.back().right_encoder, reports.front().right_encoder);
-  EXPECT_EQ(reports.back().sonar_cm[0], 3000);
+  // The paper arena: the front sonars see obstacle A ahead, the back one the west wall.
+  const World arena = World::paperArena();
+  EXPECT_LT(reports.back().sonar_cm[0], 100.0 * (3.5 - 0.12 - 0.505));
+  EXPECT_NEAR(reports.back().sonar_cm[3], 100.0 * (arena.start().x_m - 0.105), 15.0);
   EXPECT_EQ(decoder.stats().bad_checksum, 0u);
+  TruthReader truth(truth_path);
+  const auto sample = truth.read();
+  ASSERT_TRUE(sample.has_value());
+  EXPECT_GT(sample->x_m, arena.start().x_m);  // it drove forward
+  EXPECT_EQ(sample->collisions, 0.0);
+  EXPECT_GT(sample->rpm_left, 0.0);
   EXPECT_EQ(process.terminate(), 0);  // SIGTERM is a clean exit
+  EXPECT_FALSE(std::filesystem::exists(truth_path));  // the board removes its truth file
 }
 
 }  // namespace

@@ -189,10 +189,12 @@ TEST(World, SonarRayCastFeedsTheSimulatorInCentimetres) {
   config.ray_cast = sonarRayCast(arena);
   Simulator sim(config);
   sim.step(0.001);
-  EXPECT_NEAR(sim.sonarCm(SonarId::Front), 100.0 * (3.5 - 0.12 - 0.505), 1.0);  // the target
-  EXPECT_NEAR(sim.sonarCm(SonarId::Back), 100.0 * (0.4 - 0.105), 1.0);           // west wall
-  EXPECT_NEAR(sim.sonarCm(SonarId::Left), 100.0 * (3.0 - 1.57), 1.0);            // north wall
-  EXPECT_NEAR(sim.sonarCm(SonarId::Right), 100.0 * (1.43 - 0.0), 1.0);           // south wall
+  // Ahead, the beam's rays (7 over ±15°, 5° apart) meet obstacle A's near face before the
+  // target; the ray 5° left of the axis is the nearest echo.
+  const double a_cm = 100.0 * arena.rayCast(0.505, 1.5, 0.26 / 3, 30.0);
+  EXPECT_NEAR(sim.sonarCm(SonarId::FrontB), a_cm, 1.0);
+  EXPECT_LT(a_cm, 100.0 * (3.5 - 0.12 - 0.505));                       // nearer than the target
+  EXPECT_NEAR(sim.sonarCm(SonarId::Back), 100.0 * (0.4 - 0.105), 1.0);  // west wall
 }
 
 // ---- camera ----
