@@ -1,0 +1,441 @@
+#!/usr/bin/env python3
+"""Plots a run of the simulated test robot: its trajectory with the faults, and the paper's Fig. 6.
+
+Inputs (from `keel run robot/navigation.xml --log run.jsonl` with the referee's `trace` property
+set to trace.csv):
+  trace.csv             one row per referee execution (50 ms): simulated time, true pose, true,
+                        measured and reference wheel rpm, clearance, collisions so far
+  trace.csv.world.json  the world: boxes, target, start (override with --world)
+  run.jsonl             keel's fault log: `injected`, `detected`, `action`, ..., `mission`
+
+Outputs in --out DIR (created):
+  trajectory.svg  the world, the path, the body at start and end, each detected fault at the
+                  robot's position when it was detected (one marker per kind) and each injected
+                  fault (x); the mission's outcome in the title
+  fig6.svg        left (and, lighter, right) wheel rpm, measured and reference, raw and filtered
+                  (trailing moving average over --window rows), the threshold (--threshold x the
+                  filtered reference), the injections and the `model` detections with their delay
+Prints one line per file written.
+
+Clocks: the trace's t_s is simulated time since the board started; the log's t_ns is time since
+the keel engine started. Without --offset-s the two are assumed to start together: the earliest
+log record is mapped to the trace's first row (offset = first t_s - earliest t_ns / 1e9). That is
+an approximation, off by up to one board period (20 ms) plus the engine's start-up (tens of ms);
+it only places the faults on the trajectory and on the time axis. Delays between an injection and
+its detection are computed on the log's clock alone and are exact.
+
+Bad input (a missing file, an empty trace, a malformed line) is reported on stderr with exit
+code 2.
+"""
+
+import argparse
+import csv
+import json
+import math
+import os
+import sys
+
+TRACE_COLUMNS = ("t_s", "x_m", "y_m", "heading_rad", "rpm_left", "rpm_right", "measured_left",
+                 "measured_right", "reference_left", "reference_right", "clearance_m", "collisions")
+BODY_LENGTH_M = 0.210  # robot/world/world.hpp: kBodyLengthM, along the heading
+BODY_WIDTH_M = 0.140   # kBodyWidthM
+SYSTEM_PYTHON = "/usr/bin/python3"  # where Debian's python3-matplotlib (scripts/deps.sh) lives
+REEXEC_GUARD = "KEEL_PLOT_RUN_REEXEC"
+
+# One marker per detected kind (fault.hpp's kinds); others cycle through MORE_MARKERS.
+KIND_MARKERS = {"model": "D", "signal": "o", "range": "s", "vote": "^", "heartbeat": "v",
+                "exception": "P", "user": "*", "deadline": "<", "communication": ">"}
+MORE_MARKERS = ["h", "p", "8", "d", "H", "X"]
+
+
+class InputError(Exception):
+    """Bad input: reported without a traceback, exit code 2."""
+
+
+# ---- reading ---------------------------------------------------------------------------------
+
+def read_trace(path):
+    """Returns the trace as a dict of column name -> list of floats (rows in time order)."""
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            lines = f.read().splitlines()
+    except OSError as e:
+        raise InputError(f"cannot read the trace {path}: {e.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file") from None
+    if not lines or not lines[0].strip():
+        raise InputError(f"{path}: empty trace (no header)")
+    header = [h.strip() for h in next(csv.reader([lines[0]]))]
+    missing = [c for c in TRACE_COLUMNS if c not in header]
+    if missing:
+        raise InputError(f"{path}:1: header lacks column(s) {', '.join(missing)}")
+    index = {c: header.index(c) for c in TRACE_COLUMNS}
+    columns = {c: [] for c in TRACE_COLUMNS}
+    numbered = [(n, line) for n, line in enumerate(lines[1:], start=2) if line.strip()]
+    for i, (n, line) in enumerate(numbered):
+        fields = next(csv.reader([line]))
+        try:
+            if len(fields) != len(header):
+                raise ValueError(f"{len(fields)} fields, the header has {len(header)}")
+            values = {c: float(fields[index[c]]) for c in TRACE_COLUMNS}
+            for c in ("t_s", "x_m", "y_m", "heading_rad"):
+                if not math.isfinite(values[c]):
+                    raise ValueError(f"{c} is {fields[index[c]]}")
+        except ValueError as e:
+            if i == len(numbered) - 1 and i > 0:  # a run killed mid-write leaves a partial last row
+                print(f"plot_run: {path}:{n}: ignoring the incomplete last row ({e})", file=sys.stderr)
+                break
+            raise InputError(f"{path}:{n}: malformed row: {e}") from None
+        for c in TRACE_COLUMNS:
+            columns[c].append(values[c])
+    if not columns["t_s"]:
+        raise InputError(f"{path}: empty trace (a header and no rows)")
+    if any(b < a for a, b in zip(columns["t_s"], columns["t_s"][1:])):
+        raise InputError(f"{path}: t_s goes backwards")
+    return columns
+
+
+def read_world(path):
+    """Returns the world dict, or None (with a warning) when there is none."""
+    if not os.path.exists(path):
+        print(f"plot_run: no world file {path}: plotting the path without the world", file=sys.stderr)
+        return None
+    try:
+        with open(path, encoding="utf-8") as f:
+            world = json.load(f)
+    except OSError as e:
+        raise InputError(f"cannot read the world {path}: {e.strerror}") from None
+    except (json.JSONDecodeError, UnicodeDecodeError) as e:
+        raise InputError(f"{path}: malformed JSON: {e}") from None
+    try:
+        boxes = [tuple(float(v) for v in b) for b in world.get("boxes", [])]
+        if any(len(b) != 4 for b in boxes):
+            raise ValueError("a box is not [min_x, min_y, max_x, max_y]")
+        target = world.get("target")
+        target = None if target is None else {k: float(target[k]) for k in ("x", "y", "r")}
+        start = world.get("start")
+        start = None if start is None else {k: float(start[k]) for k in ("x", "y", "heading")}
+    except (AttributeError, KeyError, TypeError, ValueError) as e:
+        raise InputError(f"{path}: not a world ({{boxes, target, start}}): {e}") from None
+    return {"boxes": boxes, "target": target, "start": start}
+
+
+def read_log(path):
+    """Returns (records in file order, each with its line number as '_line')."""
+    records = []
+    try:
+        with open(path, encoding="utf-8") as f:
+            for n, line in enumerate(f, start=1):
+                if not line.strip():
+                    continue
+                try:
+                    rec = json.loads(line)
+                except json.JSONDecodeError as e:
+                    raise InputError(f"{path}:{n}: malformed JSON line: {e.msg} (column {e.colno})") from None
+                if not isinstance(rec, dict):
+                    raise InputError(f"{path}:{n}: malformed line: not a JSON object")
+                t = rec.get("t_ns")
+                if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float))):
+                    raise InputError(f"{path}:{n}: t_ns is not a number")
+                if rec.get("event") in ("injected", "detected") and t is None:
+                    raise InputError(f"{path}:{n}: '{rec['event']}' record without t_ns")
+                rec["_line"] = n
+                records.append(rec)
+    except OSError as e:
+        raise InputError(f"cannot read the log {path}: {e.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file") from None
+    return records
+
+
+# ---- the run, on the trace's clock -----------------------------------------------------------
+
+def text(v):
+    return "" if v is None else str(v)
+
+
+def build_run(records, trace, offset_s):
+    """Injections, detections (times in the trace's seconds) and the mission record."""
+    timed = [r["t_ns"] for r in records if r.get("t_ns") is not None]
+    if offset_s is None:
+        offset_s = trace["t_s"][0] - (min(timed) / 1e9 if timed else 0.0)
+    armed = {r.get("fault_id"): r for r in records if r.get("event") == "armed"}
+    injections, detections, seen, mission = [], [], set(), None
+    for r in records:
+        ev = r.get("event")
+        if ev == "injected":
+            key = (r.get("fault_id"), r["t_ns"])
+            if key in seen:
+                continue
+            seen.add(key)
+            arm = armed.get(r.get("fault_id"), {}) if r.get("fault_id") is not None else {}
+            injections.append({
+                "t_ns": r["t_ns"], "t": r["t_ns"] / 1e9 + offset_s, "fault_id": r.get("fault_id"),
+                # keel's own injections name their kind in the `armed` record of the same fault_id
+                "kind": text(r.get("kind") or arm.get("kind") or "fault"),
+                "component": text(r.get("component") or arm.get("component") or "?"),
+                "detail": text(r.get("detail")), "hardware": bool(r.get("hardware"))})
+        elif ev == "detected":
+            detections.append({
+                "t_ns": r["t_ns"], "t": r["t_ns"] / 1e9 + offset_s, "fault_id": r.get("fault_id"),
+                "kind": text(r.get("kind") or "fault"), "component": text(r.get("component") or "?"),
+                "detector": text(r.get("detector")), "detail": text(r.get("detail"))})
+        elif ev == "mission":
+            mission = r.get("fields") if isinstance(r.get("fields"), dict) else r
+    injections.sort(key=lambda i: i["t_ns"])
+    detections.sort(key=lambda d: d["t_ns"])
+    for d in detections:  # the injection it answers: the same fault_id, else the latest before it
+        same = [i for i in injections if d["fault_id"] is not None and i["fault_id"] == d["fault_id"]]
+        before = [i for i in injections if i["t_ns"] <= d["t_ns"]]
+        cause = same[0] if same else (before[-1] if before else None)
+        d["delay_ms"] = None if cause is None else (d["t_ns"] - cause["t_ns"]) / 1e6
+    return {"offset_s": offset_s, "injections": injections, "detections": detections, "mission": mission}
+
+
+def mission_outcome(mission):
+    if mission is None:
+        return "no mission record in the log"
+    try:
+        goal = mission.get("goal_reached")
+        parts = ["goal reached" if goal else "goal not reached"]
+        if mission.get("ended"):
+            parts[0] += f" (ended: {mission['ended']})"
+        if mission.get("collisions") is not None:
+            n = int(mission["collisions"])
+            parts.append(f"{n} collision{'' if n == 1 else 's'}")
+        if mission.get("min_clearance_cm") is not None:
+            c = float(mission["min_clearance_cm"])
+            parts.append(f"min clearance {c:.1f} cm" if c >= 0 else "min clearance n/a")
+        if mission.get("duration_s") is not None:
+            parts.append(f"{float(mission['duration_s']):.1f} s")
+    except (TypeError, ValueError) as e:
+        raise InputError(f"log line {mission.get('_line', '?')}: malformed mission record: {e}") from None
+    return ", ".join(parts)
+
+
+def interp(ts, vs, t):
+    """Linear interpolation of vs over ts at t, clamped to the ends."""
+    if t <= ts[0]:
+        return vs[0]
+    if t >= ts[-1]:
+        return vs[-1]
+    lo, hi = 0, len(ts) - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if ts[mid] <= t:
+            lo = mid
+        else:
+            hi = mid
+    span = ts[hi] - ts[lo]
+    a = 0.0 if span <= 0 else (t - ts[lo]) / span
+    return vs[lo] + a * (vs[hi] - vs[lo])
+
+
+def moving_average(values, window):
+    """Trailing mean of the last `window` values (of those so far at the start), as the monitor's."""
+    out, acc = [], 0.0
+    for i, v in enumerate(values):
+        acc += v
+        if i >= window:
+            acc -= values[i - window]
+        out.append(acc / min(i + 1, window))
+    return out
+
+
+# ---- plotting --------------------------------------------------------------------------------
+
+def find_matplotlib():
+    """Whether matplotlib imports; if not, reruns the script under the system interpreter if that may
+    have it. scripts/deps.sh installs Debian's python3-matplotlib, which only /usr/bin/python3 sees;
+    a python3 earlier on PATH (pyenv, a venv) does not. Called before reading any input, so that
+    nothing is reported twice."""
+    try:
+        import matplotlib  # noqa: F401
+        return True
+    except ImportError:
+        pass
+    if (os.environ.get(REEXEC_GUARD) is None and os.access(SYSTEM_PYTHON, os.X_OK)
+            and os.path.realpath(sys.executable) != os.path.realpath(SYSTEM_PYTHON)):
+        os.environ[REEXEC_GUARD] = "1"
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os.execv(SYSTEM_PYTHON, [SYSTEM_PYTHON, os.path.abspath(__file__)] + sys.argv[1:])
+    return False
+
+
+def import_matplotlib():
+    import matplotlib
+    matplotlib.use("Agg")
+    matplotlib.rcParams["svg.fonttype"] = "none"  # text stays text: searchable, and smaller
+    matplotlib.rcParams["svg.hashsalt"] = "keel"  # reproducible ids
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def marker_for(kind, assigned):
+    if kind in KIND_MARKERS:
+        return KIND_MARKERS[kind]
+    if kind not in assigned:
+        assigned[kind] = MORE_MARKERS[len(assigned) % len(MORE_MARKERS)]
+    return assigned[kind]
+
+
+def body_outline(x, y, heading):
+    c, s = math.cos(heading), math.sin(heading)
+    hl, hw = BODY_LENGTH_M / 2, BODY_WIDTH_M / 2
+    corners = [(hl, hw), (-hl, hw), (-hl, -hw), (hl, -hw), (hl, hw)]
+    return ([x + c * a - s * b for a, b in corners], [y + s * a + c * b for a, b in corners])
+
+
+def plot_trajectory(plt, trace, world, run, path):
+    from matplotlib.patches import Circle, Rectangle
+    fig, ax = plt.subplots(figsize=(9, 8))
+    xs, ys, ts = trace["x_m"], trace["y_m"], trace["t_s"]
+    if world:
+        for (x0, y0, x1, y1) in world["boxes"]:
+            ax.add_patch(Rectangle((x0, y0), x1 - x0, y1 - y0, facecolor="0.6", edgecolor="0.35", lw=0.6, zorder=1))
+        if world["target"]:
+            tg = world["target"]
+            ax.add_patch(Circle((tg["x"], tg["y"]), tg["r"], facecolor="red", edgecolor="darkred", alpha=0.8, zorder=2))
+            ax.plot([], [], "o", color="red", label="target")
+        if world["start"]:
+            st = world["start"]
+            ax.plot(st["x"], st["y"], marker="^", color="green", ms=9, ls="none", zorder=5, label="start")
+            ax.annotate("", xy=(st["x"] + 0.3 * math.cos(st["heading"]), st["y"] + 0.3 * math.sin(st["heading"])),
+                        xytext=(st["x"], st["y"]), arrowprops={"arrowstyle": "->", "color": "green"}, zorder=5)
+    ax.plot(xs, ys, "-", color="tab:blue", lw=1.5, zorder=3, label="path")
+    bx, by = body_outline(xs[0], ys[0], trace["heading_rad"][0])
+    ax.plot(bx, by, "-", color="green", lw=1.2, zorder=4, label="body at start")
+    bx, by = body_outline(xs[-1], ys[-1], trace["heading_rad"][-1])
+    ax.plot(bx, by, "-", color="black", lw=1.2, zorder=4, label="body at end")
+
+    assigned, legend_kinds, labelled = {}, set(), []
+
+    def label_once(text_, x, y, color, k):
+        # the same label within 0.3 m of where it was already written: marker only
+        if any(t == text_ and math.hypot(x - lx, y - ly) < 0.3 for t, lx, ly in labelled):
+            return
+        labelled.append((text_, x, y))
+        dx, dy = [(8, 8), (8, -12), (-8, 8), (-8, -12)][k % 4]
+        ax.annotate(text_, (x, y), xytext=(dx, dy), textcoords="offset points", fontsize=7, color=color,
+                    ha="left" if dx > 0 else "right", zorder=7)
+
+    for k, d in enumerate(run["detections"]):
+        x, y = interp(ts, xs, d["t"]), interp(ts, ys, d["t"])
+        legend = f"detected: {d['kind']}" if d["kind"] not in legend_kinds else None
+        legend_kinds.add(d["kind"])
+        ax.plot(x, y, marker=marker_for(d["kind"], assigned), color="darkorange", mec="black", mew=0.6,
+                ms=7, ls="none", zorder=6, label=legend)
+        label_once(f"{d['kind']}@{d['component']}", x, y, "black", k)
+    first = True
+    for k, i in enumerate(run["injections"]):
+        x, y = interp(ts, xs, i["t"]), interp(ts, ys, i["t"])
+        ax.plot(x, y, marker="x", color="crimson", mew=2, ms=9, ls="none", zorder=6,
+                label="injected" if first else None)
+        first = False
+        label_once(f"{i['kind']}@{i['component']}" + (" (hw)" if i["hardware"] else ""), x, y, "crimson", k + 1)
+
+    ax.set_aspect("equal")
+    ax.set_xlabel("x (m)")
+    ax.set_ylabel("y (m)")
+    ax.grid(True, lw=0.3, alpha=0.5)
+    ax.set_title("Mission: " + mission_outcome(run["mission"]), fontsize=10)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    fig.savefig(path, format="svg", bbox_inches="tight", metadata={"Date": None})
+    plt.close(fig)
+
+
+def plot_fig6(plt, trace, run, window, threshold, path):
+    fig, ax = plt.subplots(figsize=(11, 6))
+    t_ms = [t * 1000.0 for t in trace["t_s"]]
+    ml, rl = trace["measured_left"], trace["reference_left"]
+    fml, frl = moving_average(ml, window), moving_average(rl, window)
+    ax.plot(t_ms, trace["measured_right"], "-", color="tab:blue", lw=0.8, alpha=0.25, label="measured right")
+    ax.plot(t_ms, trace["reference_right"], "-", color="tab:orange", lw=0.8, alpha=0.25, label="reference right")
+    ax.plot(t_ms, ml, ".-", color="tab:blue", lw=0.6, ms=2.5, alpha=0.55, label="measured left")
+    ax.plot(t_ms, rl, ".-", color="tab:orange", lw=0.6, ms=2.5, alpha=0.55, label="reference left")
+    ax.plot(t_ms, fml, "-", color="tab:blue", lw=2.0, label=f"measured left, filtered ({window} samples)")
+    ax.plot(t_ms, frl, "-", color="tab:orange", lw=2.0, label=f"reference left, filtered ({window} samples)")
+    ax.plot(t_ms, [threshold * r for r in frl], ":", color="tab:red", lw=1.6,
+            label=f"threshold ({threshold:g} x filtered reference)")
+
+    trans = ax.get_xaxis_transform()  # x in data, y in axes fraction
+    first = True
+    for i in run["injections"]:
+        x = i["t"] * 1000.0
+        ax.axvline(x, color="crimson", ls="--", lw=1.2, label="injected" if first else None)
+        first = False
+        detail = i["detail"] if len(i["detail"]) <= 40 else i["detail"][:39] + "…"
+        ax.text(x, 0.98, f" {i['kind']}" + (f": {detail}" if detail else ""), transform=trans, rotation=90,
+                va="top", ha="right", fontsize=8, color="crimson")
+    first = True
+    for d in (d for d in run["detections"] if d["kind"] == "model"):
+        x = d["t"] * 1000.0
+        ax.axvline(x, color="black", ls="-", lw=1.2, label="detected (model)" if first else None)
+        first = False
+        label = (f" {d['kind']}@{d['component']}: " +
+                 ("no injection before" if d["delay_ms"] is None else f"{d['delay_ms']:.0f} ms after injection"))
+        ax.text(x, 0.02, label, transform=trans, rotation=90, va="bottom", ha="left", fontsize=8, color="black")
+
+    ax.set_xlabel("simulated time (ms)")
+    ax.set_ylabel("wheel speed (rpm)")
+    ax.grid(True, lw=0.3, alpha=0.5)
+    ax.set_title(f"Fig. 6: wheel rpm and the process-model detection (window {window}, threshold {threshold:g})",
+                 fontsize=10)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    fig.savefig(path, format="svg", bbox_inches="tight", metadata={"Date": None})
+    plt.close(fig)
+
+
+# ---- main ------------------------------------------------------------------------------------
+
+def main(argv=None):
+    p = argparse.ArgumentParser(description="Plots a run of keel's simulated test robot (trajectory.svg, fig6.svg).")
+    p.add_argument("--trace", required=True, help="the referee's CSV trace (trace.csv)")
+    p.add_argument("--log", required=True, help="keel's fault log (run.jsonl)")
+    p.add_argument("--out", required=True, help="directory for the SVGs (created)")
+    p.add_argument("--world", help="the world JSON (default: TRACE.world.json)")
+    p.add_argument("--window", type=int, default=9, help="moving-average window, in trace rows (default 9)")
+    p.add_argument("--threshold", type=float, default=0.5, help="threshold as a fraction of the filtered reference (default 0.5)")
+    p.add_argument("--offset-s", type=float, default=None,
+                   help="trace time = t_ns / 1e9 + OFFSET (default: the earliest log record at the trace's first row)")
+    args = p.parse_args(argv)  # usage errors exit 2 too
+    have_matplotlib = find_matplotlib()
+    try:
+        if args.window < 1:
+            raise InputError("--window must be at least 1")
+        if not math.isfinite(args.threshold) or (args.offset_s is not None and not math.isfinite(args.offset_s)):
+            raise InputError("--threshold and --offset-s must be finite numbers")
+        trace = read_trace(args.trace)
+        world = read_world(args.world or args.trace + ".world.json")
+        records = read_log(args.log)
+        run = build_run(records, trace, args.offset_s)
+        mission_outcome(run["mission"])  # a malformed mission record is an input error, before plotting
+        try:
+            os.makedirs(args.out, exist_ok=True)
+        except OSError as e:
+            raise InputError(f"cannot create the output directory {args.out}: {e.strerror}") from None
+    except InputError as e:
+        print(f"plot_run: {e}", file=sys.stderr)
+        return 2
+    if not have_matplotlib:  # after the input's errors, which need no matplotlib
+        print(f"plot_run: matplotlib is not installed for {sys.executable} "
+              "(scripts/deps.sh installs python3-matplotlib for /usr/bin/python3)", file=sys.stderr)
+        return 1
+    plt = import_matplotlib()
+    written = []
+    for name, draw in (("trajectory.svg", lambda f: plot_trajectory(plt, trace, world, run, f)),
+                       ("fig6.svg", lambda f: plot_fig6(plt, trace, run, args.window, args.threshold, f))):
+        out = os.path.join(args.out, name)
+        try:
+            draw(out)
+        except OSError as e:
+            print(f"plot_run: cannot write {out}: {e.strerror}", file=sys.stderr)
+            return 2
+        written.append(out)
+        print(out)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,120 @@
+#!/usr/bin/env python3
+"""Tests robot/plot_run.py on a small synthetic run: a robot driving straight along +x whose left
+wheel loses power at t = 1.0 s (injected motor_power_off) and is detected by the process model at
+t = 1.2 s. Runs the script as a subprocess, as a user would.
+Run: python3 tests/robot/plot_run_test.py (or python3 -m unittest from tests/robot)."""
+
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+import xml.etree.ElementTree as ET
+
+SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "robot", "plot_run.py")
+HEADER = ("t_s,x_m,y_m,heading_rad,rpm_left,rpm_right,measured_left,measured_right,"
+          "reference_left,reference_right,clearance_m,collisions")
+
+
+def have_matplotlib():
+    """The script reruns itself under /usr/bin/python3 when this interpreter lacks matplotlib."""
+    for py in (sys.executable, "/usr/bin/python3"):
+        if os.access(py, os.X_OK) and subprocess.run([py, "-c", "import matplotlib"],
+                                                     capture_output=True).returncode == 0:
+            return True
+    return False
+
+
+def svg_texts(path):
+    """Every <text> element's full text (matplotlib writes text as text with svg.fonttype none)."""
+    root = ET.parse(path).getroot()  # raises on invalid XML
+    return ["".join(e.itertext()) for e in root.iter() if e.tag.endswith("}text") or e.tag == "text"]
+
+
+class PlotRunTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory()
+        self.dir = self.tmp.name
+        self.trace = os.path.join(self.dir, "trace.csv")
+        self.log = os.path.join(self.dir, "run.jsonl")
+        self.out = os.path.join(self.dir, "plots")
+        rows = [HEADER]
+        for k in range(41):  # 0 .. 2 s, one row per 50 ms; the trace starts at t = 0.05 s
+            t = 0.05 + 0.05 * k
+            ref = 60.0
+            left = ref if t < 1.0 else ref * math.exp(-(t - 1.0) / 0.15)  # coasts down after 1 s
+            rows.append(f"{t:.3f},{0.5 + 0.2 * t:.4f},1.0000,0.0000,{left:.2f},{ref:.2f},{left:.2f},{ref:.2f},"
+                        f"{ref:.2f},{ref:.2f},0.8000,0")
+        with open(self.trace, "w") as f:
+            f.write("\n".join(rows) + "\n")
+        with open(self.trace + ".world.json", "w") as f:
+            json.dump({"boxes": [[0, 0, 3, 0.1], [0, 1.9, 3, 2], [0, 0, 0.1, 2], [2.9, 0, 3, 2], [1.5, 1.4, 1.7, 1.6]],
+                       "target": {"x": 2.5, "y": 1.0, "r": 0.15},
+                       "start": {"x": 0.5, "y": 1.0, "heading": 0.0}}, f)
+        # the engine starts 50 ms before the trace's first row on its own clock: t_ns 0 <-> t_s 0.05
+        log = [
+            {"event": "engine", "phase": "load", "t_ns": 0},
+            {"event": "injected", "kind": "motor_power_off", "component": "actuator", "detail": "left",
+             "fault_id": 1, "hardware": True, "t_ns": 950_000_000},
+            {"event": "detected", "kind": "model", "component": "actuator", "detector": "monitor_left",
+             "detail": "rpm 21.3 below 0.5 x reference 60.0", "fault_id": 2, "t_ns": 1_150_000_000},
+            {"event": "action", "action": "emergency_stop", "component": "actuator", "fault_id": 2,
+             "t_ns": 1_150_100_000},
+            {"event": "mission", "goal_reached": False, "collisions": 0, "min_clearance_cm": 42.5,
+             "duration_s": 1.96, "ended": "stopped", "t_ns": 1_990_000_000},
+        ]
+        with open(self.log, "w") as f:
+            f.write("".join(json.dumps(r) + "\n" for r in log))
+
+    def tearDown(self):
+        self.tmp.cleanup()
+
+    def run_script(self, *args):
+        return subprocess.run([sys.executable, SCRIPT, *args], capture_output=True, text=True, timeout=120)
+
+    def test_plots_a_run(self):
+        if not have_matplotlib():
+            self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
+        r = self.run_script("--trace", self.trace, "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        trajectory, fig6 = os.path.join(self.out, "trajectory.svg"), os.path.join(self.out, "fig6.svg")
+        self.assertEqual(r.stdout.split(), [trajectory, fig6])
+        texts = svg_texts(trajectory)
+        self.assertIn("model@actuator", texts)                   # the detection, labelled
+        self.assertIn("motor_power_off@actuator (hw)", texts)    # the injected hardware fault
+        title = [t for t in texts if t.startswith("Mission: ")]
+        self.assertEqual(title, ["Mission: goal not reached (ended: stopped), 0 collisions, "
+                                 "min clearance 42.5 cm, 2.0 s"])
+        texts = svg_texts(fig6)
+        self.assertTrue(any("200 ms after injection" in t for t in texts), texts)
+        self.assertTrue(any("motor_power_off: left" in t for t in texts), texts)
+
+    def test_missing_trace(self):
+        r = self.run_script("--trace", os.path.join(self.dir, "nope.csv"), "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("cannot read the trace", r.stderr)
+        self.assertIn("nope.csv", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+        self.assertFalse(os.path.exists(self.out))
+
+    def test_empty_trace(self):
+        with open(self.trace, "w") as f:
+            f.write(HEADER + "\n")
+        r = self.run_script("--trace", self.trace, "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("empty trace", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+    def test_malformed_log_line(self):
+        with open(self.log, "a") as f:
+            f.write('{"event": "detected", "t_ns": \n')  # line 6
+        r = self.run_script("--trace", self.trace, "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 2)
+        self.assertIn("run.jsonl:6: malformed JSON line", r.stderr)
+        self.assertNotIn("Traceback", r.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
