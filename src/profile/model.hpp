@@ -237,6 +237,8 @@ struct SystemProfile {
   std::string name;
   std::string description;
   std::vector<Application> applications;
+  /// Connections between applications: endpoints name "application.subcomponent".
+  std::vector<Connection> connections;
   Where where;
 };
 

@@ -3,6 +3,7 @@
 //     <depends_on>obstacle</depends_on>
 //     <requires min_healthy="2"><component>sonar1</component>...</requires>
 //   </application>
+//   <port_connections> as in a package, endpoints named "application.subcomponent"
 // Cross-application checks (names, cycles, required components) are in validate_system.cpp.
 #include <fmt/format.h>
 
@@ -84,6 +85,7 @@ void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out) {
                          [&](pugi::xml_node a) { readApplication(ctx, a, out.applications); },
                          true}});
         }},
+       {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
        {"id", {}},
        {"version", {}},
        {"copyright", {}}});

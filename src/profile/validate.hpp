@@ -30,8 +30,8 @@ void checkExports(const ProfileSet& set, const CompositeProfile& composite, Diag
 void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs,
                        Diagnostics& diags);
 
-// validate_system.cpp.
-void checkSystem(const ProfileSet& set, const SystemProfile& system, Diagnostics& diags);
+// validate_system.cpp (connections between applications typed in place, as a package's).
+void checkSystem(const ProfileSet& set, SystemProfile& system, Diagnostics& diags);
 
 // Helpers shared by the checks.
 

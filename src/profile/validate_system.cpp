@@ -1,6 +1,8 @@
 // Checks of a system profile (paper §5.2, Fig. 7): unique application names, depends_on
-// naming applications, no circular dependency (printed), and <requires> naming components of
-// the application's package. A package that failed to load is not checked again here.
+// naming applications, no circular dependency (printed), <requires> naming components of
+// the application's package, and the connections between applications (checked as a
+// package's, over the subcomponents of every application named "application.subcomponent").
+// A package that failed to load is not checked again here.
 #include <algorithm>
 
 #include <fmt/format.h>
@@ -65,9 +67,49 @@ void checkRequires(const ProfileSet& set, const Application& app, Diagnostics& d
   }
 }
 
+/// Every application's subcomponents, named "application.subcomponent"; `unloaded` gets the
+/// applications whose package failed to load.
+std::vector<Subcomponent> qualifiedSubcomponents(const ProfileSet& set, const SystemProfile& system,
+                                                 std::vector<std::string>& unloaded) {
+  std::vector<Subcomponent> out;
+  for (const Application& app : system.applications) {
+    const auto pkg = set.packages.find(app.reference);
+    if (pkg == set.packages.end()) {
+      unloaded.push_back(app.name + ".");
+      continue;
+    }
+    for (Subcomponent sub : pkg->second.subcomponents) {
+      sub.name = app.name + "." + sub.name;
+      out.push_back(std::move(sub));
+    }
+  }
+  return out;
+}
+
+bool inUnloaded(const Endpoint& e, const std::vector<std::string>& unloaded) {
+  return std::any_of(unloaded.begin(), unloaded.end(),
+                     [&](const std::string& prefix) { return e.component.rfind(prefix, 0) == 0; });
+}
+
+/// The system's <port_connections>, exactly as a package's; a connection to an application
+/// whose package failed to load is not checked (that failure is reported already).
+void checkSystemConnections(const ProfileSet& set, SystemProfile& system, Diagnostics& diags) {
+  std::vector<std::string> unloaded;
+  const std::vector<Subcomponent> subs = qualifiedSubcomponents(set, system, unloaded);
+  std::vector<Connection*> checked;
+  std::vector<Connection> copies;
+  for (Connection& c : system.connections) {
+    if (inUnloaded(c.source, unloaded) || inUnloaded(c.target, unloaded)) continue;
+    checked.push_back(&c);
+    copies.push_back(c);
+  }
+  checkConnections(set, subs, copies, diags);
+  for (std::size_t i = 0; i < copies.size(); ++i) checked[i]->port_type = copies[i].port_type;
+}
+
 }  // namespace
 
-void checkSystem(const ProfileSet& set, const SystemProfile& system, Diagnostics& diags) {
+void checkSystem(const ProfileSet& set, SystemProfile& system, Diagnostics& diags) {
   Graph graph;
   const auto& apps = system.applications;
   for (std::size_t i = 0; i < apps.size(); ++i) {
@@ -82,6 +124,7 @@ void checkSystem(const ProfileSet& set, const SystemProfile& system, Diagnostics
     checkRequires(set, apps[i], diags);
   }
   reportCycles(graph, diags);
+  checkSystemConnections(set, system, diags);
 }
 
 }  // namespace keel::profile::detail

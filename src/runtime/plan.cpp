@@ -24,11 +24,16 @@ class Planner {
                           const std::vector<profile::Connection>& connections) {
     for (const auto& sub : subs)
       if (auto r = addSubcomponent(prefix, app, sub); !r) return r;
+    addConnections(prefix, connections);
+    return {};
+  }
+
+  /// Connections whose endpoints are `prefix` + a name added before (a system's: prefix "").
+  void addConnections(const std::string& prefix, const std::vector<profile::Connection>& connections) {
     for (const auto& c : connections) {
       plan_.connections.push_back(
           {c.port_type, resolve(prefix, c.source), resolve(prefix, c.target), c.where});
     }
-    return {};
   }
 
   void addTasks(const std::string& prefix, const std::vector<profile::Task>& tasks) {
@@ -165,6 +170,7 @@ Result<Plan> makePlan(const ProfileSet& set) {
         planner.addTasks(prefix, pkg.tasks);
         planner.addDepends(prefix, pkg.depends);
       }
+      planner.addConnections("", set.system->connections);  // "app.instance" already
       return planner.finish(set.system->name);
     }
     case profile::RootKind::Component: {

@@ -1,8 +1,9 @@
 // The plan: what the engine will do, made from validated profiles before anything is loaded.
 // Composites are flattened (an inner instance is named "composite.inner", connections to
 // exported ports are resolved to the inner ports); a system profile's applications are
-// prefixed with their name ("app.instance"); each instance gets its executor: the task that
-// lists it, or its own from its profile; passive instances get none.
+// prefixed with their name ("app.instance"), and the system's own connections join them; each
+// instance gets its executor: the task that lists it, or its own from its profile; passive
+// instances get none.
 // Thread-safety: plain values.
 #pragma once
 
