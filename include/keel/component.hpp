@@ -3,7 +3,7 @@
 // with KEEL_REGISTER_COMPONENT. The runtime owns instances and calls the callbacks; all
 // callbacks of one component are serialised (never two at once), so authors write no locks.
 // Thread-safety: callbacks run on the component's executor; the protected services
-// (critical, raiseFault, property) may be called from any callback.
+// (critical, raiseFault, reportFault, endRun, property) may be called from any callback.
 #pragma once
 
 #include <cstddef>
@@ -92,6 +92,20 @@ class Component {
   /// Reports a fault of another kind this component detected, about itself or, when
   /// `fault.component` names one, about another component (monitors and voters do this).
   void reportFault(const FaultEvent& fault);
+  /// Ends the run, as the end of its duration would: `keel run` stops and destroys everything
+  /// cleanly and exits 0. For a component that knows when the job is done (a mission referee).
+  /// - Callable from any callback, onStop included (a run that ends for another reason, its
+  ///   duration or a signal, still gets the record below); returns at once.
+  /// - The first call of the run wins, from whichever component; later calls are ignored.
+  /// - `summary` is printed by `keel run`: "ended by <instance>: <summary>".
+  /// - With a non-empty `event`, once every component has stopped (their onStop ran) the fault
+  ///   log's last record is {"t_ns":…, "event": event, "component": <instance>, <fields_json>},
+  ///   where `fields_json` is the members of a JSON object without braces
+  ///   (`"goal_reached":true,"collisions":0`). It is checked when the record is written; if it
+  ///   is malformed the record has "fields_error" (why) instead of them. t_ns, event and
+  ///   component are keel's: members of those names are dropped.
+  /// Without a runtime (a component not run by keel) it does nothing.
+  void endRun(std::string_view summary, std::string_view event = {}, std::string_view fields_json = {});
 
  private:
   friend struct detail::ComponentAccess;

@@ -1,13 +1,15 @@
 // keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--console]: runs a package
-// or system profile until the duration ends or SIGINT/SIGTERM, then stops and destroys
-// everything (exit 0) and prints a one-screen summary of faults and their handling. With
-// --console, operator commands are read from stdin: `emergency` (emergency stop), `clear`
-// (clears a latched emergency), `status`.
+// or system profile until the duration ends, SIGINT/SIGTERM, or a component ends the run
+// (Component::endRun), then stops and destroys everything (exit 0) and prints a one-screen
+// summary of faults and their handling, and who ended the run. With --console, operator
+// commands are read from stdin: `emergency` (emergency stop), `clear` (clears a latched
+// emergency), `status`.
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <thread>
 
@@ -74,23 +76,36 @@ sigset_t blockStopSignals() {
   return set;
 }
 
-/// Returns the signal that ended the wait, or 0 when the duration ran out.
-int waitForEnd(const sigset_t& set, double duration_s) {
-  if (duration_s <= 0) {
-    int sig = 0;
-    sigwait(&set, &sig);
-    return sig;
-  }
-  auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration_s);
+/// Why the wait ended: a signal's number, kEnded (a component ended the run) or 0 (duration).
+constexpr int kEnded = -1;
+
+/// A pending SIGINT/SIGTERM, or 0.
+int pendingSignal(const sigset_t& set) {
+  timespec zero{0, 0};
+  const int sig = sigtimedwait(&set, nullptr, &zero);
+  return sig > 0 ? sig : 0;
+}
+
+/// Waits for the end of the duration (none: 0), a stop signal or a component's endRun. A
+/// component's end wakes it at once; signals are looked at every 20 ms.
+int waitForEnd(const sigset_t& set, double duration_s, const runtime::Engine& engine) {
+  using Clock = std::chrono::steady_clock;
+  const auto end = duration_s > 0
+                       ? Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                            std::chrono::duration<double>(duration_s))
+                       : Clock::time_point::max();
   for (;;) {
-    auto left = end - std::chrono::steady_clock::now();
-    if (left <= std::chrono::nanoseconds(0)) return 0;
-    auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(left).count();
-    timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-    int sig = sigtimedwait(&set, nullptr, &ts);
-    if (sig > 0) return sig;
-    if (errno == EAGAIN) return 0;
+    if (int sig = pendingSignal(set)) return sig;
+    const auto now = Clock::now();
+    if (now >= end) return 0;
+    if (engine.waitForEnd(std::min(end, now + std::chrono::milliseconds(20)))) return kEnded;
   }
+}
+
+/// The `reason` of the log's `stopping` record.
+std::string stopReason(int why, const runtime::Engine& engine) {
+  if (why == kEnded) return "ended by " + engine.runEnd()->component;
+  return why == 0 ? "duration" : strsignal(why);
 }
 
 int runProfile(const RunOptions& o) {
@@ -124,15 +139,15 @@ int runProfile(const RunOptions& o) {
   std::atomic<bool> stop_console{false};
   std::thread console_thread;
   if (o.console) console_thread = std::thread([&] { console(**engine, stop_console); });
-  int sig = waitForEnd(stop_signals, o.duration_s);
+  const int why = waitForEnd(stop_signals, o.duration_s, **engine);
   stop_console.store(true, std::memory_order_release);
   if (console_thread.joinable()) console_thread.join();
   double ran = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  (*engine)->log().write({{"event", "engine"}, {"phase", "stopping"},
-                          {"reason", sig == 0 ? "duration" : strsignal(sig)}});
+  (*engine)->log().write({{"event", "engine"}, {"phase", "stopping"}, {"reason", stopReason(why, **engine)}});
   (*engine)->faultManager().drain();       // every handling logged and counted
   printSummary(std::cout, **engine, ran);  // counters, before instances are destroyed
-  (*engine)->shutdown();
+  (*engine)->shutdown();  // a component may still end the run from its onStop
+  if (auto end = (*engine)->runEnd()) std::cout << "ended by " << end->component << ": " << end->summary << '\n';
   return 0;
 }
 

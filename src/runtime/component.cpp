@@ -45,6 +45,10 @@ void Component::reportFault(const FaultEvent& fault) {
   if (core_->hooks) core_->hooks->faultDetected(*this, fault);
 }
 
+void Component::endRun(std::string_view summary, std::string_view event, std::string_view fields_json) {
+  if (core_->hooks) core_->hooks->endRun(*this, summary, event, fields_json);
+}
+
 }  // namespace keel
 
 namespace keel::detail {

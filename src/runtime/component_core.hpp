@@ -31,6 +31,10 @@ class RuntimeHooks {
   virtual void runPending(Component& c) = 0;
   /// `c` completed an onExecute after a recovery (core.recovering_id was set).
   virtual void recovered(Component& c, std::int64_t t_ns) = 0;
+  /// `c` asked to end the run (Component::endRun); the first request wins.
+  virtual void endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
+    (void)c, (void)summary, (void)event, (void)fields;
+  }
 };
 
 struct CriticalRegion {

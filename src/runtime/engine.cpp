@@ -170,6 +170,7 @@ void Engine::shutdown() {
       if (spare->state() != State::Destroyed && !stuck(*spare)) transition(*spare, Transition::Destroy);
   }
   if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
+  if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
     it->current->store(nullptr, std::memory_order_release);
@@ -191,6 +192,12 @@ void Engine::stateChanged(Component& c, State from, State to) {
 }
 
 void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manager_.onFault(c, fault); }
+
+void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
+  RunEnd end{c.instanceName(), std::string(summary), std::string(event), std::string(fields)};
+  if (!run_end_.request(end)) return;  // the first request wins
+  log_.write({{"event", "end_requested"}, {"component", end.component}, {"summary", end.summary}});
+}
 
 std::vector<const Executor*> Engine::executors() const {
   std::lock_guard lock(executors_mutex_);

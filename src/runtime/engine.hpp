@@ -30,6 +30,7 @@
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/plan.hpp"
+#include "runtime/run_end.hpp"
 
 namespace keel::runtime {
 
@@ -92,11 +93,20 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   /// Clears a latched emergency (the explicit call SPEC §2 asks for); false if none was latched.
   bool clearEmergency(std::string_view by) { return fault_manager_.clearEmergency(by); }
 
+  /// A component ended the run (Component::endRun; the first call wins). The run's owner
+  /// (`keel run`) waits for it and then stops as at the end of its duration; shutdown() logs
+  /// the request's record last. Any thread.
+  bool endRequested() const { return run_end_.requested(); }
+  std::optional<RunEnd> runEnd() const { return run_end_.get(); }
+  /// Blocks until a component ends the run or `until` passes; true if one did.
+  bool waitForEnd(std::chrono::steady_clock::time_point until) const { return run_end_.waitUntil(until); }
+
   // RuntimeHooks
   void stateChanged(Component& c, State from, State to) override;
   void faultDetected(Component& c, const FaultEvent& fault) override;
   void runPending(Component& c) override { fault_manager_.runPending(c); }
   void recovered(Component& c, std::int64_t t_ns) override { fault_manager_.recovered(c, t_ns); }
+  void endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) override;
 
   // fault::HandlingHost (engine_recovery.cpp)
   Result<Component*> createAlternative(fault::ComponentHandling& h, Component& failed) override;
@@ -139,6 +149,7 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
+  RunEndLatch run_end_;  // Component::endRun, from any component's thread
 };
 
 }  // namespace keel::runtime
