@@ -1,7 +1,8 @@
 // keel::Component: the base class of every component (OPRoS's Component). An author derives
 // from it, declares ports as members, overrides the callbacks it needs and registers the class
 // with KEEL_REGISTER_COMPONENT. The runtime owns instances and calls the callbacks; all
-// callbacks of one component are serialised (never two at once), so authors write no locks.
+// callbacks of one component are serialised (never two at once), so authors write no locks —
+// except onHardwareFault, which a driver of hardware implements thread-safe.
 // Thread-safety: callbacks run on the component's executor; the protected services
 // (critical, raiseFault, reportFault, endRun, property) may be called from any callback.
 #pragma once
@@ -56,6 +57,18 @@ class Component {
   /// Actuators: put outputs into the safe state ("stop in neutral") and keep them there until
   /// the emergency is cleared.
   virtual ReturnCode onEmergencyStop() { return ReturnCode::Ok; }
+  /// A hardware fault from a fault scenario (`keel run --inject`, SPEC §6), for the component
+  /// that drives that hardware: how a hardware-in-the-loop or simulated driver receives the
+  /// harness's hardware faults (it forwards them to its board). `command` is the kind, then a
+  /// space and the scenario's `args` if any: "motor_power_off left", "sensor_stuck 1 250",
+  /// "noise". Called at the fault's time on the injector's thread, concurrently with this
+  /// component's callbacks and whatever its state: it must be thread-safe, and return soon.
+  /// Return Ok when the fault was applied; anything else (the default: Unsupported) or an
+  /// exception is logged as the injection's outcome, with a warning.
+  virtual ReturnCode onHardwareFault(std::string_view command) {
+    (void)command;
+    return ReturnCode::Unsupported;
+  }
 
   /// Instance name from the package profile ("sonar_left"); empty before the runtime names it.
   const std::string& instanceName() const;

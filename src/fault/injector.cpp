@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <cstdio>
 #include <map>
 
 #include "runtime/component_core.hpp"
@@ -9,8 +10,10 @@
 
 namespace keel::fault {
 
-Injector::Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log)
-    : scenario_(std::move(scenario)), find_(std::move(find)), manager_(manager), log_(log) {}
+Injector::Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log, Warn warn)
+    : scenario_(std::move(scenario)), find_(std::move(find)), manager_(manager), log_(log), warn_(std::move(warn)) {
+  if (!warn_) warn_ = [](const std::string& m) { std::fprintf(stderr, "keel: warning: %s\n", m.c_str()); };
+}
 
 Injector::~Injector() { stop(); }
 
@@ -23,6 +26,7 @@ Result<void> Injector::check(const Warn& warn, const std::function<bool(std::str
       errors += fmt::format("{}: fault: no component '{}' in this run\n", at, f.component);
       continue;
     }
+    if (f.hardware) continue;  // whether the component takes it shows when it is sent
     const auto& core = runtime::coreOf(*c);
     using runtime::InjectKind;
     if (f.kind == InjectKind::OutOfRange && !runtime::corruptiblePort(*c, f.port)) {
@@ -72,12 +76,38 @@ void Injector::run(std::int64_t t0_ns) {
     Component* c = find_(s.fault->component);
     if (!c) continue;
     const std::uint64_t id = manager_.nextId();
+    if (s.fault->hardware) {
+      injectHardware(*c, *s.fault, id);
+      continue;
+    }
     runtime::InjectArgs args{s.fault->port, s.fault->value,
                              static_cast<std::int64_t>(s.fault->duration_ms * 1e6)};
     log_.write({{"event", "armed"}, {"fault_id", id}, {"component", s.fault->component},
                 {"kind", s.fault->kind_name}});
     runtime::arm(*c, s.fault->kind, id, args);
   }
+}
+
+void Injector::injectHardware(Component& c, const ScheduledFault& f, std::uint64_t id) {
+  const std::string command = f.command();
+  const std::int64_t t_ns = log_.now();
+  std::string outcome;
+  try {
+    const ReturnCode rc = c.onHardwareFault(command);
+    if (!ok(rc)) outcome = toString(rc);
+  } catch (const std::exception& e) {
+    outcome = std::string("exception: ") + e.what();
+  } catch (...) {
+    outcome = "exception: unknown";
+  }
+  nlohmann::json record = {{"event", "injected"}, {"fault_id", id},    {"component", f.component},
+                           {"kind", f.kind_name},  {"detail", command}, {"hardware", true},
+                           {"t_ns", t_ns}};
+  if (!outcome.empty()) record["outcome"] = outcome;
+  log_.write(std::move(record));
+  if (!outcome.empty())
+    warn_(fmt::format("{}:{}: hardware fault '{}' not taken by '{}': {}", f.where.file, f.where.line, command,
+                      f.component, outcome));
 }
 
 }  // namespace keel::fault

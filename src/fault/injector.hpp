@@ -2,6 +2,8 @@
 // running components first (every problem as `file:line: message`); then a thread arms each
 // fault at its time after the start. What an armed fault does, and when it manifests, is
 // runtime/injection's business; the log gets `injected` at manifestation (fault manager).
+// A hardware fault is not armed: at its time this thread hands it to the component that drives
+// that hardware (Component::onHardwareFault) and logs `injected` with `"hardware": true`.
 // Thread-safety: check/start/stop from the engine's thread.
 #pragma once
 
@@ -23,7 +25,8 @@ class Injector {
   using Find = std::function<Component*(std::string_view)>;
   using Warn = std::function<void(const std::string&)>;
 
-  Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log);
+  /// `warn` reports a hardware fault its component did not take (default: stderr).
+  Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log, Warn warn = {});
   ~Injector();
   Injector(const Injector&) = delete;
   Injector& operator=(const Injector&) = delete;
@@ -38,11 +41,14 @@ class Injector {
 
  private:
   void run(std::int64_t t0_ns);
+  /// A hardware fault: the component that drives that hardware gets it (onHardwareFault).
+  void injectHardware(Component& c, const ScheduledFault& f, std::uint64_t id);
 
   Scenario scenario_;
   Find find_;
   FaultManager& manager_;
   FaultLog& log_;
+  Warn warn_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   runtime::WakeSignal signal_;

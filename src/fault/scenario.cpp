@@ -16,7 +16,10 @@ using profile::Diagnostic;
 using profile::Diagnostics;
 
 constexpr const char* kKinds =
-    "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range";
+    "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range; "
+    "hardware: sensor_unplugged, sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise";
+constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck", "sensor_ok",
+                                               "motor_power_off", "motor_power_on", "noise"};
 
 class FaultReader {
  public:
@@ -36,13 +39,13 @@ class FaultReader {
       else if (name == "duration") f.duration_ms = number(n, a, 0);
       else if (name == "repeat") f.repeat = static_cast<int>(number(n, a, 1));
       else if (name == "every") f.every_ms = number(n, a, 0);
+      else if (name == "args") f.args = profile::detail::trim(a.value());
       else error(n, fmt::format("<fault>: unknown attribute '{}' (known: at, component, kind, port, value, "
-                                "duration, repeat, every)", name));
+                                "duration, repeat, every, args)", name));
     }
     if (n.attribute("at").empty()) error(n, "<fault>: attribute 'at' (ms) is required");
     if (f.component.empty()) error(n, "<fault>: attribute 'component' is required");
-    if (auto k = runtime::parseInjectKind(f.kind_name)) f.kind = *k;
-    else error(n, fmt::format("<fault>: unknown kind '{}' (kinds: {})", f.kind_name, kKinds));
+    readKind(n, f);
     if (n.attribute("value").empty()) f.value = std::numeric_limits<double>::quiet_NaN();
     if (f.repeat > 1 && f.every_ms <= 0) error(n, "<fault>: repeat needs every (ms) > 0");
     if (diags_.size() != before) return std::nullopt;
@@ -52,6 +55,27 @@ class FaultReader {
   void error(pugi::xml_node n, std::string message) { diags_.push_back(Diagnostic{file_.where(n), std::move(message)}); }
 
  private:
+  /// The kind, and the attributes that go with it: `args` with the hardware kinds only; `port`,
+  /// `value` and `duration` with the software ones.
+  void readKind(pugi::xml_node n, ScheduledFault& f) {
+    f.hardware = isHardwareKind(f.kind_name);
+    if (f.hardware) {
+      for (const char* a : {"port", "value", "duration"}) {
+        if (n.attribute(a).empty()) continue;
+        error(n, fmt::format("<fault>: attribute '{}' is not for hardware kind '{}' (it takes args)", a,
+                             f.kind_name));
+      }
+      return;
+    }
+    if (auto k = runtime::parseInjectKind(f.kind_name)) {
+      f.kind = *k;
+      if (!n.attribute("args").empty())
+        error(n, fmt::format("<fault>: attribute 'args' is for the hardware kinds; '{}' takes none", f.kind_name));
+      return;
+    }
+    error(n, fmt::format("<fault>: unknown kind '{}' (kinds: {})", f.kind_name, kKinds));
+  }
+
   double number(pugi::xml_node n, pugi::xml_attribute a, double min, bool allow_nan = false) {
     std::string_view text = a.value();
     if (allow_nan && (text == "nan" || text == "NaN")) return std::numeric_limits<double>::quiet_NaN();
@@ -68,6 +92,10 @@ class FaultReader {
 };
 
 }  // namespace
+
+bool isHardwareKind(std::string_view kind) {
+  return std::find(std::begin(kHardwareKinds), std::end(kHardwareKinds), kind) != std::end(kHardwareKinds);
+}
 
 Result<Scenario, Diagnostics> loadScenario(const std::string& path) {
   Diagnostics diags;

@@ -35,7 +35,8 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
   if (engine->options_.scenario) {
     Engine* e = engine.get();
     e->injector_ = std::make_unique<fault::Injector>(
-        *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_);
+        *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_,
+        [e](const std::string& m) { e->warn(m); });
     auto passive = [e](std::string_view name) {
       for (const auto& ex : e->plan_.executors)
         if (std::find(ex.members.begin(), ex.members.end(), name) != ex.members.end()) return false;

@@ -1,8 +1,15 @@
 // Components for the tests of the runtime's hooks for a robot run: a Finisher that ends the run
-// (Component::endRun) after a number of executions or from its onStop. Built into the test
-// component library with the others.
+// (Component::endRun) after a number of executions or from its onStop, and a Driver that gets
+// the scenario's hardware faults (Component::onHardwareFault). Built into the test component
+// library with the others.
 #include <keel/component.hpp>
 
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <cstdio>
+#include <mutex>
+#include <stdexcept>
 #include <string>
 
 namespace itest {
@@ -41,6 +48,39 @@ class Finisher : public keel::Component {
   std::string fields_;
 };
 
+/// A simulated hardware driver: prints every hardware fault it is given, with the ms since its
+/// onStart ("[driver] hardware fault 'motor_power_off left' at 101 ms"). It cannot apply
+/// `noise` (BadInput), and its board is unreachable for args "explode" (throws).
+class Driver : public keel::Component {
+ public:
+  keel::ReturnCode onStart() override {
+    start_ns_.store(nowNs(), std::memory_order_release);
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onHardwareFault(std::string_view command) override {  // the injector's thread
+    const double ms = static_cast<double>(nowNs() - start_ns_.load(std::memory_order_acquire)) / 1e6;
+    {
+      std::lock_guard lock(mutex_);
+      std::printf("[%s] hardware fault '%.*s' at %.0f ms\n", instanceName().c_str(),
+                  static_cast<int>(command.size()), command.data(), ms);
+      std::fflush(stdout);
+    }
+    if (command.find("explode") != std::string_view::npos) throw std::runtime_error("board unreachable");
+    if (command.rfind("noise", 0) == 0) return keel::ReturnCode::BadInput;
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  static std::int64_t nowNs() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(
+               std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+  }
+  std::atomic<std::int64_t> start_ns_{0};
+  std::mutex mutex_;
+};
+
 }  // namespace itest
 
 KEEL_REGISTER_COMPONENT_AS(itest::Finisher, "Finisher")
+KEEL_REGISTER_COMPONENT_AS(itest::Driver, "Driver")

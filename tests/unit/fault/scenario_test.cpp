@@ -59,9 +59,10 @@ TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
                      f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
                      f + ":3: <fault>: attribute 'component' is required",
                      f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
-                         "throw, error_code, hang, stall_heartbeat, out_of_range)",
+                         "throw, error_code, hang, stall_heartbeat, out_of_range; hardware: sensor_unplugged, "
+                         "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise)",
                      f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
-                         "value, duration, repeat, every)",
+                         "value, duration, repeat, every, args)",
                      f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",
                  }));
 }
@@ -76,6 +77,51 @@ TEST_F(ScenarioFile, RejectsRepeatWithoutEvery) {
   auto s = loadScenario(write(R"(<fault_scenario><fault at="1" component="a" kind="throw" repeat="2"/></fault_scenario>)"));
   ASSERT_FALSE(s);
   EXPECT_EQ(s.error().front().message, "<fault>: repeat needs every (ms) > 0");
+}
+
+TEST_F(ScenarioFile, ReadsHardwareFaultsWithTheirArgs) {
+  auto s = loadScenario(write(R"(<fault_scenario>
+  <fault at="100" component="actuator" kind="motor_power_off" args="left"/>
+  <fault at="200" component="sonars" kind="sensor_stuck" args=" 1 250 " repeat="2" every="10"/>
+  <fault at="300" component="actuator" kind="motor_power_on"/>
+  <fault at="400" component="sonars" kind="sensor_unplugged" args="3"/>
+  <fault at="500" component="sonars" kind="sensor_ok" args="3"/>
+  <fault at="600" component="camera" kind="noise" args="0.2"/>
+</fault_scenario>)"));
+  ASSERT_TRUE(s) << s.error().front().str();
+  ASSERT_EQ(s->faults.size(), 6u);
+  const ScheduledFault& off = s->faults[0];
+  EXPECT_TRUE(off.hardware);
+  EXPECT_EQ(off.kind, runtime::InjectKind::None);
+  EXPECT_EQ(off.kind_name, "motor_power_off");
+  EXPECT_EQ(off.args, "left");
+  EXPECT_EQ(off.command(), "motor_power_off left");
+  EXPECT_EQ(s->faults[1].command(), "sensor_stuck 1 250");  // args trimmed
+  EXPECT_EQ(s->faults[1].repeat, 2);
+  EXPECT_EQ(s->faults[2].command(), "motor_power_on");  // no args
+  EXPECT_EQ(s->faults[5].command(), "noise 0.2");
+  for (const char* kind : {"sensor_unplugged", "sensor_stuck", "sensor_ok", "motor_power_off", "motor_power_on", "noise"})
+    EXPECT_TRUE(isHardwareKind(kind)) << kind;
+  EXPECT_FALSE(isHardwareKind("segfault"));
+}
+
+TEST_F(ScenarioFile, SoftwareKindsTakeNoArgsAndHardwareKindsNothingElse) {
+  auto s = loadScenario(write(R"(<fault_scenario>
+  <fault at="1" component="a" kind="segfault" args="left"/>
+  <fault at="1" component="a" kind="motor_power_off" port="distance" duration="5"/>
+  <fault at="1" component="a" kind="noise" value="3"/>
+</fault_scenario>)"));
+  ASSERT_FALSE(s);
+  std::vector<std::string> got;
+  for (const auto& d : s.error()) got.push_back(d.str());
+  const std::string f = path_;
+  EXPECT_EQ(got, (std::vector<std::string>{
+                     f + ":2: <fault>: attribute 'args' is for the hardware kinds; 'segfault' takes none",
+                     f + ":3: <fault>: attribute 'port' is not for hardware kind 'motor_power_off' (it takes args)",
+                     f + ":3: <fault>: attribute 'duration' is not for hardware kind 'motor_power_off' (it takes "
+                         "args)",
+                     f + ":4: <fault>: attribute 'value' is not for hardware kind 'noise' (it takes args)",
+                 }));
 }
 
 }  // namespace
