@@ -1,9 +1,10 @@
-// keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--console]: runs a package
-// or system profile until the duration ends, SIGINT/SIGTERM, or a component ends the run
-// (Component::endRun), then stops and destroys everything (exit 0) and prints a one-screen
-// summary of faults and their handling, and who ended the run. With --console, operator
-// commands are read from stdin: `emergency` (emergency stop), `clear` (clears a latched
-// emergency), `status`.
+// keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--set I.P=V]... [--console]:
+// runs a package or system profile until the duration ends, SIGINT/SIGTERM, or a component ends
+// the run (Component::endRun), then stops and destroys everything (exit 0) and prints a
+// one-screen summary of faults and their handling, and who ended the run. --set sets a
+// component's property for this run (a bad one: exit 2 before anything loads). With --console,
+// operator commands are read from stdin: `emergency` (emergency stop), `clear` (clears a
+// latched emergency), `status`.
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
@@ -17,12 +18,15 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
+#include <sstream>
 
 #include "cli/commands.hpp"
 #include "cli/summary.hpp"
 #include "fault/scenario.hpp"
 #include "profile/loader.hpp"
 #include "runtime/engine.hpp"
+#include "runtime/property_settings.hpp"
 
 namespace keel::cli {
 namespace {
@@ -32,6 +36,7 @@ struct RunOptions {
   double duration_s = 0;  // 0: until a signal
   std::string log;
   std::string inject;
+  std::vector<std::string> sets;  // INSTANCE.PROPERTY=VALUE
   bool console = false;
 };
 
@@ -108,6 +113,26 @@ std::string stopReason(int why, const runtime::Engine& engine) {
   return why == 0 ? "duration" : strsignal(why);
 }
 
+/// The --set options, parsed and checked against the plan of `set`; nothing after printing
+/// every problem, a line each.
+std::optional<std::vector<runtime::PropertySetting>> propertySettings(const RunOptions& o,
+                                                                      const profile::ProfileSet& set) {
+  std::vector<runtime::PropertySetting> settings;
+  std::string errors;
+  for (const auto& text : o.sets) {
+    auto s = runtime::parsePropertySetting(text);
+    if (s) settings.push_back(std::move(*s));
+    else errors += s.error().message + '\n';
+  }
+  if (auto plan = runtime::makePlan(set); errors.empty() && plan) {  // no plan: Engine::create says why
+    if (auto r = runtime::applyPropertySettings(*plan, settings); !r) errors = r.error().message + '\n';
+  }
+  if (errors.empty()) return settings;
+  std::istringstream lines(errors);
+  for (std::string line; std::getline(lines, line);) std::cerr << "keel run: " << line << '\n';
+  return std::nullopt;
+}
+
 int runProfile(const RunOptions& o) {
   sigset_t stop_signals = blockStopSignals();
   auto set = profile::load(o.profile);
@@ -117,6 +142,9 @@ int runProfile(const RunOptions& o) {
   }
   runtime::EngineOptions eo;
   eo.log_path = o.log;
+  auto settings = propertySettings(o, *set);
+  if (!settings) return 2;
+  eo.property_settings = std::move(*settings);
   if (!o.inject.empty()) {
     auto scenario = fault::loadScenario(o.inject);
     if (!scenario) {
@@ -161,6 +189,10 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--log", opts->log, "write the fault log (JSON lines) to this file");
   cmd->add_option("--inject", opts->inject, "inject the faults of this fault_scenario XML");
+  cmd->add_option("--set", opts->sets,
+                  "INSTANCE.PROPERTY=VALUE: set a component's property for this run, after the profile's "
+                  "overrides (repeatable; e.g. --set actuator.seed=7 --set navigation.planner.speed=0.4)")
+      ->allow_extra_args(false);
   cmd->add_flag("--console", opts->console,
                 "read operator commands from stdin: emergency, clear (a latched emergency), status");
   cmd->callback([opts, &run] { run = [opts] { return runProfile(*opts); }; });

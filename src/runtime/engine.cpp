@@ -24,12 +24,15 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
   engine->set_ = std::move(set);
   auto plan = makePlan(engine->set_);
   if (!plan) return plan.error();
+  if (auto r = applyPropertySettings(*plan, engine->options_.property_settings); !r) return r.error();
   engine->plan_ = std::move(*plan);
   if (!engine->options_.log_path.empty()) {
     if (auto r = engine->log_.open(engine->options_.log_path); !r) return r.error();
   }
-  engine->log_.write({{"event", "engine"}, {"phase", "load"}, {"profile", engine->set_.root},
-                      {"instances", engine->plan_.instances.size()}});
+  nlohmann::json load = {{"event", "engine"}, {"phase", "load"}, {"profile", engine->set_.root},
+                         {"instances", engine->plan_.instances.size()}};
+  for (const auto& s : engine->options_.property_settings) load["set"].push_back(s.text);
+  engine->log_.write(std::move(load));
   if (auto r = engine->instantiate(); !r) return r.error();
   engine->setUpHandling();
   if (engine->options_.scenario) {

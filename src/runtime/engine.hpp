@@ -30,6 +30,7 @@
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/plan.hpp"
+#include "runtime/property_settings.hpp"
 #include "runtime/run_end.hpp"
 
 namespace keel::runtime {
@@ -41,6 +42,8 @@ struct EngineOptions {
   std::function<void(const std::string&)> warn;
   std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
   std::optional<fault::Scenario> scenario;        // faults to inject (keel run --inject)
+  /// Properties set for this run (keel run --set), applied after the profiles' overrides.
+  std::vector<PropertySetting> property_settings;
 };
 
 /// One running instance and what the plan says of it.

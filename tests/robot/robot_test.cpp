@@ -1,0 +1,204 @@
+// The paper's experiments (§5) on the simulated test robot, each a `keel run` of the robot's
+// profile with a fault scenario, as a user runs them: the right kind of detection at the right
+// component, the right handling, and the robot's fate from the mission record (goal reached, or
+// a safe stop without collision). The board is the separate keel_motion_board program behind a
+// pseudo-terminal (the actuator's default); the runs take the robot's real time (~5-15 s each).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/log_reader.hpp"
+#include "support/process.hpp"
+
+namespace keel::test {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+struct RobotRun {
+  Ran ran;
+  std::vector<json> log;
+  json mission;
+
+  /// The `detected` records of `kind` about `component`.
+  std::vector<json> detected(const std::string& kind, const std::string& component) const {
+    std::vector<json> out;
+    for (const auto& d : eventsOf(log, "detected"))
+      if (d.value("kind", "") == kind && d.value("component", "") == component) out.push_back(d);
+    return out;
+  }
+  /// The `action` records `action` on `component`.
+  std::vector<json> actions(const std::string& action, const std::string& component) const {
+    std::vector<json> out;
+    for (const auto& a : eventsOf(log, "action"))
+      if (a.value("action", "") == action && a.value("component", "") == component) out.push_back(a);
+    return out;
+  }
+  std::size_t detections() const { return eventsOf(log, "detected").size(); }
+};
+
+class Robot : public ::testing::Test {
+ protected:
+  RobotRun run(const std::string& profile, const std::string& scenario, int seed = 1,
+               const std::string& prefix = "") {
+    const std::string log = (dir_ / ("run_" + std::to_string(seed) + ".jsonl")).string();
+    std::vector<std::string> argv = {KEEL_CLI, "run", std::string(KEEL_ROBOT) + "/" + profile,
+                                     "--duration", "60", "--log", log,
+                                     "--set", prefix + "actuator.seed=" + std::to_string(seed),
+                                     "--set", prefix + "camera.seed=" + std::to_string(seed)};
+    if (!scenario.empty()) {
+      argv.push_back("--inject");
+      argv.push_back(std::string(KEEL_ROBOT) + "/scenarios/" + scenario);
+    }
+    RobotRun r;
+    r.ran = runProcess(argv);
+    r.log = readLog(log);
+    if (!r.log.empty()) r.mission = r.log.back();
+    return r;
+  }
+
+  static void reachedTheGoal(const RobotRun& r) {
+    ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+    ASSERT_EQ(r.mission.value("event", ""), "mission") << r.ran.out;
+    EXPECT_TRUE(r.mission.value("goal_reached", false)) << r.mission.dump();
+    EXPECT_EQ(r.mission.value("collisions", -1), 0) << r.mission.dump();
+    EXPECT_GT(r.mission.value("min_clearance_cm", 0.0), 2.0) << r.mission.dump();
+    EXPECT_NE(r.ran.out.find("mission goal"), std::string::npos) << r.ran.out;
+  }
+
+  static void stoppedSafely(const RobotRun& r) {
+    ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+    ASSERT_EQ(r.mission.value("event", ""), "mission") << r.ran.out;
+    EXPECT_EQ(r.mission.value("ended", ""), "stopped") << r.mission.dump();
+    EXPECT_FALSE(r.mission.value("goal_reached", true)) << r.mission.dump();
+    EXPECT_EQ(r.mission.value("collisions", -1), 0) << r.mission.dump();
+  }
+
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("keel_robot_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);  // kept for a look when something failed
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(Robot, NominalRunsReachTheTargetWithoutCollisionOrFaultForTenSeeds) {
+  for (int seed = 1; seed <= 10; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const RobotRun r = run("navigation.xml", "", seed);
+    reachedTheGoal(r);
+    EXPECT_EQ(r.detections(), 0u) << r.ran.out;
+    EXPECT_LT(r.mission.value("duration_s", 99.0), 30.0);
+  }
+}
+
+TEST_F(Robot, ASegfaultAndADivideByZeroAreCaughtAndResetAndTheRobotReachesTheTarget) {  // §5.1.1
+  const RobotRun r = run("navigation.xml", "segfault.xml");
+  ASSERT_EQ(r.detected("signal", "detector").size(), 1u) << r.ran.out;
+  EXPECT_NE(r.detected("signal", "detector")[0].value("detail", "").find("SIGSEGV"), std::string::npos);
+  ASSERT_EQ(r.detected("signal", "planner").size(), 1u) << r.ran.out;
+  EXPECT_NE(r.detected("signal", "planner")[0].value("detail", "").find("SIGFPE"), std::string::npos);
+  EXPECT_EQ(r.actions("reset", "detector").size(), 1u);
+  EXPECT_EQ(r.actions("reset", "planner").size(), 1u);
+  EXPECT_EQ(eventsOf(r.log, "recovered").size(), 2u);
+  reachedTheGoal(r);
+}
+
+TEST_F(Robot, AnUnpluggedSonarIsARangeFaultAtOnceTheSonarStopsAndItsTwinsCarryTheRobotHome) {  // §5.1.2
+  const RobotRun r = run("navigation.xml", "sonar_unplugged.xml");
+  const auto d = r.detected("range", "sonar_b");
+  ASSERT_EQ(d.size(), 1u) << r.ran.out;
+  EXPECT_NE(d[0].value("detail", "").find("range"), std::string::npos) << d[0].dump();
+  // Detected at once: within two board periods (40 ms) of the injection.
+  std::int64_t injected = 0;
+  for (const auto& i : eventsOf(r.log, "injected")) injected = i.value("t_ns", std::int64_t{0});
+  EXPECT_LT(d[0].value("t_ns", std::int64_t{0}) - injected, 60'000'000);
+  EXPECT_EQ(r.actions("stop", "sonar_b").size(), 1u);
+  reachedTheGoal(r);
+}
+
+TEST_F(Robot, Fig6ALeftDriverOffIsAModelFaultAbout200MsLaterAndAnEmergencyStop) {  // §5.1.3
+  const RobotRun r = run("navigation.xml", "fig6_left_motor_off.xml");
+  const auto d = r.detected("model", "actuator");
+  ASSERT_GE(d.size(), 1u) << r.ran.out;
+  EXPECT_EQ(d[0].value("detector", ""), "monitor_left");
+  std::int64_t injected = 0;
+  for (const auto& i : eventsOf(r.log, "injected")) injected = i.value("t_ns", std::int64_t{0});
+  const double delay_ms = (d[0].value("t_ns", std::int64_t{0}) - injected) / 1e6;
+  EXPECT_GT(delay_ms, 60.0);   // the wheel needs time to slow down: not a false positive
+  EXPECT_LT(delay_ms, 600.0);  // the paper: ~200 ms; generous on a loaded machine
+  EXPECT_GE(eventsOf(r.log, "action").size(), 1u);
+  bool emergency = false;
+  for (const auto& a : eventsOf(r.log, "action")) emergency = emergency || a.value("action", "") == "emergency_stop";
+  EXPECT_TRUE(emergency) << r.ran.out;
+  stoppedSafely(r);
+}
+
+TEST_F(Robot, AWrongSonarIsOutvotedMaskedAndReportedAndTheRobotReachesTheTarget) {  // §5.1.4
+  const RobotRun r = run("navigation.xml", "sonar_wrong.xml");
+  const auto d = r.detected("vote", "sonar_c");
+  ASSERT_GE(d.size(), 1u) << r.ran.out;
+  EXPECT_EQ(d[0].value("detector", ""), "voter");
+  EXPECT_TRUE(r.detected("vote", "sonar_a").empty());
+  EXPECT_TRUE(r.detected("vote", "sonar_b").empty());
+  reachedTheGoal(r);
+}
+
+TEST_F(Robot, TheStatefulAvoiderIsResetWithItsCheckpointRestored) {  // §5.3.1
+  const RobotRun r = run("navigation.xml", "avoidance_reset.xml");
+  ASSERT_EQ(r.detected("exception", "avoidance").size(), 1u) << r.ran.out;
+  EXPECT_EQ(r.actions("reset", "avoidance").size(), 1u);
+  EXPECT_EQ(r.actions("restore", "avoidance").size(), 1u);
+  reachedTheGoal(r);
+}
+
+TEST_F(Robot, AnAvoiderThatResetCannotRecoverIsReplacedByThePreloadedSecondaryWithinAMillisecond) {  // §5.3.2
+  const RobotRun r = run("navigation.xml", "avoidance_replaced.xml");
+  EXPECT_EQ(r.detected("signal", "avoidance").size(), 3u) << r.ran.out;
+  EXPECT_EQ(r.actions("reset", "avoidance").size(), 2u);
+  ASSERT_EQ(r.actions("replace", "avoidance").size(), 1u) << r.ran.out;
+  // The replacement's recovery latency: well under the paper's 1 ms (benchmarked elsewhere).
+  const auto recovered = eventsOf(r.log, "recovered");
+  ASSERT_FALSE(recovered.empty());
+  EXPECT_LT(recovered.back().value("latency_us", 1e9), 1000.0) << recovered.back().dump();
+  reachedTheGoal(r);
+}
+
+TEST_F(Robot, AWheelMonitorFaultWhileMovingStopsTheMotorsInNeutralAndTheRobotStopsSafely) {  // §5.3.3
+  const RobotRun r = run("navigation.xml", "emergency_stop.xml");
+  const auto d = r.detected("model", "actuator");
+  ASSERT_GE(d.size(), 1u) << r.ran.out;
+  EXPECT_EQ(d[0].value("detector", ""), "monitor_right");
+  bool emergency = false;
+  for (const auto& a : eventsOf(r.log, "action")) emergency = emergency || a.value("action", "") == "emergency_stop";
+  EXPECT_TRUE(emergency);
+  stoppedSafely(r);
+}
+
+TEST_F(Robot, Fig7NavigationStopsWithObstacleDetectionAndHriKeepsRunning) {  // §5.2
+  const RobotRun r = run("system.xml", "fig7_sonars_lost.xml", 1, "navigation.");
+  EXPECT_EQ(r.detected("range", "obstacle_detection.sonar_b").size(), 1u) << r.ran.out;
+  EXPECT_EQ(r.detected("range", "obstacle_detection.sonar_a").size(), 1u) << r.ran.out;
+  // After the first sonar, obstacle detection still runs (2 of 3); after the second it stops,
+  // and navigation (which depends on it) with it; hri never stops.
+  std::vector<std::string> stopped_apps;
+  for (const auto& s : eventsOf(r.log, "state"))
+    if (s.contains("application") && s.value("to", "") == "stopped") stopped_apps.push_back(s.value("application", ""));
+  EXPECT_EQ(std::count(stopped_apps.begin(), stopped_apps.end(), "obstacle_detection"), 1) << r.ran.out;
+  EXPECT_EQ(std::count(stopped_apps.begin(), stopped_apps.end(), "navigation"), 1) << r.ran.out;
+  EXPECT_EQ(std::count(stopped_apps.begin(), stopped_apps.end(), "hri"), 0) << r.ran.out;
+  stoppedSafely(r);
+}
+
+}  // namespace
+}  // namespace keel::test
