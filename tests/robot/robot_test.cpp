@@ -45,12 +45,13 @@ struct RobotRun {
 class Robot : public ::testing::Test {
  protected:
   RobotRun run(const std::string& profile, const std::string& scenario, int seed = 1,
-               const std::string& prefix = "") {
+               const std::string& prefix = "", const std::vector<std::string>& extra = {}) {
     const std::string log = (dir_ / ("run_" + std::to_string(seed) + ".jsonl")).string();
     std::vector<std::string> argv = {KEEL_CLI, "run", std::string(KEEL_ROBOT) + "/" + profile,
                                      "--duration", "60", "--log", log,
                                      "--set", prefix + "actuator.seed=" + std::to_string(seed),
                                      "--set", prefix + "camera.seed=" + std::to_string(seed)};
+    argv.insert(argv.end(), extra.begin(), extra.end());
     if (!scenario.empty()) {
       argv.push_back("--inject");
       argv.push_back(std::string(KEEL_ROBOT) + "/scenarios/" + scenario);
@@ -100,6 +101,12 @@ TEST_F(Robot, NominalRunsReachTheTargetWithoutCollisionOrFaultForTenSeeds) {
     EXPECT_EQ(r.detections(), 0u) << r.ran.out;
     EXPECT_LT(r.mission.value("duration_s", 99.0), 30.0);
   }
+}
+
+TEST_F(Robot, TheSimulatedBoardInProcessBehindTheSameBytesGivesTheSameMission) {
+  const RobotRun r = run("navigation.xml", "sonar_wrong.xml", 3, "", {"--set", "actuator.device=inprocess"});
+  EXPECT_EQ(r.detected("vote", "sonar_c").size(), 1u) << r.ran.out;
+  reachedTheGoal(r);
 }
 
 TEST_F(Robot, ASegfaultAndADivideByZeroAreCaughtAndResetAndTheRobotReachesTheTarget) {  // §5.1.1
