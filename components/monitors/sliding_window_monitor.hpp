@@ -45,22 +45,22 @@ class SlidingWindowMonitor : public Component {
     monitored_ = property<std::string>("monitored", "");
 
     if (window < 1 || window > kMaxWindow)
-      fail("window", "must be between 1 and " + std::to_string(kMaxWindow) + " (got " +
+      rejectProperty("window", "must be between 1 and " + std::to_string(kMaxWindow) + " (got " +
                          std::to_string(window) + ")");
     if (mode == "ratio") mode_ = Mode::Ratio;
     else if (mode == "absolute") mode_ = Mode::Absolute;
-    else fail("mode", "must be 'ratio' or 'absolute' (got '" + mode + "')");
+    else rejectProperty("mode", "must be 'ratio' or 'absolute' (got '" + mode + "')");
     if (!std::isfinite(threshold_) || (mode_ == Mode::Ratio && threshold_ <= 0) ||
         threshold_ < 0)
-      fail("threshold", std::string(mode_ == Mode::Ratio ? "must be > 0 in ratio mode"
+      rejectProperty("threshold", std::string(mode_ == Mode::Ratio ? "must be > 0 in ratio mode"
                                                          : "must be >= 0 in absolute mode") +
                             " (got " + std::to_string(threshold_) + ")");
     if (min_consecutive < 1)
-      fail("min_consecutive", "must be at least 1 (got " + std::to_string(min_consecutive) + ")");
+      rejectProperty("min_consecutive", "must be at least 1 (got " + std::to_string(min_consecutive) + ")");
     if (!std::isfinite(min_reference_) || min_reference_ < 0)
-      fail("min_reference", "must be >= 0 (got " + std::to_string(min_reference_) + ")");
+      rejectProperty("min_reference", "must be >= 0 (got " + std::to_string(min_reference_) + ")");
     if (monitored_.size() >= FaultEvent{}.component.size())
-      fail("monitored", "is longer than a fault event can name (" +
+      rejectProperty("monitored", "is longer than a fault event can name (" +
                             std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
 
     min_consecutive_ = static_cast<std::size_t>(min_consecutive);
@@ -147,10 +147,6 @@ class SlidingWindowMonitor : public Component {
     in_episode_ = false;
   }
 
-  [[noreturn]] void fail(std::string_view name, const std::string& why) const {
-    throw PropertyError("component '" + instanceName() + "': property '" + std::string(name) +
-                        "' " + why);
-  }
 
   // configuration (onInitialize)
   Mode mode_ = Mode::Ratio;

@@ -43,11 +43,11 @@ class MedianVoterN : public Component {
     const auto stale_after = property<std::int64_t>("stale_after", 0);
     const auto sources = property<std::string>("sources", "");
     if (!std::isfinite(tolerance_) || tolerance_ < 0)
-      fail("tolerance", "must be >= 0 (got " + std::to_string(tolerance_) + ")");
+      rejectProperty("tolerance", "must be >= 0 (got " + std::to_string(tolerance_) + ")");
     if (!std::isfinite(tolerance_ratio_) || tolerance_ratio_ < 0)
-      fail("tolerance_ratio", "must be >= 0 (got " + std::to_string(tolerance_ratio_) + ")");
+      rejectProperty("tolerance_ratio", "must be >= 0 (got " + std::to_string(tolerance_ratio_) + ")");
     if (stale_after < 0)
-      fail("stale_after", "must be >= 0 (got " + std::to_string(stale_after) + ")");
+      rejectProperty("stale_after", "must be >= 0 (got " + std::to_string(stale_after) + ")");
     stale_after_ = static_cast<std::uint64_t>(stale_after);
     parseSources(sources);
     forget();
@@ -170,11 +170,11 @@ class MedianVoterN : public Component {
     for (std::string w; words >> w; ++n) {
       if (n < N) names[n] = w;
       if (w.size() >= FaultEvent{}.component.size())
-        fail("sources", "names '" + w + "', longer than a fault event can name (" +
+        rejectProperty("sources", "names '" + w + "', longer than a fault event can name (" +
                             std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
     }
     if (n != 0 && n != N)
-      fail("sources", "must name " + std::to_string(N) +
+      rejectProperty("sources", "must name " + std::to_string(N) +
                           " components, one per input in order (got " + std::to_string(n) +
                           ": '" + text + "')");
     sources_ = std::move(names);  // empty names: faults are about the voter itself
@@ -185,10 +185,6 @@ class MedianVoterN : public Component {
     no_majority_reported_ = false;
   }
 
-  [[noreturn]] void fail(std::string_view name, const std::string& why) const {
-    throw PropertyError("component '" + instanceName() + "': property '" + std::string(name) +
-                        "' " + why);
-  }
 
   // configuration (onInitialize)
   double tolerance_ = 10.0;

@@ -105,6 +105,9 @@ class Component {
   /// Reports a fault of another kind this component detected, about itself or, when
   /// `fault.component` names one, about another component (monitors and voters do this).
   void reportFault(const FaultEvent& fault);
+  /// Rejects a property value (from onInitialize): throws PropertyError "component '<instance>':
+  /// property '<name>' <why>", which fails the load with that message.
+  [[noreturn]] void rejectProperty(std::string_view name, std::string_view why) const;
   /// Ends the run, as the end of its duration would: `keel run` stops and destroys everything
   /// cleanly and exits 0. For a component that knows when the job is done (a mission referee).
   /// - Callable from any callback, onStop included (a run that ends for another reason, its

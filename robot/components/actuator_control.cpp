@@ -33,14 +33,13 @@ ReturnCode ActuatorControl::onInitialize() {
   if (config.device == "spawn" || config.device == "inprocess")
     config.sim.truth_path = truthPath(property<std::string>("sim", "robot"), getpid());
   frame_s_ = config.period_ms / 1000.0;
-  resend_s_ = property<std::int64_t>("resend_ms", 100) / 1000.0;
-  cycle_s_ = property<std::int64_t>("cycle_ms", 20) / 1000.0;
-  if (config.period_ms < 1) throw PropertyError("component '" + instanceName() + "': property 'frame_period_ms' must be >= 1");
-  if (config.sim.seed == 0) throw PropertyError("component '" + instanceName() + "': property 'seed' must be >= 1");
+  resend_ = std::chrono::milliseconds(property<std::int64_t>("resend_ms", 100));
+  if (config.period_ms < 1) rejectProperty("frame_period_ms", "must be >= 1");
+  if (config.sim.seed == 0) rejectProperty("seed", "must be >= 1");
   try {
     link_ = std::make_unique<BoardLink>(config);
   } catch (const std::exception& e) {
-    throw PropertyError("component '" + instanceName() + "': motion board: " + e.what());
+    rejectProperty("device", std::string("'") + config.device + "': motion board: " + e.what());
   }
   return ReturnCode::Ok;
 }
@@ -55,8 +54,7 @@ ReturnCode ActuatorControl::onExecute() {
     if (const auto* s = std::get_if<StatusReport>(&f)) onStatus(*s);
   while (std::optional<std::array<double, 2>> c = command.pop()) wanted_ = toMotion(*c);
   const MotionCommand next = emergencyLatched() ? MotionCommand{} : wanted_;  // latched: neutral
-  since_sent_s_ += cycle_s_;
-  if (!(next == in_effect_) || since_sent_s_ >= resend_s_) {
+  if (!(next == in_effect_) || std::chrono::steady_clock::now() - sent_at_ >= resend_) {
     if (!sendMotion(next)) return ReturnCode::CallApiError;
   }
   return ReturnCode::Ok;
@@ -80,7 +78,7 @@ void ActuatorControl::onStatus(const StatusReport& s) {
 }
 
 bool ActuatorControl::sendMotion(const MotionCommand& c) {
-  since_sent_s_ = 0.0;
+  sent_at_ = std::chrono::steady_clock::now();
   in_effect_ = c;
   return link_->send(encode(c));
 }

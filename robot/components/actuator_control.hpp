@@ -10,6 +10,7 @@
 #pragma once
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -50,14 +51,13 @@ class ActuatorControl : public Component {
   std::unique_ptr<BoardLink> link_;
   Decoder decoder_;
   double frame_s_ = 0.02;
-  double resend_s_ = 0.1;
+  std::chrono::milliseconds resend_{100};
   double max_rpm_ = 300.0;
   int counts_per_rev_ = 360;
   std::optional<StatusReport> last_status_;
   MotionCommand in_effect_{};
   MotionCommand wanted_{};
-  double since_sent_s_ = 0.0;
-  double cycle_s_ = 0.02;
+  std::chrono::steady_clock::time_point sent_at_{};
 };
 
 }  // namespace keel::robot

@@ -25,7 +25,7 @@ class CameraSensor : public Component {
   ReturnCode onInitialize() override {
     const auto world_name = property<std::string>("world", "paper");
     world_ = worldByName(world_name);
-    if (!world_) throw PropertyError("component '" + instanceName() + "': property 'world': unknown world '" + world_name + "' (worlds: paper)");
+    if (!world_) rejectProperty("world", "names unknown world '" + world_name + "' (worlds: " + worldNames() + ")");
     CameraConfig c;
     c.seed = static_cast<std::uint64_t>(property<std::int64_t>("seed", 1));
     c.noise_sigma = property<double>("noise_sigma", 0.0);

@@ -18,7 +18,7 @@ constexpr double kMovingRpm = 5.0;  // either wheel faster than this: the robot 
 ReturnCode MissionReferee::onInitialize() {
   const auto world_name = property<std::string>("world", "paper");
   world_ = worldByName(world_name);
-  if (!world_) throw PropertyError("component '" + instanceName() + "': property 'world': unknown world '" + world_name + "' (worlds: paper)");
+  if (!world_) rejectProperty("world", "names unknown world '" + world_name + "' (worlds: " + worldNames() + ")");
   truth_.emplace(truthPath(property<std::string>("sim", "robot"), getpid()));
   goal_radius_m_ = property<double>("goal_radius_m", goal_radius_m_);
   settle_s_ = property<double>("settle_s", settle_s_);
@@ -26,7 +26,7 @@ ReturnCode MissionReferee::onInitialize() {
   const auto trace = property<std::string>("trace", "");
   if (!trace.empty()) {
     trace_ = std::fopen(trace.c_str(), "w");
-    if (trace_ == nullptr) throw PropertyError("component '" + instanceName() + "': property 'trace': cannot write " + trace);
+    if (trace_ == nullptr) rejectProperty("trace", "names a file that cannot be written: " + trace);
     std::fputs("t_s,x_m,y_m,heading_rad,rpm_left,rpm_right,measured_left,measured_right,reference_left,reference_right,clearance_m,collisions\n", trace_);
     writeWorld(trace + ".world.json");
   }

@@ -24,8 +24,8 @@ class ObstacleAvoidanceBase : public Component {
     ObstacleFilterConfig c;
     c.block_cm = property<double>("block_cm", c.block_cm);
     c.clear_cm = property<double>("clear_cm", c.clear_cm);
-    if (!(c.block_cm > 0 && c.clear_cm >= c.block_cm))
-      throw PropertyError("component '" + instanceName() + "': properties 'block_cm' and 'clear_cm' need 0 < block_cm <= clear_cm");
+    if (!(c.block_cm > 0)) rejectProperty("block_cm", "must be > 0");
+    if (!(c.clear_cm >= c.block_cm)) rejectProperty("clear_cm", "must be at least block_cm");
     filter_ = Filter(c);
     return ReturnCode::Ok;
   }

@@ -21,8 +21,7 @@ class UltrasonicSensor : public Component {
   ReturnCode onInitialize() override {
     const auto index = property<std::int64_t>("index", 0);
     if (index < 0 || index > 3)
-      throw PropertyError("component '" + instanceName() + "': property 'index' must be 0..3 (got " +
-                          std::to_string(index) + ")");
+      rejectProperty("index", "must be 0..3 (got " + std::to_string(index) + ")");
     index_ = static_cast<std::size_t>(index);
     return ReturnCode::Ok;
   }

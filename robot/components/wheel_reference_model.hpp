@@ -22,8 +22,8 @@ class WheelReferenceModel : public Component {
   ReturnCode onInitialize() override {
     const double tau_ms = property<double>("time_constant_ms", 150.0);
     const double sample_ms = property<double>("sample_ms", 20.0);
-    if (!(tau_ms > 0 && sample_ms > 0))
-      throw PropertyError("component '" + instanceName() + "': properties 'time_constant_ms' and 'sample_ms' must be > 0");
+    if (!(tau_ms > 0)) rejectProperty("time_constant_ms", "must be > 0");
+    if (!(sample_ms > 0)) rejectProperty("sample_ms", "must be > 0");
     model_.emplace(tau_ms / 1000.0, sample_ms / 1000.0);
     return ReturnCode::Ok;
   }

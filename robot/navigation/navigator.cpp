@@ -60,12 +60,13 @@ MotionCommand Navigator::track() {
   return command(b > 0 ? MotionType::TurnLeft : MotionType::TurnRight, diff);
 }
 
+MotionCommand Navigator::search() { return command(MotionType::TurnLeft, config_.turn_rpm * 0.75); }
+
 MotionCommand Navigator::turnAway() {
   return command(avoid_left_ ? MotionType::TurnLeft : MotionType::TurnRight, config_.turn_rpm);
 }
 
-MotionCommand Navigator::decide() {
-  const double dt = config_.cycle_s;
+MotionCommand Navigator::decide(double dt) {
   obstacle_age_s_ += dt;
   blob_age_s_ += dt;
   mode_time_s_ += dt;
@@ -83,7 +84,7 @@ MotionCommand Navigator::decide() {
   const bool blocked = obstacle_.blocked;
   switch (mode_) {
     case Mode::Search:
-      if (!targetVisible()) return command(MotionType::TurnLeft, config_.turn_rpm * 0.75);
+      if (!targetVisible()) return search();
       enter(Mode::Track);
       [[fallthrough]];
     case Mode::Track:
@@ -99,25 +100,24 @@ MotionCommand Navigator::decide() {
       }
       if (!targetVisible()) {
         enter(Mode::Search);
-        return command(MotionType::TurnLeft, config_.turn_rpm * 0.75);
+        return search();
       }
       return track();
     case Mode::Avoid:
       if (!blocked) enter(Mode::Clear);
       return turnAway();
     case Mode::Clear:
-      if (blocked) enter(Mode::Avoid);
-      else if (mode_time_s_ >= config_.extra_turn_s) enter(Mode::Detour);
-      else return turnAway();
-      return mode_ == Mode::Avoid ? turnAway() : command(MotionType::Forward, config_.cruise_rpm);
     case Mode::Detour:
       if (blocked) {
         enter(Mode::Avoid);
         return turnAway();
       }
-      if (mode_time_s_ >= config_.detour_s) {
+      if (mode_ == Mode::Clear) {
+        if (mode_time_s_ < config_.extra_turn_s) return turnAway();
+        enter(Mode::Detour);
+      } else if (mode_time_s_ >= config_.detour_s) {
         enter(targetVisible() ? Mode::Track : Mode::Search);
-        return targetVisible() ? track() : command(MotionType::TurnLeft, config_.turn_rpm * 0.75);
+        return targetVisible() ? track() : search();
       }
       return command(MotionType::Forward, config_.cruise_rpm);
     case Mode::Goal:

@@ -14,7 +14,6 @@
 namespace keel::robot {
 
 struct NavigatorConfig {
-  double cycle_s = 0.05;          // how often decide() is called
   int cruise_rpm = 120;           // forward speed
   int turn_rpm = 80;              // rpm difference when turning in place to avoid or search
   int min_steer_rpm = 30;         // smallest rpm difference when steering toward the target
@@ -52,8 +51,8 @@ class Navigator {
   /// Inputs that arrived since the last cycle (nullopt: none arrived).
   void onObstacle(const ObstacleInfo& info);
   void onBlob(const BlobInfo& blob);
-  /// One planner cycle: the command to send.
-  [[nodiscard]] MotionCommand decide();
+  /// One planner cycle, `dt_s` after the previous one: the command to send.
+  [[nodiscard]] MotionCommand decide(double dt_s);
 
   [[nodiscard]] Mode mode() const { return mode_; }
   [[nodiscard]] const NavigatorConfig& config() const { return config_; }
@@ -63,6 +62,7 @@ class Navigator {
   [[nodiscard]] bool atGoal() const;
   MotionCommand track();
   MotionCommand turnAway();
+  MotionCommand search();  // turn left in place, slower than when avoiding
 
   NavigatorConfig config_;
   Mode mode_ = Mode::Search;

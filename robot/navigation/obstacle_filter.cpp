@@ -14,10 +14,8 @@ ObstacleInfo PrimaryObstacleFilter::update(double range_cm) {
   std::array<double, kWindow> sorted = s.window;
   std::sort(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(n));
   const double filtered = sorted[n / 2];
-  const bool was = s.blocked;
   if (filtered < config_.block_cm) s.blocked = true;
   else if (filtered > config_.clear_cm) s.blocked = false;
-  if (s.blocked && !was) ++s.episodes;
   return ObstacleInfo{filtered, s.blocked};
 }
 

@@ -29,7 +29,6 @@ class PrimaryObstacleFilter {
     std::uint32_t count = 0;  // samples seen (the window is full from kWindow on)
     std::uint32_t next = 0;   // ring index
     bool blocked = false;
-    std::uint32_t episodes = 0;  // times the way became blocked
   };
 
   explicit PrimaryObstacleFilter(ObstacleFilterConfig config = {}) : config_(config) {}

@@ -20,11 +20,13 @@ SimulatorConfig simulatorConfig(const SimHostConfig& config, const World& world)
 
 World requireWorld(const std::string& name) {
   auto world = worldByName(name);
-  if (!world) throw std::invalid_argument("unknown world '" + name + "' (worlds: paper)");
+  if (!world) throw std::invalid_argument("unknown world '" + name + "' (worlds: " + worldNames() + ")");
   return *world;
 }
 
 }  // namespace
+
+std::string worldNames() { return "paper"; }
 
 std::optional<World> worldByName(const std::string& name) {
   if (name == "paper") return World::paperArena();

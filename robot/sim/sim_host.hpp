@@ -28,6 +28,8 @@ struct SimHostConfig {
 
 /// The worlds the simulator knows by name: "paper" (World::paperArena()). Nothing otherwise.
 std::optional<World> worldByName(const std::string& name);
+/// Their names, for error messages ("paper").
+std::string worldNames();
 
 class SimHost {
  public:

@@ -45,6 +45,10 @@ void Component::reportFault(const FaultEvent& fault) {
   if (core_->hooks) core_->hooks->faultDetected(*this, fault);
 }
 
+void Component::rejectProperty(std::string_view name, std::string_view why) const {
+  detail::throwPropertyError(core_->instance_name, name, why);
+}
+
 void Component::endRun(std::string_view summary, std::string_view event, std::string_view fields_json) {
   if (core_->hooks) core_->hooks->endRun(*this, summary, event, fields_json);
 }

@@ -40,6 +40,17 @@ struct RobotRun {
     return out;
   }
   std::size_t detections() const { return eventsOf(log, "detected").size(); }
+  /// Whether some fault's handling took `action` (on any component).
+  bool tookAction(const std::string& action) const {
+    for (const auto& a : eventsOf(log, "action"))
+      if (a.value("action", "") == action) return true;
+    return false;
+  }
+  /// The time of the (last) injection.
+  std::int64_t injectedAt() const {
+    const auto injected = eventsOf(log, "injected");
+    return injected.empty() ? 0 : injected.back().value("t_ns", std::int64_t{0});
+  }
 };
 
 class Robot : public ::testing::Test {
@@ -127,9 +138,7 @@ TEST_F(Robot, AnUnpluggedSonarIsARangeFaultAtOnceTheSonarStopsAndItsTwinsCarryTh
   ASSERT_EQ(d.size(), 1u) << r.ran.out;
   EXPECT_NE(d[0].value("detail", "").find("range"), std::string::npos) << d[0].dump();
   // Detected at once: in the first status frames after the injection (board and task periods are 20 ms).
-  std::int64_t injected = 0;
-  for (const auto& i : eventsOf(r.log, "injected")) injected = i.value("t_ns", std::int64_t{0});
-  EXPECT_LT(d[0].value("t_ns", std::int64_t{0}) - injected, 100'000'000);
+  EXPECT_LT(d[0].value("t_ns", std::int64_t{0}) - r.injectedAt(), 100'000'000);
   EXPECT_EQ(r.actions("stop", "sonar_b").size(), 1u);
   reachedTheGoal(r);
 }
@@ -139,15 +148,10 @@ TEST_F(Robot, Fig6ALeftDriverOffIsAModelFaultAbout200MsLaterAndAnEmergencyStop) 
   const auto d = r.detected("model", "actuator");
   ASSERT_GE(d.size(), 1u) << r.ran.out;
   EXPECT_EQ(d[0].value("detector", ""), "monitor_left");
-  std::int64_t injected = 0;
-  for (const auto& i : eventsOf(r.log, "injected")) injected = i.value("t_ns", std::int64_t{0});
-  const double delay_ms = (d[0].value("t_ns", std::int64_t{0}) - injected) / 1e6;
+  const double delay_ms = (d[0].value("t_ns", std::int64_t{0}) - r.injectedAt()) / 1e6;
   EXPECT_GT(delay_ms, 60.0);   // the wheel needs time to slow down: not a false positive
   EXPECT_LT(delay_ms, 600.0);  // the paper: ~200 ms; generous on a loaded machine
-  EXPECT_GE(eventsOf(r.log, "action").size(), 1u);
-  bool emergency = false;
-  for (const auto& a : eventsOf(r.log, "action")) emergency = emergency || a.value("action", "") == "emergency_stop";
-  EXPECT_TRUE(emergency) << r.ran.out;
+  EXPECT_TRUE(r.tookAction("emergency_stop")) << r.ran.out;
   stoppedSafely(r);
 }
 
@@ -186,9 +190,7 @@ TEST_F(Robot, AWheelMonitorFaultWhileMovingStopsTheMotorsInNeutralAndTheRobotSto
   const auto d = r.detected("model", "actuator");
   ASSERT_GE(d.size(), 1u) << r.ran.out;
   EXPECT_EQ(d[0].value("detector", ""), "monitor_right");
-  bool emergency = false;
-  for (const auto& a : eventsOf(r.log, "action")) emergency = emergency || a.value("action", "") == "emergency_stop";
-  EXPECT_TRUE(emergency);
+  EXPECT_TRUE(r.tookAction("emergency_stop")) << r.ran.out;
   stoppedSafely(r);
 }
 

@@ -50,11 +50,11 @@ class ColorBlobDetector : public Component {
     ordered("v", c.v_min, c.v_max);
     const auto min_area = property<std::int64_t>("min_area", kDefaultMinArea);
     if (min_area < 1 || min_area > kMaxMinArea)
-      fail("min_area", "must be between 1 and " + std::to_string(kMaxMinArea) + " (got " +
+      rejectProperty("min_area", "must be between 1 and " + std::to_string(kMaxMinArea) + " (got " +
                            std::to_string(min_area) + ")");
     fov_deg_ = property<double>("fov_deg", kDefaultFovDeg);
     if (!std::isfinite(fov_deg_) || fov_deg_ <= 0.0 || fov_deg_ >= 180.0)
-      fail("fov_deg", "must be greater than 0 and less than 180 (got " +
+      rejectProperty("fov_deg", "must be greater than 0 and less than 180 (got " +
                           std::to_string(fov_deg_) + ")");
     segmenter_.emplace(c, static_cast<int>(min_area));
     return ReturnCode::Ok;
@@ -91,20 +91,16 @@ class ColorBlobDetector : public Component {
   int channel(std::string_view name, int fallback) const {
     const auto value = property<std::int64_t>(name, fallback);
     if (value < 0 || value > 255)
-      fail(name, "must be between 0 and 255 (got " + std::to_string(value) + ")");
+      rejectProperty(name, "must be between 0 and 255 (got " + std::to_string(value) + ")");
     return static_cast<int>(value);
   }
 
   void ordered(const std::string& axis, int lo, int hi) const {
     if (lo > hi)
-      fail(axis + "_min", "must not exceed " + axis + "_max (got " + std::to_string(lo) +
+      rejectProperty(axis + "_min", "must not exceed " + axis + "_max (got " + std::to_string(lo) +
                               " > " + std::to_string(hi) + ")");
   }
 
-  [[noreturn]] void fail(std::string_view name, const std::string& why) const {
-    throw PropertyError("component '" + instanceName() + "': property '" + std::string(name) +
-                        "' " + why);
-  }
 
   double fov_deg_ = kDefaultFovDeg;
   std::optional<ColorSegmenter> segmenter_;  // built by onInitialize

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 namespace keel::fault {
 namespace {
@@ -16,6 +18,12 @@ class ScenarioFile : public ::testing::Test {
     return path_;
   }
   void TearDown() override { std::filesystem::remove(path_); }
+  /// Every diagnostic of a scenario that failed to load, as `file:line: message`.
+  static std::vector<std::string> problems(const Result<Scenario, profile::Diagnostics>& s) {
+    std::vector<std::string> got;
+    for (const auto& d : s.error()) got.push_back(d.str());
+    return got;
+  }
   std::string path_ = (std::filesystem::temp_directory_path() /
                        ("keel_scenario_" + std::to_string(::getpid()) + ".xml")).string();
 };
@@ -52,10 +60,8 @@ TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
   <oops/>
 </fault_scenario>)"));
   ASSERT_FALSE(s);
-  std::vector<std::string> got;
-  for (const auto& d : s.error()) got.push_back(d.str());
   const std::string f = path_;
-  EXPECT_EQ(got, (std::vector<std::string>{
+  EXPECT_EQ(problems(s), (std::vector<std::string>{
                      f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
                      f + ":3: <fault>: attribute 'component' is required",
                      f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
@@ -112,10 +118,8 @@ TEST_F(ScenarioFile, SoftwareKindsTakeNoArgsAndHardwareKindsNothingElse) {
   <fault at="1" component="a" kind="noise" value="3"/>
 </fault_scenario>)"));
   ASSERT_FALSE(s);
-  std::vector<std::string> got;
-  for (const auto& d : s.error()) got.push_back(d.str());
   const std::string f = path_;
-  EXPECT_EQ(got, (std::vector<std::string>{
+  EXPECT_EQ(problems(s), (std::vector<std::string>{
                      f + ":2: <fault>: attribute 'args' is for the hardware kinds; 'segfault' takes none",
                      f + ":3: <fault>: attribute 'port' is not for hardware kind 'motor_power_off' (it takes args)",
                      f + ":3: <fault>: attribute 'duration' is not for hardware kind 'motor_power_off' (it takes "

@@ -63,7 +63,7 @@ Outcome drive(std::uint64_t seed, double sonar_noise_cm, double pixel_noise, dou
     }
     if (ms % 50 == 0) {
       const auto before = nav.mode();
-      const MotionCommand c = nav.decide();
+      const MotionCommand c = nav.decide(0.05);
       if (std::getenv("NAV_TRACE") && (nav.mode() != before || ms % 1000 == 0)) {
         const TruthSample& t = host.truth();
         std::printf("%5d ms %-7s (%.2f, %.2f) h %.0f deg, cmd %d/%d\n", ms, toString(nav.mode()), t.x_m, t.y_m,
