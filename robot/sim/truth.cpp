@@ -62,8 +62,9 @@ void TruthWriter::publish(const TruthSample& sample) {
   Shared& s = shared(map_);
   const std::uint64_t seq = s.sequence.load(std::memory_order_relaxed);
   s.sequence.store(seq + 1, std::memory_order_relaxed);  // odd: being written
-  std::atomic_thread_fence(std::memory_order_release);
-  for (std::size_t i = 0; i < kWords; ++i) s.words[i].store(words[i], std::memory_order_relaxed);
+  // Release on each word: a reader that sees any new word also sees the odd sequence. (No
+  // fences: TSan does not model them; on x86 these are plain stores either way.)
+  for (std::size_t i = 0; i < kWords; ++i) s.words[i].store(words[i], std::memory_order_release);
   s.sequence.store(seq + 2, std::memory_order_release);  // even: consistent
 }
 
@@ -91,8 +92,8 @@ std::optional<TruthSample> TruthReader::read() {
     const std::uint64_t before = s.sequence.load(std::memory_order_acquire);
     if (before == 0) return std::nullopt;
     if (before % 2 != 0) continue;
-    for (std::size_t i = 0; i < kWords; ++i) words[i] = s.words[i].load(std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_acquire);
+    // Acquire on each word: the sequence is re-read after every word, never before.
+    for (std::size_t i = 0; i < kWords; ++i) words[i] = s.words[i].load(std::memory_order_acquire);
     if (s.sequence.load(std::memory_order_relaxed) != before) continue;
     return std::bit_cast<TruthSample>(words);
   }
