@@ -18,7 +18,7 @@
 #include <thread>
 #include <vector>
 
-#include "latency_stats.hpp"
+#include "harness/stats.hpp"
 #include "runtime/guard.hpp"
 
 namespace {

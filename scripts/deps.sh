@@ -10,6 +10,7 @@ packages=(
   libbenchmark-dev
   python3 python3-matplotlib
   stress-ng
+  erlang-base
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then

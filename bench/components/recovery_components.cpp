@@ -1,4 +1,4 @@
-// Components of the recovery-latency benchmark (bench/recovery_bench.cpp): a victim whose
+// Components of the recovery-latency benchmark (bench/harness/recovery.cpp, `keel bench recovery`): a victim whose
 // onExecute is trivial (the `recovered` moment includes one of its steps), and the alternative
 // preloaded in its place. The cold alternative lives in its own library
 // (recovery_cold_spare.cpp), which nothing else in the benchmark's packages uses, so that a

@@ -1,29 +1,20 @@
-// Detection latency (detected − injected) per detector, SPEC §5–6 / issue "fault detection".
-// A victim component runs on a 1 ms periodic executor beside a bystander; each trial arms one
-// injection, waits for its detection, puts the victim back to Active and goes on. Hangs are
-// reported as the overshoot past the heartbeat timeout.
-//   build/bin/keel_bench_detection [--n 1000] [--policy other|fifo|both] [--json FILE]
-// Run it idle, and under load with bench/run_detection.sh (stress-ng at 80%).
-#include <fmt/format.h>
+#include "detection.hpp"
 
 #include <atomic>
-#include <cstring>
-#include <fstream>
-#include <iostream>
+#include <chrono>
+#include <string>
 #include <thread>
 
 #include "fault/fault_manager.hpp"
 #include "fault/watchdog.hpp"
-#include "latency_stats.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/guard.hpp"
-#include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
 
+namespace keel::bench {
 namespace {
 
-using namespace keel;
 using namespace std::chrono_literals;
 
 class Victim : public Component {
@@ -35,6 +26,7 @@ class Victim : public Component {
   }
 };
 
+/// The runtime's hooks, straight to the fault manager (what the engine wires up).
 class Hooks : public runtime::RuntimeHooks {
  public:
   explicit Hooks(fault::FaultManager& fm) : fm_(fm) {}
@@ -47,15 +39,29 @@ class Hooks : public runtime::RuntimeHooks {
   fault::FaultManager& fm_;
 };
 
-struct Row {
-  std::string kind, policy;
-  bench::Summary s;
-  double timeout_ms = 0;
-};
+}  // namespace
 
-constexpr std::int64_t kHeartbeatNs = 20'000'000;
+std::string detectorOf(runtime::InjectKind kind) {
+  switch (kind) {
+    case runtime::InjectKind::Segfault:
+    case runtime::InjectKind::DivideByZero:
+    case runtime::InjectKind::Abort: return "signal";
+    case runtime::InjectKind::Throw: return "exception";
+    case runtime::InjectKind::ErrorCode: return "error_code";
+    case runtime::InjectKind::OutOfRange: return "range";
+    case runtime::InjectKind::Hang:
+    case runtime::InjectKind::StallHeartbeat: return "watchdog";
+    case runtime::InjectKind::None: break;
+  }
+  return "none";
+}
 
-Row measure(runtime::InjectKind kind, bool fifo, int n) {
+DetectionCell measureDetection(runtime::InjectKind kind, bool fifo, int n) {
+  runtime::installSignalHandlers();
+  DetectionCell cell;
+  auto warn = [&cell](const std::string& w) {
+    if (cell.warnings.find(w) == std::string::npos) cell.warnings += (cell.warnings.empty() ? "" : "; ") + w;
+  };
   fault::FaultLog log;
   Victim victim, bystander;
   fault::FaultManager fm(log, [&](std::string_view) -> Component* { return nullptr; });
@@ -68,23 +74,24 @@ Row measure(runtime::InjectKind kind, bool fifo, int n) {
   }
   static detail::ValidityRule rule{{0.0}, {10.0}};
   victim.out.setValidity(&rule);
-  runtime::coreOf(victim).heartbeat_ns = kHeartbeatNs;
+  runtime::coreOf(victim).heartbeat_ns = kDetectionHeartbeatNs;
   runtime::Executor ex({"victim", runtime::ExecutorKind::Periodic, 1ms, fifo ? 50 : 0,
                         fifo ? runtime::Policy::Fifo : runtime::Policy::Other},
-                       [](const std::string& w) { std::cerr << w << '\n'; });
+                       warn);
   ex.add(victim);
   ex.add(bystander);
   const std::atomic<Component*> watched{&victim};
-  fault::Watchdog dog({{&watched, kHeartbeatNs, 1'000'000}}, fm, [](const std::string& w) { std::cerr << w << '\n'; }, fifo);
+  fault::Watchdog dog({{&watched, kDetectionHeartbeatNs, 1'000'000}}, fm, warn, fifo);
   ex.start();
   dog.start();
   auto& core = runtime::coreOf(victim);
   for (int i = 0; i < n; ++i) {
     const std::size_t before = fm.detectionCount();
     runtime::arm(victim, kind, fm.nextId(), {"out", -1.0, 0});
-    auto deadline = std::chrono::steady_clock::now() + 5s;
+    const auto deadline = std::chrono::steady_clock::now() + 5s;
     while (fm.detectionCount() == before && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(200us);  // light polling: the bench must not disturb the victim
+    if (fm.detectionCount() == before) ++cell.failed;
     if (kind == runtime::InjectKind::Hang) {
       core.release_hang.store(true);
       while (core.callback_since_ns.load() != 0) std::this_thread::sleep_for(50us);
@@ -96,56 +103,13 @@ Row measure(runtime::InjectKind kind, bool fifo, int n) {
   dog.stop();
   ex.requestStop();
   (void)ex.join(5s);
-  std::vector<std::int64_t> lat;
   for (const auto& d : fm.detections()) {
     if (d.injected_ns == 0) continue;
     std::int64_t l = d.detected_ns - d.injected_ns;
-    if (kind == runtime::InjectKind::Hang) l -= kHeartbeatNs;
-    lat.push_back(l);
+    if (kind == runtime::InjectKind::Hang) l -= kDetectionHeartbeatNs;
+    cell.latencies_ns.push_back(l);
   }
-  return {std::string(runtime::toString(kind)), fifo ? "fifo" : "other", bench::summarise(lat),
-          kind == runtime::InjectKind::Hang ? kHeartbeatNs / 1e6 : 0};
+  return cell;
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  int n = 1000;
-  std::string policy = "both", json_path;
-  for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    if (a == "--n" && i + 1 < argc) n = std::atoi(argv[++i]);
-    else if (a == "--policy" && i + 1 < argc) policy = argv[++i];
-    else if (a == "--json" && i + 1 < argc) json_path = argv[++i];
-    else {
-      std::cerr << "usage: keel_bench_detection [--n N] [--policy other|fifo|both] [--json FILE]\n";
-      return 2;
-    }
-  }
-  runtime::installSignalHandlers();
-  const double load = bench::measureLoad(1.0);
-  fmt::print("machine load before the run: {:.0f}%\n\n", load * 100);
-  fmt::print("| detector (injected) | policy | n | p50 µs | p99 µs | max µs |\n|---|---|---|---|---|---|\n");
-  std::vector<Row> rows;
-  for (bool fifo : {false, true}) {
-    if ((fifo && policy == "other") || (!fifo && policy == "fifo")) continue;
-    for (auto kind : {runtime::InjectKind::Segfault, runtime::InjectKind::DivideByZero, runtime::InjectKind::Abort,
-                      runtime::InjectKind::Throw, runtime::InjectKind::ErrorCode, runtime::InjectKind::OutOfRange,
-                      runtime::InjectKind::Hang}) {
-      Row r = measure(kind, fifo, kind == runtime::InjectKind::Hang ? std::max(1, n / 2) : n);
-      std::string label = r.kind + (r.timeout_ms ? fmt::format(" (past {} ms timeout)", r.timeout_ms) : "");
-      fmt::print("| {} | {} | {} | {:.1f} | {:.1f} | {:.1f} |\n", label, r.policy, r.s.n, r.s.p50_us, r.s.p99_us,
-                 r.s.max_us);
-      std::fflush(stdout);
-      rows.push_back(r);
-    }
-  }
-  if (!json_path.empty()) {
-    std::ofstream out(json_path);
-    for (const auto& r : rows)
-      out << fmt::format(R"({{"load":{:.2f},"kind":"{}","policy":"{}","n":{},"p50_us":{:.2f},"p99_us":{:.2f},"max_us":{:.2f}}})",
-                         load, r.kind, r.policy, r.s.n, r.s.p50_us, r.s.p99_us, r.s.max_us)
-          << '\n';
-  }
-  return 0;
-}
+}  // namespace keel::bench

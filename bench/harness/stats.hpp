@@ -1,8 +1,7 @@
-// Latency samples and their summary (p50, p99, max), for keel's benchmark harnesses.
+// Latency samples and their summary (p50, p99, max), for keel's benchmark harness.
 #pragma once
 
 #include <cstdint>
-#include <string>
 #include <vector>
 
 namespace keel::bench {
@@ -12,10 +11,7 @@ struct Summary {
   double p50_us = 0, p99_us = 0, max_us = 0;
 };
 
-/// Summarises samples given in nanoseconds.
+/// Summarises samples given in nanoseconds (nearest-rank percentiles).
 Summary summarise(std::vector<std::int64_t> samples_ns);
-
-/// Fraction of CPU time the machine spent busy over `seconds` (from /proc/stat), 0..1.
-double measureLoad(double seconds);
 
 }  // namespace keel::bench

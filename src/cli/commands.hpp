@@ -15,6 +15,7 @@ void addRunCommand(CLI::App& app, std::function<int()>& run);
 void addValidateCommand(CLI::App& app, std::function<int()>& run);
 void addInspectCommand(CLI::App& app, std::function<int()>& run);
 void addGraphCommand(CLI::App& app, std::function<int()>& run);
+void addBenchCommand(CLI::App& app, std::function<int()>& run);
 
 
 }  // namespace keel::cli

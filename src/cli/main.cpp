@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   keel::cli::addValidateCommand(app, run);
   keel::cli::addInspectCommand(app, run);
   keel::cli::addGraphCommand(app, run);
+  keel::cli::addBenchCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

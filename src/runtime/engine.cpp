@@ -51,9 +51,8 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
 }
 
 Component* Engine::find(std::string_view instance) const {
-  for (const auto& i : instances_)
-    if (i.plan->name == instance) return i.active();
-  return nullptr;
+  const auto it = by_name_.find(instance);
+  return it == by_name_.end() ? nullptr : it->second->active();
 }
 
 void Engine::warn(const std::string& message) {

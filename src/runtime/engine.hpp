@@ -15,6 +15,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "fault/fault_log.hpp"
@@ -137,6 +138,9 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   Loader loader_;
   fault::FaultLog log_;
   std::vector<Instance> instances_;
+  // Instance by name, built once instantiate() has made them all (read-only afterwards, from
+  // any thread): find() is on the fault manager's path, once per stopped component.
+  std::unordered_map<std::string_view, const Instance*> by_name_;
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;

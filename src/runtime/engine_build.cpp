@@ -78,6 +78,7 @@ Result<void> Engine::instantiate() {
     inst->current->store(inst->component.get(), std::memory_order_release);
     instances_.push_back(std::move(*inst));
   }
+  for (const auto& inst : instances_) by_name_.emplace(inst.plan->name, &inst);
   if (!errors.empty()) {
     errors.pop_back();
     return fail(errors);

@@ -1,0 +1,335 @@
+// keel-bench: the harness behind `keel bench` (the keel command runs this program, found beside
+// it). Three benchmarks, each over load levels and scheduling policies, each printing markdown
+// tables and writing `--json FILE` (one object per cell) and a plot:
+//   recovery   keel's reset, cold and preloaded replacement beside an Erlang/OTP supervisor and
+//              a respawned process, and the machine's floor (a thread wake-up, a timer
+//              wake-up), measured in the same run (the paper's Table 3)
+//   detection  detected − injected per detector
+//   scale      start-up, memory and diagnosis time against the number of components
+// `_load P` is the internal duty-cycle load (load.hpp), started by keel-bench itself.
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <pthread.h>
+#include <sched.h>
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <thread>
+
+#include "detection.hpp"
+#include "floor.hpp"
+#include "load.hpp"
+#include "paths.hpp"
+#include "peers.hpp"
+#include "process.hpp"
+#include "recovery.hpp"
+#include "report.hpp"
+#include "scale.hpp"
+
+namespace keel::bench {
+namespace {
+
+struct Options {
+  std::vector<int> loads{10, 40, 60, 80};
+  int n = 1000;
+  bool quick = false;
+  std::string policy = "both";  // other | fifo | both
+  std::string load_source = "auto";
+  std::vector<std::string> which;  // mechanisms or kinds
+  std::string json;
+  std::string plot;  // default: keel-bench-<what>.svg
+  bool no_plot = false;
+  bool low_latency = false;
+};
+
+/// SCHED_FIFO for a thread of this process: permitted, or why not.
+std::optional<std::string> fifoRefused() {
+  std::optional<std::string> why;
+  std::thread([&why] {
+    sched_param sp{};
+    sp.sched_priority = 50;
+    if (int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0)
+      why = fmt::format("SCHED_FIFO not permitted ({}): run as root or with CAP_SYS_NICE / an RLIMIT_RTPRIO",
+                        std::strerror(rc));
+  }).join();
+  return why;
+}
+
+std::vector<bool> policiesOf(const Options& o) {
+  std::vector<bool> out;
+  if (o.policy != "fifo") out.push_back(false);
+  if (o.policy != "other") out.push_back(true);
+  return out;
+}
+
+LoadSource loadSourceOf(const std::string& s) {
+  return s == "stress-ng" ? LoadSource::StressNg : s == "internal" ? LoadSource::Internal : LoadSource::Auto;
+}
+
+/// Holds /dev/cpu_dma_latency at 0 while alive: idle CPUs poll instead of halting, as a
+/// real-time deployment configures them (on a VM: no exit to the hypervisor on a wake-up).
+class LowLatency {
+ public:
+  explicit LowLatency(bool on) {
+    if (!on) return;
+    fd_ = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
+    const std::int32_t zero = 0;
+    if (fd_ < 0 || ::write(fd_, &zero, sizeof zero) != sizeof zero)
+      throw std::runtime_error("--low-latency: cannot write /dev/cpu_dma_latency (needs root)");
+  }
+  ~LowLatency() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  LowLatency(const LowLatency&) = delete;
+  LowLatency& operator=(const LowLatency&) = delete;
+
+ private:
+  int fd_ = -1;
+};
+
+/// One benchmark's cells: for each load level (the load started once per level), each policy
+/// and each item, `run` fills a Row's measurement; the load and policy columns are filled here.
+using CellRunner = std::function<void(const std::string& item, bool fifo, Row& row)>;
+
+std::vector<Row> runCells(const Options& o, const Paths& paths, const std::vector<std::string>& items,
+                          const CellRunner& run) {
+  std::vector<Row> rows;
+  const auto refused = fifoRefused();
+  const std::string self = paths.bin + "/keel-bench";
+  for (int load : o.loads) {
+    BackgroundLoad bg(load, loadSourceOf(o.load_source), self);
+    for (bool fifo : policiesOf(o)) {
+      for (const auto& item : items) {
+        Row row;
+        row.load = load;
+        row.load_source = bg.source();
+        row.what = item;
+        row.policy = fifo ? "fifo" : "other";
+        const CpuMeter meter;
+        if (fifo && refused) {
+          row.skipped = true;
+          row.note = *refused;
+        } else {
+          run(item, fifo, row);
+        }
+        row.load_achieved = meter.busy() * 100;
+        std::cerr << fmt::format("keel-bench: load {}% ({:.0f}% achieved), {} {}: ", load, row.load_achieved, item,
+                                 row.policy)
+                  << (row.skipped ? "skipped: " + row.note
+                                  : fmt::format("n {} p50 {:.1f} µs p99 {:.1f} µs max {:.1f} µs", row.s.n, row.s.p50_us,
+                                                row.s.p99_us, row.s.max_us))
+                  << '\n';
+        rows.push_back(std::move(row));
+      }
+    }
+  }
+  return rows;
+}
+
+void recoveryCell(const Paths& paths, int n, const std::string& log, const std::string& what, bool fifo, Row& row) {
+  if (what == "floor_wake" || what == "floor_timer") {
+    FloorResult f = what == "floor_wake" ? measureWakeFloor(n, fifo) : measureTimerFloor(n, fifo);
+    row.s = summarise(std::move(f.latencies_ns));
+    row.note = f.warnings;
+    return;
+  }
+  if (what == "peer_erlang" || what == "peer_respawn") {
+    PeerResult p = what == "peer_erlang" ? runErlangPeer(paths, n, fifo) : runRespawnPeer(paths, n, fifo);
+    row.skipped = !p.skipped.empty();
+    row.note = p.skipped;
+    row.s = summarise(std::move(p.latencies_ns));
+    row.failed = p.failed;
+    return;
+  }
+  RecoveryCell c = measureRecovery(paths, what, fifo, n, log);
+  if (!c.error.empty()) {
+    row.skipped = true;
+    row.note = c.error;
+    return;
+  }
+  row.s = summarise(std::move(c.latencies_ns));
+  row.failed = c.failed;
+  std::vector<std::string> notes;
+  if (c.unexpected) notes.push_back(fmt::format("{} handled otherwise", c.unexpected));
+  if (c.already_mapped) notes.push_back(fmt::format("{} with the library already mapped", c.already_mapped));
+  if (!c.in_place_ns.empty()) {
+    const Summary in = summarise(std::move(c.in_place_ns));
+    notes.push_back(fmt::format("in place {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
+  }
+  if (!c.warnings.empty()) notes.push_back(c.warnings);
+  for (const auto& note : notes) row.note += (row.note.empty() ? "" : "; ") + note;
+}
+
+void detectionCell(int n, const std::string& what, bool fifo, Row& row) {
+  const auto kind = *runtime::parseInjectKind(what);
+  row.detector = detectorOf(kind);
+  // A hang costs the heartbeat timeout per trial: half as many.
+  DetectionCell c = measureDetection(kind, fifo, kind == runtime::InjectKind::Hang ? std::max(1, n / 2) : n);
+  row.s = summarise(std::move(c.latencies_ns));
+  row.failed = c.failed;
+  row.note = c.warnings;
+  if (kind == runtime::InjectKind::Hang)
+    row.note = fmt::format("past the {} ms heartbeat timeout", kDetectionHeartbeatNs / 1'000'000) +
+               (row.note.empty() ? "" : "; " + row.note);
+}
+
+/// Runs the plot script on the JSON; a missing python or matplotlib is said, not fatal.
+void plot(const Paths& paths, const std::string& kind, const std::string& json, const std::string& svg) {
+  const std::string python = ::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : findInPath("python3");
+  const Captured ran = runCaptured({python, paths.plot, kind, json, svg}, false,
+                                   std::chrono::steady_clock::now() + std::chrono::seconds(60));
+  if (!ran.error.empty() || ran.status != 0) {
+    std::cout << "\nplot: not written (" << paths.plot << ": "
+              << (ran.error.empty() ? (ran.lines.empty() ? "failed" : ran.lines.back()) : ran.error)
+              << "; it needs python3-matplotlib)\n";
+    return;
+  }
+  std::cout << "\nplot: " << svg << '\n';
+}
+
+/// Writes the rows as a JSON array, one cell per line; returns the file written (a temporary
+/// one when only the plot needs it).
+std::string writeJson(const nlohmann::json& rows, const std::string& path) {
+  std::ofstream out(path);
+  out << "[\n";
+  for (std::size_t i = 0; i < rows.size(); ++i) out << "  " << rows[i].dump() << (i + 1 < rows.size() ? ",\n" : "\n");
+  out << "]\n";
+  if (!out) throw std::runtime_error("cannot write " + path);
+  return path;
+}
+
+void finish(const Options& o, const Paths& paths, const std::string& kind, nlohmann::json rows) {
+  const std::string json = o.json.empty() ? fmt::format("/tmp/keel-bench-{}.{}.json", kind, ::getpid()) : o.json;
+  writeJson(rows, json);
+  if (!o.json.empty()) std::cout << "\njson: " << o.json << '\n';
+  if (!o.no_plot) plot(paths, kind, json, o.plot.empty() ? "keel-bench-" + kind + ".svg" : o.plot);
+  if (o.json.empty()) std::remove(json.c_str());
+}
+
+void header(const Options& o, const std::string& what) {
+  std::cout << fmt::format("# keel bench {}: {} faults per cell{}, loads {}%, machine: {} CPUs{}\n", what, o.n,
+                           o.quick ? " (--quick)" : "", fmt::join(o.loads, "/"), std::thread::hardware_concurrency(),
+                           o.low_latency ? ", /dev/cpu_dma_latency held at 0" : "")
+            << std::flush;
+}
+
+int recovery(Options o, const Paths& paths) {
+  if (o.which.empty())
+    o.which = {"reset", "replace_cold", "replace_preloaded", "peer_erlang", "peer_respawn", "floor_wake", "floor_timer"};
+  LowLatency low(o.low_latency);
+  header(o, "recovery");
+  const std::string log = fmt::format("/tmp/keel-bench-recovery.{}.log", ::getpid());
+  auto rows = runCells(o, paths, o.which, [&](const std::string& w, bool fifo, Row& row) {
+    recoveryCell(paths, o.n, log, w, fifo, row);
+  });
+  std::remove(log.c_str());
+  printTable3(rows, std::cout);
+  std::cout << "\nEvery cell (p50 / p99 / max over n faults; achieved: the machine's busy CPU time during the cell)\n\n";
+  printCells(rows, false, std::cout);
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : rows) j.push_back(toJson(r, false));
+  addPeerRatios(j);
+  finish(o, paths, "recovery", std::move(j));
+  return 0;
+}
+
+int detection(Options o, const Paths& paths) {
+  if (o.which.empty())
+    for (auto k : kDetectionKinds) o.which.emplace_back(runtime::toString(k));
+  LowLatency low(o.low_latency);
+  header(o, "detection");
+  auto rows = runCells(o, paths, o.which, [&](const std::string& w, bool fifo, Row& row) {
+    detectionCell(o.n, w, fifo, row);
+  });
+  std::cout << "\nDetection latency, detected − injected (p50 / p99 / max µs)\n\n";
+  printCells(rows, true, std::cout);
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : rows) j.push_back(toJson(r, true));
+  finish(o, paths, "detection", std::move(j));
+  return 0;
+}
+
+void commonOptions(CLI::App& sub, Options& o, const std::string& items_help) {
+  sub.add_option("--loads", o.loads, "load levels, % busy on every CPU (0: idle)")->delimiter(',')->check(CLI::Range(0, 100));
+  sub.add_option("--n", o.n, "faults per cell (at least 1000 for the numbers we publish)")->check(CLI::PositiveNumber);
+  sub.add_flag("--quick", o.quick, "20 faults per cell: a smoke test of the harness, not of the numbers");
+  sub.add_option("--policy", o.policy, "scheduling policy of the measured threads")
+      ->check(CLI::IsMember({"other", "fifo", "both"}));
+  sub.add_option("--load-source", o.load_source, "auto: stress-ng when installed, else the internal duty-cycle load")
+      ->check(CLI::IsMember({"auto", "stress-ng", "internal"}));
+  sub.add_option("--only", o.which, items_help)->delimiter(',');
+  sub.add_option("--json", o.json, "write every cell to FILE (a JSON array, one object per cell)");
+  sub.add_option("--plot", o.plot, "the plot's file (default keel-bench-<benchmark>.svg)");
+  sub.add_flag("--no-plot", o.no_plot, "no plot");
+  sub.add_flag("--low-latency", o.low_latency, "hold /dev/cpu_dma_latency at 0 during the run (root)");
+}
+
+}  // namespace
+}  // namespace keel::bench
+
+int main(int argc, char** argv) {
+  using namespace keel::bench;
+  if (argc == 3 && std::string(argv[1]) == "_load") return runInternalLoad(std::atoi(argv[2]));
+  CLI::App app{"keel bench: recovery and detection latency under CPU load beside peers, and scale"};
+  app.require_subcommand(1);
+  Options o;
+  auto* rec = app.add_subcommand("recovery", "recovery latency per mechanism, keel beside its peers (Table 3)");
+  commonOptions(*rec, o,
+                "mechanisms: reset,replace_cold,replace_preloaded,reset_hang (not by default),peer_erlang,peer_respawn,"
+                "floor_wake,floor_timer");
+  auto* det = app.add_subcommand("detection", "detection latency per detector");
+  commonOptions(*det, o, "injected kinds: segfault,divide_by_zero,abort,throw,error_code,out_of_range,hang");
+  std::vector<int> sizes{1, 10, 100, 1000};
+  int trials = 5;
+  auto* sca = app.add_subcommand("scale", "start-up, memory and diagnosis against the number of components");
+  sca->add_option("--sizes", sizes, "numbers of components")->delimiter(',')->check(CLI::PositiveNumber);
+  sca->add_option("--trials", trials, "trials per size")->check(CLI::PositiveNumber);
+  sca->add_flag("--quick", o.quick, "one trial per size");
+  sca->add_option("--json", o.json, "write every row to FILE (a JSON array)");
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
+  if (o.quick) o.n = 20;
+  const Paths paths = findPaths();
+  try {
+    const std::vector<std::string> mechanisms{"reset",       "replace_cold", "replace_preloaded", "reset_hang",
+                                              "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer"};
+    for (const auto& w : o.which) {
+      const bool ok = rec->parsed() ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
+                                    : keel::runtime::parseInjectKind(w).has_value();
+      if (!ok) {
+        std::cerr << "keel bench: --only: unknown '" << w << "'\n";
+        return 2;
+      }
+    }
+    if (rec->parsed()) return recovery(o, paths);
+    if (det->parsed()) return detection(o, paths);
+    std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n", fmt::join(sizes, "/"),
+                             o.quick ? 1 : trials, std::thread::hardware_concurrency())
+              << std::flush;
+    const auto rows = measureScale(paths, sizes, o.quick ? 1 : trials);
+    printScale(rows, std::cout);
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& r : rows) j.push_back(toJson(r));
+    if (!o.json.empty()) {
+      writeJson(j, o.json);
+      std::cout << "\njson: " << o.json << '\n';
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "keel bench: " << e.what() << '\n';
+    return 1;
+  }
+}

@@ -1,0 +1,142 @@
+#include "report.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+namespace keel::bench {
+namespace {
+
+/// The paper's Table 3, Linux-Pentium4: recovery without (and with) preloading, per load level.
+std::string paperCell(int load) {
+  static const std::map<int, std::string> paper{{10, "20 ms (< 1 ms)"},
+                                                {40, "2–12 ms (< 1 ms)"},
+                                                {60, "10–30 ms (< 1 ms)"},
+                                                {80, "> 100 ms (< 20 ms)"}};
+  const auto it = paper.find(load);
+  return it == paper.end() ? "—" : it->second;
+}
+
+const Row* find(const std::vector<Row>& rows, int load, const std::string& policy, const std::string& what) {
+  for (const auto& r : rows)
+    if (r.load == load && r.policy == policy && r.what == what) return &r;
+  return nullptr;
+}
+
+std::string cell(const Row* r) {
+  if (r == nullptr) return "";
+  if (r->skipped || r->s.n == 0) return "skipped";
+  return fmt::format("{:.1f} / {:.1f}", r->s.p50_us, r->s.p99_us);
+}
+
+std::string ratio(const Row* keel, const Row* peer) {
+  if (!keel || !peer || keel->s.n == 0 || peer->s.n == 0 || peer->s.p50_us <= 0 || peer->s.p99_us <= 0) return "—";
+  return fmt::format("{:.3g} / {:.3g}", keel->s.p50_us / peer->s.p50_us, keel->s.p99_us / peer->s.p99_us);
+}
+
+bool isPeer(const std::string& what) { return what.rfind("peer_", 0) == 0; }
+
+}  // namespace
+
+nlohmann::json toJson(const Row& r, bool detection) {
+  nlohmann::json j;
+  j["load"] = r.load;
+  j["load_achieved"] = std::round(r.load_achieved * 10) / 10;
+  j["load_source"] = r.load_source;
+  if (detection) {
+    j["kind"] = r.what;
+    j["detector"] = r.detector;
+  } else {
+    j["mechanism"] = r.what;
+  }
+  j["policy"] = r.policy;
+  j["n"] = r.s.n;
+  j["p50_us"] = std::round(r.s.p50_us * 100) / 100;
+  j["p99_us"] = std::round(r.s.p99_us * 100) / 100;
+  j["max_us"] = std::round(r.s.max_us * 100) / 100;
+  j["failed"] = r.failed;
+  if (r.skipped) j["skipped"] = true;
+  if (!r.note.empty()) j["note"] = r.note;
+  return j;
+}
+
+void addPeerRatios(nlohmann::json& rows) {
+  for (auto& k : rows) {
+    if (!k.contains("mechanism") || isPeer(k["mechanism"]) || k["n"] == 0) continue;
+    for (const auto& p : rows) {
+      if (!p.contains("mechanism") || !isPeer(p["mechanism"]) || p["n"] == 0) continue;
+      if (p["load"] != k["load"] || p["policy"] != k["policy"]) continue;
+      const double p50 = p["p50_us"], p99 = p["p99_us"];
+      if (p50 <= 0 || p99 <= 0) continue;
+      k["vs_" + p["mechanism"].get<std::string>()] = {
+          {"p50", std::round(k["p50_us"].get<double>() / p50 * 1000) / 1000},
+          {"p99", std::round(k["p99_us"].get<double>() / p99 * 1000) / 1000}};
+    }
+  }
+}
+
+void printCells(const std::vector<Row>& rows, bool detection, std::ostream& out) {
+  out << (detection ? "| load | achieved | kind | detector | policy | n | p50 µs | p99 µs | max µs | failed | note |\n"
+                      "|---|---|---|---|---|---|---|---|---|---|---|\n"
+                    : "| load | achieved | mechanism | policy | n | p50 µs | p99 µs | max µs | failed | note |\n"
+                      "|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& r : rows) {
+    const std::string head = detection ? fmt::format("{} | {}", r.what, r.detector) : r.what;
+    if (r.skipped) {
+      out << fmt::format("| {}% | {:.0f}% ({}) | {} | {} | — | — | — | — | — | skipped: {} |\n", r.load,
+                         r.load_achieved, r.load_source, head, r.policy, r.note);
+      continue;
+    }
+    out << fmt::format("| {}% | {:.0f}% ({}) | {} | {} | {} | {:.1f} | {:.1f} | {:.1f} | {} | {} |\n", r.load,
+                       r.load_achieved, r.load_source, head, r.policy, r.s.n, r.s.p50_us, r.s.p99_us, r.s.max_us,
+                       r.failed, r.note);
+  }
+}
+
+void printTable3(const std::vector<Row>& rows, std::ostream& out) {
+  std::vector<std::string> whats;
+  std::set<int> loads;
+  std::vector<std::string> policies;
+  for (const auto& r : rows) {
+    if (std::find(whats.begin(), whats.end(), r.what) == whats.end()) whats.push_back(r.what);
+    if (std::find(policies.begin(), policies.end(), r.policy) == policies.end()) policies.push_back(r.policy);
+    loads.insert(r.load);
+  }
+  std::vector<std::string> peers, keel;
+  for (const auto& w : whats) (isPeer(w) ? peers : keel).push_back(w);
+  for (const auto& policy : policies) {
+    out << fmt::format("\nRecovery time, p50 / p99 µs, SCHED_{} (the paper's Table 3: without (with) preloading)\n\n",
+                       policy == "fifo" ? "FIFO" : "OTHER");
+    out << "| load (achieved) |";
+    for (const auto& w : whats) out << ' ' << w << " |";
+    out << " paper, Linux-Pentium4 |\n|---|";
+    for (std::size_t i = 0; i <= whats.size(); ++i) out << "---|";
+    out << '\n';
+    for (int load : loads) {
+      const Row* any = nullptr;
+      for (const auto& w : whats)
+        if ((any = find(rows, load, policy, w))) break;
+      if (!any) continue;
+      out << fmt::format("| ~{}% ({:.0f}%) |", load, any->load_achieved);
+      for (const auto& w : whats) out << ' ' << cell(find(rows, load, policy, w)) << " |";
+      out << ' ' << paperCell(load) << " |\n";
+    }
+    if (peers.empty() || keel.empty()) continue;
+    out << "\nkeel ÷ peer, p50 / p99 (below 1: keel recovers faster)\n\n| load |";
+    for (const auto& k : keel)
+      for (const auto& p : peers) out << ' ' << k << " ÷ " << p << " |";
+    out << "\n|---|";
+    for (std::size_t i = 0; i < keel.size() * peers.size(); ++i) out << "---|";
+    out << '\n';
+    for (int load : loads) {
+      out << fmt::format("| ~{}% |", load);
+      for (const auto& k : keel)
+        for (const auto& p : peers) out << ' ' << ratio(find(rows, load, policy, k), find(rows, load, policy, p)) << " |";
+      out << '\n';
+    }
+  }
+}
+
+}  // namespace keel::bench

@@ -1,0 +1,42 @@
+// keel bench recovery|detection|scale [options]: runs keel-bench, the benchmark harness built
+// from bench/ and installed beside keel (bin/keel-bench), with every argument after `bench`.
+// keel itself stays a thin front end; a keel built without benchmarks says so.
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "cli/commands.hpp"
+
+namespace keel::cli {
+
+void addBenchCommand(CLI::App& app, std::function<int()>& run) {
+  auto* sub = app.add_subcommand("bench", "recovery and detection latency under load beside peers, and scale "
+                                          "(keel bench --help)");
+  sub->prefix_command();    // everything after `bench` belongs to keel-bench
+  sub->set_help_flag();     // --help too
+  sub->allow_extras();
+  sub->callback([sub, &run] {
+    auto args = sub->remaining();
+    run = [args] {
+      std::error_code ec;
+      const auto self = std::filesystem::canonical("/proc/self/exe", ec);
+      const std::string harness = (self.parent_path() / "keel-bench").string();
+      if (ec || ::access(harness.c_str(), X_OK) != 0) {
+        std::cerr << "keel bench: " << harness << " not found (keel was built without KEEL_BUILD_BENCH)\n";
+        return 2;
+      }
+      std::vector<std::string> argv_s{harness};
+      argv_s.insert(argv_s.end(), args.begin(), args.end());
+      std::vector<char*> argv;
+      for (auto& a : argv_s) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      ::execv(harness.c_str(), argv.data());
+      std::cerr << "keel bench: cannot run " << harness << ": " << std::strerror(errno) << '\n';
+      return 2;
+    };
+  });
+}
+
+}  // namespace keel::cli

@@ -1,0 +1,114 @@
+// `keel bench ... --quick` end to end, as CI runs it: a smoke test of the harness (every cell
+// present, measured or skipped with a reason, the JSON and the plot written), not of the numbers.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <set>
+
+#include "support/process.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using keel::test::runProcess;
+
+struct QuickRun {
+  keel::test::Ran ran;
+  nlohmann::json cells;
+  bool plotted = false;
+};
+
+QuickRun quick(const std::vector<std::string>& args) {
+  const fs::path dir = fs::temp_directory_path() / ("keel_bench_cli_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string json = (dir / "cells.json").string(), svg = (dir / "plot.svg").string();
+  std::vector<std::string> argv{KEEL_CLI, "bench"};
+  argv.insert(argv.end(), args.begin(), args.end());
+  argv.insert(argv.end(), {"--quick", "--json", json});
+  if (args[0] != "scale") argv.insert(argv.end(), {"--plot", svg});
+  QuickRun r;
+  r.ran = runProcess(argv);
+  r.cells = nlohmann::json::parse(keel::test::slurp(json), nullptr, false);
+  r.plotted = fs::exists(svg) && fs::file_size(svg) > 1000;
+  fs::remove_all(dir);
+  return r;
+}
+
+/// Every measured cell has its faults, and sane percentiles; a skipped one says why.
+void expectCellsSound(const nlohmann::json& cells, const char* what_key) {
+  for (const auto& c : cells) {
+    for (const char* k : {"load", "load_achieved", "load_source", "policy", "n", "p50_us", "p99_us", "max_us"})
+      ASSERT_TRUE(c.contains(k)) << k << " missing in " << c.dump();
+    ASSERT_TRUE(c.contains(what_key)) << c.dump();
+    if (c.value("skipped", false)) {
+      EXPECT_FALSE(c.value("note", "").empty()) << "skipped without a reason: " << c.dump();
+      continue;
+    }
+    EXPECT_GE(c["n"].get<int>() + c["failed"].get<int>(), 10) << c.dump();  // 20 per cell; hangs 10
+    EXPECT_GT(c["p50_us"].get<double>(), 0) << c.dump();
+    EXPECT_LE(c["p50_us"].get<double>(), c["p99_us"].get<double>()) << c.dump();
+    EXPECT_LE(c["p99_us"].get<double>(), c["max_us"].get<double>()) << c.dump();
+  }
+}
+
+TEST(BenchCli, QuickRecoveryMeasuresEveryMechanismAndPeerAtEveryLoadAndPolicy) {
+  const auto r = quick({"recovery"});
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
+  EXPECT_EQ(r.cells.size(), 4u * 7u * 2u);  // loads 10/40/60/80 × 5 mechanisms and 2 floors × other/fifo
+  std::set<std::string> mechanisms;
+  std::set<int> loads;
+  for (const auto& c : r.cells) {
+    mechanisms.insert(c["mechanism"].get<std::string>());
+    loads.insert(c["load"].get<int>());
+  }
+  EXPECT_EQ(mechanisms, (std::set<std::string>{"reset", "replace_cold", "replace_preloaded", "peer_erlang",
+                                               "peer_respawn", "floor_wake", "floor_timer"}));
+  EXPECT_EQ(loads, (std::set<int>{10, 40, 60, 80}));
+  expectCellsSound(r.cells, "mechanism");
+  // keel's own mechanisms and the floors always run (SCHED_OTHER needs no privilege); keel
+  // recovers every fault.
+  for (const auto& c : r.cells)
+    if (c["policy"] == "other" && c["mechanism"].get<std::string>().rfind("peer_", 0) != 0) {
+      EXPECT_EQ(c["n"], 20) << c.dump();
+      EXPECT_EQ(c["failed"], 0) << c.dump();
+    }
+  EXPECT_NE(r.ran.out.find("paper, Linux-Pentium4"), std::string::npos) << r.ran.out;
+  EXPECT_TRUE(r.plotted) << r.ran.out;
+}
+
+TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
+  const auto r = quick({"detection", "--loads", "10,80", "--policy", "other"});
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
+  EXPECT_EQ(r.cells.size(), 2u * 7u);
+  std::set<std::string> detectors;
+  for (const auto& c : r.cells) {
+    detectors.insert(c["detector"].get<std::string>());
+    EXPECT_EQ(c["failed"], 0) << c.dump();
+  }
+  EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog"}));
+  expectCellsSound(r.cells, "kind");
+  EXPECT_TRUE(r.plotted) << r.ran.out;
+}
+
+TEST(BenchCli, QuickScaleHasARowPerSize) {
+  const auto r = quick({"scale", "--sizes", "1,10,100"});
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
+  ASSERT_EQ(r.cells.size(), 3u);
+  EXPECT_EQ(r.cells[2]["components"], 100);
+  EXPECT_GT(r.cells[2]["startup_ms"].get<double>(), 0);
+}
+
+TEST(BenchCli, AnUnknownMechanismIsRefusedBeforeAnythingRuns) {
+  const auto r = runProcess({KEEL_CLI, "bench", "recovery", "--only", "reboot"});
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("unknown 'reboot'"), std::string::npos) << r.err;
+  const auto none = runProcess({KEEL_CLI, "bench"});
+  EXPECT_NE(none.status, 0);
+}
+
+}  // namespace

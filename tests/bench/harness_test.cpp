@@ -1,0 +1,105 @@
+// The pieces of `keel bench` that its numbers rest on: percentiles, the background load (it
+// really loads the machine, and goes away), the JSON cells and the Table 3 rendering.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <sstream>
+
+#include "load.hpp"
+#include "report.hpp"
+#include "stats.hpp"
+
+namespace keel::bench {
+namespace {
+
+TEST(BenchStats, PercentilesAreNearestRankInMicroseconds) {
+  std::vector<std::int64_t> ns;
+  for (int i = 1; i <= 100; ++i) ns.push_back(i * 1000);  // 1..100 µs, shuffled below
+  std::reverse(ns.begin(), ns.end());
+  const Summary s = summarise(ns);
+  EXPECT_EQ(s.n, 100u);
+  EXPECT_DOUBLE_EQ(s.p50_us, 51.0);  // rank round(0.5 × 99) = 50 (0-based)
+  EXPECT_DOUBLE_EQ(s.p99_us, 99.0);
+  EXPECT_DOUBLE_EQ(s.max_us, 100.0);
+  EXPECT_EQ(summarise({}).n, 0u);
+}
+
+TEST(BenchLoad, TheInternalLoadKeepsTheCpusBusyAndIsReapedWhenDestroyed) {
+  pid_t pid = -1;
+  double busy = 0;
+  {
+    BackgroundLoad load(60, LoadSource::Internal, KEEL_BENCH);
+    EXPECT_EQ(load.source(), "internal");
+    pid = load.pid();
+    ASSERT_GT(pid, 0);
+    const CpuMeter meter;
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    busy = meter.busy();
+  }
+  // 60% asked on every CPU: whatever else runs only adds to it.
+  EXPECT_GT(busy, 0.40);
+  EXPECT_NE(::kill(pid, 0), 0) << "the load's process is still there after its destructor";
+}
+
+TEST(BenchLoad, NoLoadStartsNothing) {
+  BackgroundLoad none(0, LoadSource::Auto, KEEL_BENCH);
+  EXPECT_EQ(none.source(), "none");
+  EXPECT_EQ(none.pid(), -1);
+}
+
+Row row(int load, const std::string& what, const std::string& policy, double p50, double p99) {
+  Row r;
+  r.load = load;
+  r.load_achieved = load + 3;
+  r.load_source = "internal";
+  r.what = what;
+  r.policy = policy;
+  r.s = {1000, p50, p99, p99 * 2};
+  return r;
+}
+
+TEST(BenchReport, ACellAsJsonHasTheIssuesKeys) {
+  const auto j = toJson(row(40, "reset", "fifo", 10, 20), false);
+  for (const char* k : {"load", "load_achieved", "load_source", "mechanism", "policy", "n", "p50_us", "p99_us", "max_us"})
+    EXPECT_TRUE(j.contains(k)) << k;
+  EXPECT_EQ(j["load"], 40);
+  EXPECT_EQ(j["mechanism"], "reset");
+  EXPECT_EQ(j["n"], 1000);
+  EXPECT_DOUBLE_EQ(j["p99_us"].get<double>(), 20.0);
+  const auto d = toJson(row(40, "segfault", "other", 1, 2), true);
+  EXPECT_EQ(d["kind"], "segfault");
+  EXPECT_FALSE(d.contains("mechanism"));
+}
+
+TEST(BenchReport, KeelCellsGetTheirRatioToEachPeerOfTheSameLoadAndPolicy) {
+  nlohmann::json rows = nlohmann::json::array({toJson(row(10, "reset", "other", 10, 20), false),
+                                               toJson(row(10, "peer_erlang", "other", 40, 100), false),
+                                               toJson(row(80, "peer_erlang", "other", 1, 1), false),
+                                               toJson(row(10, "peer_respawn", "fifo", 1, 1), false)});
+  addPeerRatios(rows);
+  ASSERT_TRUE(rows[0].contains("vs_peer_erlang"));
+  EXPECT_DOUBLE_EQ(rows[0]["vs_peer_erlang"]["p50"].get<double>(), 0.25);
+  EXPECT_DOUBLE_EQ(rows[0]["vs_peer_erlang"]["p99"].get<double>(), 0.2);
+  EXPECT_FALSE(rows[0].contains("vs_peer_respawn"));  // that peer ran under the other policy only
+  EXPECT_FALSE(rows[1].contains("vs_peer_erlang"));   // peers get no ratio
+}
+
+TEST(BenchReport, Table3HasALineperLoadWithThePapersColumnAndTheRatios) {
+  std::vector<Row> rows{row(10, "reset", "other", 10, 20), row(10, "peer_erlang", "other", 40, 100),
+                        row(80, "reset", "other", 12, 30), row(80, "peer_erlang", "other", 50, 150)};
+  Row skipped = row(80, "replace_cold", "other", 0, 0);
+  skipped.skipped = true;
+  skipped.s = {};
+  rows.push_back(skipped);
+  std::ostringstream out;
+  printTable3(rows, out);
+  const std::string t = out.str();
+  EXPECT_NE(t.find("| ~10% (13%) | 10.0 / 20.0 | 40.0 / 100.0 |"), std::string::npos) << t;
+  EXPECT_NE(t.find("20 ms (< 1 ms)"), std::string::npos) << t;      // the paper, ~10%
+  EXPECT_NE(t.find("> 100 ms (< 20 ms)"), std::string::npos) << t;  // the paper, ~80%
+  EXPECT_NE(t.find("skipped"), std::string::npos) << t;
+  EXPECT_NE(t.find("| ~10% | 0.25 / 0.2 |"), std::string::npos) << t;  // reset ÷ erlang
+}
+
+}  // namespace
+}  // namespace keel::bench
