@@ -5,7 +5,9 @@
 
 One panel per scheduling policy; x: the load level (the achieved machine load in the tick
 labels); y: latency in µs on a log scale; per mechanism (recovery) or injected kind (detection)
-the p99 as a solid line with markers and the p50 dashed. Skipped cells are left out.
+the p99 as a solid line with markers and the p50 dashed; the machine's floor (floor_wake,
+floor_timer: a thread wake-up, a timer wake-up) as grey dotted p99 lines. Skipped cells are
+left out.
 keel-bench runs it after each benchmark."""
 import json
 import sys
@@ -34,10 +36,15 @@ def main(argv):
         loads = sorted({c["load"] for c in mine})
         achieved = {c["load"]: c["load_achieved"] for c in mine}
         names = list(dict.fromkeys(c[key] for c in mine))
-        for i, name in enumerate(names):
+        others = [n for n in names if not n.startswith("floor_")]
+        for name in names:
             pts = sorted((c["load"], c["p50_us"], c["p99_us"]) for c in mine if c[key] == name)
-            colour = f"C{i}"
             xs = [p[0] for p in pts]
+            if name.startswith("floor_"):  # the machine's floor: grey, beneath the rest
+                colour = "0.35" if name == "floor_wake" else "0.65"
+                ax.plot(xs, [p[2] for p in pts], "x:", color=colour, label=f"{name} p99 (machine)")
+                continue
+            colour = f"C{others.index(name)}"
             ax.plot(xs, [p[2] for p in pts], "o-", color=colour, label=f"{name} p99")
             ax.plot(xs, [p[1] for p in pts], "--", color=colour, alpha=0.7, label=f"{name} p50")
         ax.set_xticks(loads)

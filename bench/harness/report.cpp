@@ -37,6 +37,7 @@ std::string ratio(const Row* keel, const Row* peer) {
 }
 
 bool isPeer(const std::string& what) { return what.rfind("peer_", 0) == 0; }
+bool isKeel(const std::string& what) { return !isPeer(what) && what.rfind("floor_", 0) != 0; }
 
 }  // namespace
 
@@ -64,7 +65,7 @@ nlohmann::json toJson(const Row& r, bool detection) {
 
 void addPeerRatios(nlohmann::json& rows) {
   for (auto& k : rows) {
-    if (!k.contains("mechanism") || isPeer(k["mechanism"]) || k["n"] == 0) continue;
+    if (!k.contains("mechanism") || !isKeel(k["mechanism"]) || k["n"] == 0) continue;
     for (const auto& p : rows) {
       if (!p.contains("mechanism") || !isPeer(p["mechanism"]) || p["n"] == 0) continue;
       if (p["load"] != k["load"] || p["policy"] != k["policy"]) continue;
@@ -105,7 +106,10 @@ void printTable3(const std::vector<Row>& rows, std::ostream& out) {
     loads.insert(r.load);
   }
   std::vector<std::string> peers, keel;
-  for (const auto& w : whats) (isPeer(w) ? peers : keel).push_back(w);
+  for (const auto& w : whats) {
+    if (isPeer(w)) peers.push_back(w);
+    if (isKeel(w)) keel.push_back(w);
+  }
   for (const auto& policy : policies) {
     out << fmt::format("\nRecovery time, p50 / p99 µs, SCHED_{} (the paper's Table 3: without (with) preloading)\n\n",
                        policy == "fifo" ? "FIFO" : "OTHER");

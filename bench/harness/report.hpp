@@ -32,7 +32,8 @@ struct Row {
 /// "detector" in place of "mechanism".
 nlohmann::json toJson(const Row& row, bool detection);
 
-/// keel's cells gain their ratio to each peer of the same load and policy:
+/// keel's cells (not the peers', not the floors') gain their ratio to each peer of the same
+/// load and policy:
 /// "vs_peer_erlang": {"p50":…, "p99":…} (keel ÷ peer: below 1, keel is faster).
 void addPeerRatios(nlohmann::json& rows);
 

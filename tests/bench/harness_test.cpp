@@ -75,13 +75,15 @@ TEST(BenchReport, KeelCellsGetTheirRatioToEachPeerOfTheSameLoadAndPolicy) {
   nlohmann::json rows = nlohmann::json::array({toJson(row(10, "reset", "other", 10, 20), false),
                                                toJson(row(10, "peer_erlang", "other", 40, 100), false),
                                                toJson(row(80, "peer_erlang", "other", 1, 1), false),
-                                               toJson(row(10, "peer_respawn", "fifo", 1, 1), false)});
+                                               toJson(row(10, "peer_respawn", "fifo", 1, 1), false),
+                                               toJson(row(10, "floor_wake", "other", 5, 50), false)});
   addPeerRatios(rows);
   ASSERT_TRUE(rows[0].contains("vs_peer_erlang"));
   EXPECT_DOUBLE_EQ(rows[0]["vs_peer_erlang"]["p50"].get<double>(), 0.25);
   EXPECT_DOUBLE_EQ(rows[0]["vs_peer_erlang"]["p99"].get<double>(), 0.2);
   EXPECT_FALSE(rows[0].contains("vs_peer_respawn"));  // that peer ran under the other policy only
   EXPECT_FALSE(rows[1].contains("vs_peer_erlang"));   // peers get no ratio
+  EXPECT_FALSE(rows[4].contains("vs_peer_erlang"));   // nor does the machine's floor
 }
 
 TEST(BenchReport, Table3HasALineperLoadWithThePapersColumnAndTheRatios) {
