@@ -57,7 +57,7 @@ std::optional<std::string> fifoRefused() {
   std::optional<std::string> why;
   std::thread([&why] {
     sched_param sp{};
-    sp.sched_priority = 50;
+    sp.sched_priority = kFifoPriority;
     if (int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0)
       why = fmt::format("SCHED_FIFO not permitted ({}): run as root or with CAP_SYS_NICE / an RLIMIT_RTPRIO",
                         std::strerror(rc));

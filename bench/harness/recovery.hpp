@@ -23,8 +23,6 @@
 
 namespace keel::bench {
 
-inline constexpr const char* kRecoveryMechanisms[] = {"reset", "replace_cold", "replace_preloaded", "reset_hang"};
-
 struct RecoveryCell {
   std::vector<std::int64_t> latencies_ns;  // recovered − detected, one per recovered fault
   std::vector<std::int64_t> in_place_ns;   // replacements: detected → the `replace` action
