@@ -106,12 +106,16 @@ std::string Ctx::reference(pugi::xml_node at, std::string_view written, std::str
     return {};
   }
   const fs::path rel{std::string(written)};
-  std::error_code ec;
-  fs::path abs = fs::weakly_canonical(abs_dir_ / rel, ec);
-  if (ec) abs = (abs_dir_ / rel).lexically_normal();
+  auto [it, fresh] = resolved_.try_emplace(std::string(written));
+  if (fresh) {
+    std::error_code ec;
+    fs::path abs = fs::weakly_canonical(abs_dir_ / rel, ec);
+    if (ec) abs = (abs_dir_ / rel).lexically_normal();
+    it->second = abs.string();
+  }
   Reference ref;
   ref.written = std::string(written);
-  ref.path = abs.string();
+  ref.path = it->second;
   ref.display = (display_dir_ / rel).lexically_normal().string();
   ref.where = where(at);
   ref.who = std::move(who);

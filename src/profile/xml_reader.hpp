@@ -12,6 +12,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 #include <vector>
 
 #include <pugixml.hpp>
@@ -82,6 +83,9 @@ class Ctx {
   std::filesystem::path display_dir_;
   Diagnostics& diags_;
   std::vector<Reference> refs_;
+  // written → canonical path: a package names one component profile for many subcomponents,
+  // and each weakly_canonical costs a system call per path element.
+  std::unordered_map<std::string, std::string> resolved_;
 };
 
 /// How one child element of a container is read.

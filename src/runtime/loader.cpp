@@ -57,6 +57,20 @@ std::vector<std::string> Loader::defaultSearchPath() {
 
 Result<std::string> Loader::resolve(const std::string& library_name,
                                     const std::string& profile_dir) const {
+  const auto key = std::make_pair(library_name, profile_dir);
+  {
+    std::lock_guard lock(resolved_mutex_);
+    if (const auto it = resolved_.find(key); it != resolved_.end()) return it->second;
+  }
+  auto found = search(library_name, profile_dir);
+  if (found) {
+    std::lock_guard lock(resolved_mutex_);
+    resolved_.emplace(key, *found);
+  }
+  return found;
+}
+
+Result<std::string> Loader::search(const std::string& library_name, const std::string& profile_dir) const {
   std::vector<std::string> tried;
   auto tryDir = [&](const fs::path& dir) -> std::string {
     for (const auto& c : candidates(library_name)) {

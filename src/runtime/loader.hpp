@@ -5,6 +5,7 @@
 // Thread-safety: load/create may be called from any thread (serialised internally).
 #pragma once
 
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -45,7 +46,12 @@ class Loader {
                                             const std::string& library_path);
 
  private:
+  Result<std::string> search(const std::string& library_name, const std::string& profile_dir) const;
+
   std::vector<std::string> search_path_;
+  // (library name, profile dir) → the file found: every instance of a class asks the same.
+  mutable std::mutex resolved_mutex_;
+  mutable std::map<std::pair<std::string, std::string>, std::string> resolved_;
   std::mutex mutex_;
   std::vector<std::unique_ptr<Library>> libraries_;
 };
