@@ -7,6 +7,7 @@
 
 #include "fault/fault_manager.hpp"
 #include "fault/watchdog.hpp"
+#include "report.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/guard.hpp"
@@ -59,9 +60,7 @@ std::string detectorOf(runtime::InjectKind kind) {
 DetectionCell measureDetection(runtime::InjectKind kind, bool fifo, int n) {
   runtime::installSignalHandlers();
   DetectionCell cell;
-  auto warn = [&cell](const std::string& w) {
-    if (cell.warnings.find(w) == std::string::npos) cell.warnings += (cell.warnings.empty() ? "" : "; ") + w;
-  };
+  auto warn = [&cell](const std::string& w) { addNote(cell.warnings, w); };
   fault::FaultLog log;
   Victim victim, bystander;
   fault::FaultManager fm(log, [&](std::string_view) -> Component* { return nullptr; });

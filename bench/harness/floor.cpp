@@ -1,34 +1,20 @@
 #include "floor.hpp"
 
-#include <pthread.h>
-#include <sched.h>
 #include <time.h>
 
 #include <atomic>
 #include <chrono>
-#include <cstring>
 #include <thread>
 
 #include "process.hpp"
+#include "runtime/injection.hpp"
 
 namespace keel::bench {
 namespace {
 
 using namespace std::chrono_literals;
 
-std::int64_t nowNs() {
-  timespec ts{};
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return ts.tv_sec * 1'000'000'000LL + ts.tv_nsec;
-}
-
-/// Puts the calling thread under SCHED_FIFO kFifoPriority; the reason when refused.
-std::string becomeFifo() {
-  sched_param sp{};
-  sp.sched_priority = kFifoPriority;
-  const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
-  return rc == 0 ? "" : std::string("SCHED_FIFO refused: ") + std::strerror(rc);
-}
+std::int64_t nowNs() { return runtime::steadyNs(); }  // CLOCK_MONOTONIC, as clock_nanosleep below
 
 }  // namespace
 

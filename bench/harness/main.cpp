@@ -9,8 +9,6 @@
 // `_load P` is the internal duty-cycle load (load.hpp), started by keel-bench itself.
 #include <fcntl.h>
 #include <fmt/format.h>
-#include <pthread.h>
-#include <sched.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -52,17 +50,12 @@ struct Options {
   bool low_latency = false;
 };
 
-/// SCHED_FIFO for a thread of this process: permitted, or why not.
+/// SCHED_FIFO for a thread of this process: permitted, or why not (tried on a thread of its own).
 std::optional<std::string> fifoRefused() {
-  std::optional<std::string> why;
-  std::thread([&why] {
-    sched_param sp{};
-    sp.sched_priority = kFifoPriority;
-    if (int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); rc != 0)
-      why = fmt::format("SCHED_FIFO not permitted ({}): run as root or with CAP_SYS_NICE / an RLIMIT_RTPRIO",
-                        std::strerror(rc));
-  }).join();
-  return why;
+  std::string why;
+  std::thread([&why] { why = becomeFifo(); }).join();
+  if (why.empty()) return std::nullopt;
+  return why + ": run as root or with CAP_SYS_NICE / an RLIMIT_RTPRIO";
 }
 
 std::vector<bool> policiesOf(const Options& o) {
@@ -140,7 +133,7 @@ void recoveryCell(const Paths& paths, int n, const std::string& log, const std::
   if (what == "floor_wake" || what == "floor_timer") {
     FloorResult f = what == "floor_wake" ? measureWakeFloor(n, fifo) : measureTimerFloor(n, fifo);
     row.s = summarise(std::move(f.latencies_ns));
-    row.note = f.warnings;
+    addNote(row.note, f.warnings);
     return;
   }
   if (what == "peer_erlang" || what == "peer_respawn") {
@@ -159,15 +152,13 @@ void recoveryCell(const Paths& paths, int n, const std::string& log, const std::
   }
   row.s = summarise(std::move(c.latencies_ns));
   row.failed = c.failed;
-  std::vector<std::string> notes;
-  if (c.unexpected) notes.push_back(fmt::format("{} handled otherwise", c.unexpected));
-  if (c.already_mapped) notes.push_back(fmt::format("{} with the library already mapped", c.already_mapped));
+  if (c.unexpected) addNote(row.note, fmt::format("{} handled otherwise", c.unexpected));
+  if (c.already_mapped) addNote(row.note, fmt::format("{} with the library already mapped", c.already_mapped));
   if (!c.in_place_ns.empty()) {
     const Summary in = summarise(std::move(c.in_place_ns));
-    notes.push_back(fmt::format("in place {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
+    addNote(row.note, fmt::format("in place {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
   }
-  if (!c.warnings.empty()) notes.push_back(c.warnings);
-  for (const auto& note : notes) row.note += (row.note.empty() ? "" : "; ") + note;
+  addNote(row.note, c.warnings);
 }
 
 void detectionCell(int n, const std::string& what, bool fifo, Row& row) {

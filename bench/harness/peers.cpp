@@ -7,13 +7,11 @@
 //            child's "ready" time - the old one's "crash" time (CLOCK_MONOTONIC, both children's)
 // Both pace faults as keel's own trials do (10 ms before the first, 3 ms between) and begin with
 // one uncounted warm-up fault. fifo: the peer's processes (and the respawn supervisor's thread,
-// for that run only) run under SCHED_FIFO 50, Erlang without its schedulers' busy wait. Every step of a fault is bounded (2 s); every
-// process spawned is reaped and every descriptor closed on every path. Each call is
-// self-contained: safe to call from any thread.
+// for that run only) run under SCHED_FIFO 50, Erlang without its schedulers' busy wait. Every
+// step of a fault is bounded (2 s); every process spawned is reaped and every descriptor closed
+// on every path. Each call is self-contained: safe to call from any thread.
 #include "peers.hpp"
 
-#include <pthread.h>
-#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -208,11 +206,8 @@ class Respawner {
 };
 
 PeerResult superviseRespawns(const std::string& child, int n, bool fifo) {
-  if (fifo) {
-    const sched_param param{.sched_priority = kFifoPriority};
-    if (const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param); rc != 0)
-      return skip(std::string("SCHED_FIFO not permitted: ") + std::strerror(rc));
-  }
+  if (fifo)
+    if (std::string why = becomeFifo(); !why.empty()) return skip(why);
   Respawner sup(child, fifo);
   std::string error = sup.restart();
   if (error.empty() && !sup.fault(error) && error.empty()) error = sup.restart();  // the warm-up

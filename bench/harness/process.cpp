@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <pthread.h>
 #include <sched.h>
 #include <signal.h>
 #include <spawn.h>
@@ -165,6 +166,12 @@ void Process::killAndReap() {
   while (waitpid(pid_, nullptr, 0) < 0 && errno == EINTR) {}
   pid_ = -1;
   pidfd_.reset();
+}
+
+std::string becomeFifo() {
+  const sched_param param{.sched_priority = kFifoPriority};
+  const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
+  return rc == 0 ? "" : std::string("SCHED_FIFO not permitted: ") + std::strerror(rc);
 }
 
 std::string findInPath(const std::string& name) {

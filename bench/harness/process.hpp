@@ -96,6 +96,9 @@ class Process {
   bool group_ = false;
 };
 
+/// Puts the calling thread under SCHED_FIFO kFifoPriority: empty, or why not.
+std::string becomeFifo();
+
 /// `name` found in $PATH (an executable file), or empty.
 std::string findInPath(const std::string& name);
 

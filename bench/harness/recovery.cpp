@@ -11,8 +11,9 @@
 #include <string>
 #include <thread>
 
-#include "profile/loader.hpp"
-#include "runtime/engine.hpp"
+#include "engine_setup.hpp"
+#include "process.hpp"
+#include "report.hpp"
 #include "runtime/injection.hpp"
 
 namespace keel::bench {
@@ -42,39 +43,24 @@ std::optional<std::int64_t> inPlaceNs(const std::string& log_path) {
   return *replaced - *detected;
 }
 
+/// The mechanism's package with every task under the cell's policy.
 std::optional<profile::ProfileSet> loadPackage(Setup& setup, const std::string& name, bool fifo) {
-  const std::string file = setup.paths.profiles + "/" + name + ".xml";
-  auto set = profile::load(file);
-  if (!set) {
-    for (const auto& d : set.error()) setup.error += (setup.error.empty() ? "" : "; ") + d.str();
-    if (setup.error.empty()) setup.error = "cannot load " + file;
-    return std::nullopt;
-  }
+  auto set = loadProfiles(setup.paths.profiles + "/" + name + ".xml", setup.error);
+  if (!set) return std::nullopt;
   for (auto& [path, pkg] : set->packages)
     for (auto& task : pkg.tasks) {
       task.policy = fifo ? profile::SchedPolicy::Fifo : profile::SchedPolicy::Other;
-      task.priority = fifo ? 50 : 0;
+      task.priority = fifo ? kFifoPriority : 0;
     }
-  return std::move(*set);
+  return set;
 }
 
+/// A fresh engine (the log rewritten), started.
 std::unique_ptr<runtime::Engine> startEngine(Setup& setup, profile::ProfileSet set) {
-  runtime::EngineOptions opts;
-  opts.log_path = setup.log_path;  // rewritten by each fresh engine
-  opts.search_path = {setup.paths.components};
-  opts.warn = [&setup](const std::string& w) {
-    if (setup.warnings.find(w) == std::string::npos) setup.warnings += (setup.warnings.empty() ? "" : "; ") + w;
-  };
-  auto engine = runtime::Engine::create(std::move(set), std::move(opts));
-  if (!engine) {
-    setup.error = "engine: " + engine.error().message;
-    return nullptr;
-  }
-  if (auto r = (*engine)->start(); !r) {
-    setup.error = "start: " + r.error().message;
-    return nullptr;
-  }
-  return std::move(*engine);
+  auto engine = createEngine(std::move(set), setup.paths, setup.log_path,
+                             [&setup](const std::string& w) { addNote(setup.warnings, w); }, setup.error);
+  if (!engine || !bench::startEngine(*engine, setup.error)) return nullptr;
+  return engine;
 }
 
 /// Injects `kind` into the victim and waits for the handling of that fault to recover.

@@ -41,6 +41,11 @@ bool isKeel(const std::string& what) { return !isPeer(what) && what.rfind("floor
 
 }  // namespace
 
+void addNote(std::string& notes, const std::string& note) {
+  if (note.empty() || notes.find(note) != std::string::npos) return;
+  notes += (notes.empty() ? "" : "; ") + note;
+}
+
 nlohmann::json toJson(const Row& r, bool detection) {
   nlohmann::json j;
   j["load"] = r.load;

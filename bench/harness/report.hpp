@@ -27,6 +27,9 @@ struct Row {
   std::string note;           // why skipped, the engine's warnings, unexpected handlings
 };
 
+/// Appends `note` to `notes` ("; " between), unless it is there already.
+void addNote(std::string& notes, const std::string& note);
+
 /// One cell as JSON. Recovery: {"load","load_achieved","load_source","mechanism","policy","n",
 /// "p50_us","p99_us","max_us","failed"[,"skipped"][,"note"]}; detection has "kind" and
 /// "detector" in place of "mechanism".

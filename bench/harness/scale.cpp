@@ -45,8 +45,7 @@
 #include <optional>
 #include <thread>
 
-#include "profile/loader.hpp"
-#include "runtime/engine.hpp"
+#include "engine_setup.hpp"
 #include "runtime/injection.hpp"
 #include "stats.hpp"
 
@@ -59,6 +58,8 @@ using namespace std::chrono_literals;
 constexpr int kWalksPerTrial = 200;
 constexpr const char* kVictim = "a0.c0";
 constexpr auto kStopBound = 2s;
+// None is expected, and each is in the fault log anyway.
+const auto kNoWarnings = [](const std::string&) {};
 
 std::int64_t nowNs() { return runtime::steadyNs(); }
 
@@ -93,36 +94,6 @@ long rssKib() {
   return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
-std::optional<profile::ProfileSet> loadSet(const std::string& path, std::string& error) {
-  auto set = profile::load(path);
-  if (set) return std::move(*set);
-  for (const auto& d : set.error()) error += (error.empty() ? "" : "; ") + d.str();
-  if (error.empty()) error = "cannot load " + path;
-  return std::nullopt;
-}
-
-std::unique_ptr<runtime::Engine> createEngine(profile::ProfileSet set, const Paths& paths, const std::string& log,
-                                              std::string& error) {
-  runtime::EngineOptions opts;
-  opts.log_path = log;
-  opts.search_path = {paths.components};
-  opts.warn = [](const std::string&) {};  // none is expected; they are in the log
-  auto engine = runtime::Engine::create(std::move(set), std::move(opts));
-  if (!engine) {
-    error = "engine: " + engine.error().message;
-    return nullptr;
-  }
-  return std::move(*engine);
-}
-
-bool startEngine(runtime::Engine& engine, std::string& error) {
-  if (auto r = engine.start(); !r) {
-    error = "start: " + r.error().message;
-    return false;
-  }
-  return true;
-}
-
 std::size_t activeComponents(const runtime::Engine& engine) {
   return static_cast<std::size_t>(std::count_if(engine.instances().begin(), engine.instances().end(),
                                                 [](const auto& i) { return i.active()->state() == State::Active; }));
@@ -151,10 +122,10 @@ void startupTrial(const Paths& paths, const std::string& package, SizeRun& run) 
   malloc_trim(0);
   const long rss0 = rssKib();
   const std::int64_t t0 = nowNs();
-  auto set = loadSet(package, run.error);
+  auto set = loadProfiles(package, run.error);
   if (!set) return;
   const std::int64_t t1 = nowNs();
-  auto engine = createEngine(std::move(*set), paths, run.log, run.error);
+  auto engine = createEngine(std::move(*set), paths, run.log, kNoWarnings, run.error);
   if (!engine) return;
   const std::int64_t t2 = nowNs();
   if (!startEngine(*engine, run.error)) return;
@@ -215,10 +186,10 @@ std::optional<StopRecord> readStop(const std::string& log, std::uint64_t id) {
 
 /// One fault of a0.c0 in the system of run.n components; the stop must take the whole graph.
 void diagnosisTrial(const Paths& paths, const std::string& system, SizeRun& run) {
-  auto set = loadSet(system, run.error);
+  auto set = loadProfiles(system, run.error);
   if (!set) return;
   const std::size_t apps = set->system ? set->system->applications.size() : 0;
-  auto engine = createEngine(std::move(*set), paths, run.log, run.error);
+  auto engine = createEngine(std::move(*set), paths, run.log, kNoWarnings, run.error);
   if (!engine || !startEngine(*engine, run.error)) return;
   const fault::DependencyGraph* graph = engine->graph();
   if (graph == nullptr || engine->find(kVictim) == nullptr) {

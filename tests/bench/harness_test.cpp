@@ -58,6 +58,15 @@ Row row(int load, const std::string& what, const std::string& policy, double p50
   return r;
 }
 
+TEST(BenchReport, NotesAreJoinedOnceEach) {
+  std::string notes;
+  addNote(notes, "SCHED_FIFO not permitted");
+  addNote(notes, "");
+  addNote(notes, "in place 1.0 / 2.0 µs");
+  addNote(notes, "SCHED_FIFO not permitted");  // an engine warns once per executor
+  EXPECT_EQ(notes, "SCHED_FIFO not permitted; in place 1.0 / 2.0 µs");
+}
+
 TEST(BenchReport, ACellAsJsonHasTheIssuesKeys) {
   const auto j = toJson(row(40, "reset", "fifo", 10, 20), false);
   for (const char* k : {"load", "load_achieved", "load_source", "mechanism", "policy", "n", "p50_us", "p99_us", "max_us"})
