@@ -1,10 +1,12 @@
-// keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--set I.P=V]... [--console]:
+// keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--set I.P=V]... [--console]
+//          [--cpu-dma-latency US]:
 // runs a package or system profile until the duration ends, SIGINT/SIGTERM, or a component ends
 // the run (Component::endRun), then stops and destroys everything (exit 0) and prints a
 // one-screen summary of faults and their handling, and who ended the run. --set sets a
 // component's property for this run (a bad one: exit 2 before anything loads). With --console,
 // operator commands are read from stdin: `emergency` (emergency stop), `clear` (clears a
-// latched emergency), `status`.
+// latched emergency), `status`. --cpu-dma-latency holds the CPUs' wake-up latency at US µs while
+// the engine runs (runtime/cpu_latency.hpp; not permitted: a warning, the run goes on).
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
@@ -38,6 +40,7 @@ struct RunOptions {
   std::string inject;
   std::vector<std::string> sets;  // INSTANCE.PROPERTY=VALUE
   bool console = false;
+  std::optional<std::int32_t> cpu_dma_latency_us;
 };
 
 /// Reads operator commands from stdin until EOF or `stop`; each is logged by the engine.
@@ -142,6 +145,7 @@ int runProfile(const RunOptions& o) {
   }
   runtime::EngineOptions eo;
   eo.log_path = o.log;
+  eo.cpu_dma_latency_us = o.cpu_dma_latency_us;
   auto settings = propertySettings(o, *set);
   if (!settings) return 2;
   eo.property_settings = std::move(*settings);
@@ -195,6 +199,11 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
       ->allow_extra_args(false);
   cmd->add_flag("--console", opts->console,
                 "read operator commands from stdin: emergency, clear (a latched emergency), status");
+  cmd->add_option("--cpu-dma-latency", opts->cpu_dma_latency_us,
+                  "US: while running, idle CPUs may only enter sleep states that wake within US µs "
+                  "(0: they poll and never halt; /dev/cpu_dma_latency, root). Faults are caught about "
+                  "twice as fast on a machine whose idle CPUs halt (docs/performance.md)")
+      ->check(CLI::Range(0, 2'000'000'000));
   cmd->callback([opts, &run] { run = [opts] { return runProfile(*opts); }; });
 }
 

@@ -102,6 +102,11 @@ Result<void> Engine::start() {
     transition(*inst.component, Transition::Start);
     if (!core.critical.empty()) takeCheckpoint(core, steadyNs());
   }
+  if (options_.cpu_dma_latency_us) {  // before the executors' first sleep
+    auto held = CpuLatencyRequest::hold(*options_.cpu_dma_latency_us);
+    if (held) cpu_latency_ = std::move(*held);
+    else warn(held.error().message);
+  }
   std::size_t executors = 0;
   {
     std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
@@ -110,7 +115,9 @@ Result<void> Engine::start() {
   }
   started_ = true;
   startDetectors();
-  log_.write({{"event", "engine"}, {"phase", "started"}, {"executors", executors}});
+  nlohmann::json started = {{"event", "engine"}, {"phase", "started"}, {"executors", executors}};
+  if (cpu_latency_.held()) started["cpu_dma_latency_us"] = cpu_latency_.microseconds();
+  log_.write(std::move(started));
   return {};
 }
 
@@ -172,6 +179,7 @@ void Engine::shutdown() {
     for (auto& spare : spares_)  // alternatives still standing by
       if (spare->state() != State::Destroyed && !stuck(*spare)) transition(*spare, Transition::Destroy);
   }
+  cpu_latency_ = CpuLatencyRequest();  // the CPUs may sleep again
   if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).

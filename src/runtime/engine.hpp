@@ -28,6 +28,7 @@
 #include "keel/result.hpp"
 #include "profile/loader.hpp"
 #include "runtime/component_core.hpp"
+#include "runtime/cpu_latency.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/plan.hpp"
@@ -45,6 +46,9 @@ struct EngineOptions {
   std::optional<fault::Scenario> scenario;        // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.
   std::vector<PropertySetting> property_settings;
+  /// Hold the CPUs' wake-up latency at this many µs while running (keel run --cpu-dma-latency;
+  /// src/runtime/cpu_latency.hpp). Not permitted: a warning, and the run goes on without it.
+  std::optional<std::int32_t> cpu_dma_latency_us;
 };
 
 /// One running instance and what the plan says of it.
@@ -153,6 +157,7 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   std::vector<std::unique_ptr<Executor>> executors_;
   fault::FaultManager fault_manager_;
   std::unique_ptr<fault::Watchdog> watchdog_;
+  CpuLatencyRequest cpu_latency_;  // held from start() to shutdown()
   std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;

@@ -33,7 +33,7 @@ struct GuardOutcome {
   ReturnCode rc = ReturnCode::Ok;
   int signo = 0;
   const void* addr = nullptr;        // faulting address for SIGSEGV/SIGBUS
-  std::int64_t t_ns = 0;             // Signal: steady-clock ns when the handler caught it
+  std::int64_t t_ns = 0;             // Signal, Exception: steady-clock ns when caught
   std::array<char, 120> what{};      // exception message (truncated)
 
   bool ok() const { return kind == Kind::Ok; }
@@ -53,6 +53,7 @@ struct GuardFrame {
   GuardFrame* prev = nullptr;
 };
 GuardFrame*& currentFrame() noexcept;  // this thread's innermost frame
+/// At the catch: the time first (the moment of detection), then the message.
 void recordException(GuardOutcome& out, const std::exception* e) noexcept;
 }  // namespace guard_detail
 

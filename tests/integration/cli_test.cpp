@@ -40,6 +40,27 @@ TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
   ASSERT_FALSE(stopping.empty());
 }
 
+// --cpu-dma-latency: the engine holds the request while it runs and says so in its log; a
+// machine that refuses it gets a warning and the run goes on.
+TEST_F(Cli, RunHoldsTheCpusWakeUpLatencyWhileRunning) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("pipeline.xml"), "--duration", "0.3", "--log", log_,
+                             "--cpu-dma-latency", "50"});  // above the unit test's 7 µs
+  ASSERT_EQ(r.status, 0) << r.err;
+  auto log = test::readLog(log_);
+  const bool permitted = ::geteuid() == 0 && std::filesystem::exists("/dev/cpu_dma_latency");
+  bool started = false;
+  for (const auto& e : test::eventsOf(log, "engine")) {
+    if (e.value("phase", "") != "started") continue;
+    started = true;
+    if (permitted) EXPECT_EQ(e.value("cpu_dma_latency_us", -1), 50) << e.dump();
+    else EXPECT_FALSE(e.contains("cpu_dma_latency_us")) << e.dump();
+  }
+  EXPECT_TRUE(started);
+  const bool warned = r.err.find("wake-up latency at 50 µs") != std::string::npos;
+  EXPECT_EQ(warned, !permitted) << r.err;
+  EXPECT_EQ(test::statesOf(log, "summer").back(), "Destroyed");
+}
+
 TEST_F(Cli, RunStopsCleanlyOnSigterm) {
   auto r = test::runProcess({KEEL_CLI, "run", profile("pipeline.xml"), "--log", log_}, 500ms);
   ASSERT_EQ(r.status, 0) << r.err;

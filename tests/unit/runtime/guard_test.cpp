@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "runtime/injection.hpp"
 #include "support/crash.hpp"
 
 namespace keel::runtime {
@@ -47,6 +48,29 @@ TEST_F(Guard, CatchesAnExceptionWithItsMessage) {
 TEST_F(Guard, CatchesAnExceptionNotDerivedFromStdException) {
   GuardOutcome out = guarded([]() -> ReturnCode { throw 42; });
   EXPECT_EQ(out.kind, GuardOutcome::Kind::Exception);
+}
+
+// The detection time is taken where it is caught: after the throw, before the guard returns.
+TEST_F(Guard, StampsAFaultWithTheMomentItWasCaught) {
+  std::int64_t thrown = 0, faulted = 0;
+  GuardOutcome ex = guarded([&thrown]() -> ReturnCode {
+    thrown = steadyNs();
+    throw std::runtime_error("late");
+  });
+  const std::int64_t ex_returned = steadyNs();
+  GuardOutcome sig = guarded([&faulted] {
+    faulted = steadyNs();
+    test::segfault();
+    return ReturnCode::Ok;
+  });
+  const std::int64_t sig_returned = steadyNs();
+  ASSERT_EQ(ex.kind, GuardOutcome::Kind::Exception);
+  EXPECT_GE(ex.t_ns, thrown);
+  EXPECT_LE(ex.t_ns, ex_returned);
+  ASSERT_EQ(sig.kind, GuardOutcome::Kind::Signal);
+  EXPECT_GE(sig.t_ns, faulted);
+  EXPECT_LE(sig.t_ns, sig_returned);
+  EXPECT_EQ(guarded([] { return ReturnCode::Ok; }).t_ns, 0) << "nothing caught, nothing stamped";
 }
 
 TEST_F(Guard, CatchesASegmentationFault) {
