@@ -6,7 +6,8 @@
 One panel per scheduling policy; x: the load level (the achieved machine load in the tick
 labels); y: latency in µs on a log scale; per mechanism (recovery) or injected kind (detection)
 the p99 as a solid line with markers and the p50 dashed; the machine's floor (floor_wake,
-floor_timer: a thread wake-up, a timer wake-up) as grey dotted p99 lines. Skipped cells are
+floor_timer: a thread wake-up, a timer wake-up; floor_signal, floor_throw: a bare signal handler,
+a bare catch) as grey dotted p99 lines. Skipped cells are
 left out.
 keel-bench runs it after each benchmark."""
 import json
@@ -41,7 +42,7 @@ def main(argv):
             pts = sorted((c["load"], c["p50_us"], c["p99_us"]) for c in mine if c[key] == name)
             xs = [p[0] for p in pts]
             if name.startswith("floor_"):  # the machine's floor: grey, beneath the rest
-                colour = "0.35" if name == "floor_wake" else "0.65"
+                colour = "0.35" if name in ("floor_wake", "floor_signal") else "0.65"
                 ax.plot(xs, [p[2] for p in pts], "x:", color=colour, label=f"{name} p99 (machine)")
                 continue
             colour = f"C{others.index(name)}"

@@ -1,9 +1,15 @@
 #include "floor.hpp"
 
+#include <setjmp.h>
+#include <signal.h>
+#include <sys/mman.h>
 #include <time.h>
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <functional>
+#include <stdexcept>
 #include <thread>
 
 #include "process.hpp"
@@ -15,6 +21,50 @@ namespace {
 using namespace std::chrono_literals;
 
 std::int64_t nowNs() { return runtime::steadyNs(); }  // CLOCK_MONOTONIC, as clock_nanosleep below
+
+/// A thread on a 1 ms absolute-time cycle (SCHED_FIFO 50 when `fifo`) that runs `fault` right
+/// after waking on every third cycle, as keel's detection trials strike, until it has `n`
+/// latencies (fault → caught, from `fault`'s return).
+FloorResult onCycles(int n, bool fifo, const std::function<std::int64_t()>& fault) {
+  FloorResult r;
+  r.latencies_ns.reserve(static_cast<std::size_t>(n));
+  std::thread t([&] {
+    if (fifo) r.warnings = becomeFifo();
+    std::int64_t next = nowNs();
+    for (int cycle = 1; static_cast<int>(r.latencies_ns.size()) < n; ++cycle) {
+      next += 1'000'000;
+      const timespec at{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) != 0) {
+      }
+      if (cycle % 3 == 0) r.latencies_ns.push_back(fault());
+    }
+  });
+  t.join();
+  return r;
+}
+
+// The bare signal floor's state: the time its handler ran, and where it jumps back to. Only the
+// floor's thread faults while the bare handler is installed.
+thread_local sigjmp_buf t_back;
+thread_local volatile std::int64_t t_caught_ns = 0;
+thread_local volatile bool t_armed = false;
+
+void bareHandler(int signo, siginfo_t*, void*) {
+  if (!t_armed) {  // not the floor's fault: do not swallow it
+    ::signal(signo, SIG_DFL);
+    ::raise(signo);
+    return;
+  }
+  t_caught_ns = nowNs();
+  siglongjmp(t_back, 1);
+}
+
+[[gnu::noinline]] void storeToPageZero() {
+  volatile std::uintptr_t addr = 0x10;  // page 0 is never mapped
+  *reinterpret_cast<volatile int*>(addr) = 1;
+}
+
+[[gnu::noinline]] void throwNow() { throw std::runtime_error("floor"); }
 
 }  // namespace
 
@@ -60,6 +110,55 @@ FloorResult measureTimerFloor(int n, bool fifo) {
   });
   sleeper.join();
   return r;
+}
+
+FloorResult measureSignalFloor(int n, bool fifo) {
+  struct sigaction bare {}, saved {};
+  bare.sa_sigaction = bareHandler;
+  sigemptyset(&bare.sa_mask);
+  bare.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;  // as keel's guard installs its own
+  ::sigaction(SIGSEGV, &bare, &saved);
+  constexpr std::size_t kAltStack = 64 * 1024;
+  FloorResult r = onCycles(n, fifo, [&] {
+    thread_local struct AltStack {  // the floor thread's own, as an executor has one
+      void* mem = ::mmap(nullptr, kAltStack, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+      AltStack() {
+        if (mem == MAP_FAILED) return;  // then the handler runs on the thread's stack
+        stack_t ss{};
+        ss.ss_sp = mem;
+        ss.ss_size = kAltStack;
+        ::sigaltstack(&ss, nullptr);
+      }
+      ~AltStack() {
+        stack_t off{};
+        off.ss_flags = SS_DISABLE;
+        ::sigaltstack(&off, nullptr);
+        if (mem != MAP_FAILED) ::munmap(mem, kAltStack);
+      }
+    } alt;
+    volatile std::int64_t faulted = 0;
+    t_armed = true;
+    if (sigsetjmp(t_back, 0) == 0) {
+      faulted = nowNs();
+      storeToPageZero();
+    }
+    t_armed = false;
+    return t_caught_ns - faulted;
+  });
+  ::sigaction(SIGSEGV, &saved, nullptr);
+  return r;
+}
+
+FloorResult measureThrowFloor(int n, bool fifo) {
+  return onCycles(n, fifo, [] {
+    const std::int64_t thrown = nowNs();
+    try {
+      throwNow();
+    } catch (const std::exception&) {
+      return nowNs() - thrown;
+    }
+    return std::int64_t{0};
+  });
 }
 
 }  // namespace keel::bench

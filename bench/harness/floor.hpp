@@ -6,6 +6,13 @@
 //   floor_timer  a thread sleeping until an absolute time (clock_nanosleep, 1 ms period):
 //                the time past that moment at which it runs — the timer tick and wake-up under
 //                a periodic executor's every cycle.
+// And under the detection numbers (`keel bench detection`), the same faults caught with nothing
+// of keel, striking as keel's detection trials do (a thread on a 1 ms absolute-time cycle faults
+// every third cycle, right after it wakes):
+//   floor_signal a store to an unmapped page caught by a bare SA_SIGINFO handler on an
+//                alternate stack, which takes the time and siglongjmps back: the kernel's
+//                delivery of SIGSEGV, which keel's guard pays as well.
+//   floor_throw  a std::runtime_error thrown and caught one frame up: the C++ unwinder.
 #pragma once
 
 #include <cstdint>
@@ -23,5 +30,9 @@ struct FloorResult {
 /// under SCHED_FIFO 50 when `fifo`.
 FloorResult measureWakeFloor(int n, bool fifo);
 FloorResult measureTimerFloor(int n, bool fifo);
+/// `n` faults caught, fault → caught. measureSignalFloor replaces the process's SIGSEGV action
+/// while it runs (and puts it back): no other thread may fault meanwhile.
+FloorResult measureSignalFloor(int n, bool fifo);
+FloorResult measureThrowFloor(int n, bool fifo);
 
 }  // namespace keel::bench

@@ -4,10 +4,10 @@
 //   recovery   keel's reset, cold and preloaded replacement beside an Erlang/OTP supervisor and
 //              a respawned process, and the machine's floor (a thread wake-up, a timer
 //              wake-up), measured in the same run (the paper's Table 3)
-//   detection  detected − injected per detector
+//   detection  detected − injected per detector, beside the machine's floor for the same fault
+//              (a bare signal handler, a bare catch) measured in the same run
 //   scale      start-up, memory and diagnosis time against the number of components
 // `_load P` is the internal duty-cycle load (load.hpp), started by keel-bench itself.
-#include <fcntl.h>
 #include <fmt/format.h>
 #include <unistd.h>
 
@@ -32,6 +32,7 @@
 #include "process.hpp"
 #include "recovery.hpp"
 #include "report.hpp"
+#include "runtime/cpu_latency.hpp"
 #include "scale.hpp"
 
 namespace keel::bench {
@@ -69,26 +70,14 @@ LoadSource loadSourceOf(const std::string& s) {
   return s == "stress-ng" ? LoadSource::StressNg : s == "internal" ? LoadSource::Internal : LoadSource::Auto;
 }
 
-/// Holds /dev/cpu_dma_latency at 0 while alive: idle CPUs poll instead of halting, as a
-/// real-time deployment configures them (on a VM: no exit to the hypervisor on a wake-up).
-class LowLatency {
- public:
-  explicit LowLatency(bool on) {
-    if (!on) return;
-    fd_ = ::open("/dev/cpu_dma_latency", O_WRONLY | O_CLOEXEC);
-    const std::int32_t zero = 0;
-    if (fd_ < 0 || ::write(fd_, &zero, sizeof zero) != sizeof zero)
-      throw std::runtime_error("--low-latency: cannot write /dev/cpu_dma_latency (needs root)");
-  }
-  ~LowLatency() {
-    if (fd_ >= 0) ::close(fd_);
-  }
-  LowLatency(const LowLatency&) = delete;
-  LowLatency& operator=(const LowLatency&) = delete;
-
- private:
-  int fd_ = -1;
-};
+/// --low-latency: the runtime's own request (what `keel run --cpu-dma-latency 0` holds), for the
+/// whole run; refused, the run stops rather than measure something else than asked.
+runtime::CpuLatencyRequest lowLatency(bool on) {
+  if (!on) return {};
+  auto held = runtime::CpuLatencyRequest::hold(0);
+  if (!held) throw std::runtime_error("--low-latency: " + held.error().message);
+  return std::move(*held);
+}
 
 /// One benchmark's cells: for each load level (the load started once per level), each policy
 /// and each item, `run` fills a Row's measurement; the load and policy columns are filled here.
@@ -162,6 +151,13 @@ void recoveryCell(const Paths& paths, int n, const std::string& log, const std::
 }
 
 void detectionCell(int n, const std::string& what, bool fifo, Row& row) {
+  if (what == "floor_signal" || what == "floor_throw") {
+    FloorResult f = what == "floor_signal" ? measureSignalFloor(n, fifo) : measureThrowFloor(n, fifo);
+    row.detector = what == "floor_signal" ? "bare handler" : "bare catch";
+    row.s = summarise(std::move(f.latencies_ns));
+    addNote(row.note, f.warnings);
+    return;
+  }
   const auto kind = *runtime::parseInjectKind(what);
   row.detector = detectorOf(kind);
   // A hang costs the heartbeat timeout per trial: half as many.
@@ -217,7 +213,7 @@ void header(const Options& o, const std::string& what) {
 int recovery(Options o, const Paths& paths) {
   if (o.which.empty())
     o.which = {"reset", "replace_cold", "replace_preloaded", "peer_erlang", "peer_respawn", "floor_wake", "floor_timer"};
-  LowLatency low(o.low_latency);
+  const auto low = lowLatency(o.low_latency);
   header(o, "recovery");
   const std::string log = fmt::format("/tmp/keel-bench-recovery.{}.log", ::getpid());
   auto rows = runCells(o, paths, o.which, [&](const std::string& w, bool fifo, Row& row) {
@@ -236,16 +232,21 @@ int recovery(Options o, const Paths& paths) {
 
 int detection(Options o, const Paths& paths) {
   if (o.which.empty())
+  {
     for (auto k : kDetectionKinds) o.which.emplace_back(runtime::toString(k));
-  LowLatency low(o.low_latency);
+    o.which.insert(o.which.end(), {"floor_signal", "floor_throw"});
+  }
+  const auto low = lowLatency(o.low_latency);
   header(o, "detection");
   auto rows = runCells(o, paths, o.which, [&](const std::string& w, bool fifo, Row& row) {
     detectionCell(o.n, w, fifo, row);
   });
   std::cout << "\nDetection latency, detected − injected (p50 / p99 / max µs)\n\n";
   printCells(rows, true, std::cout);
+  printFloorRatios(rows, std::cout);
   nlohmann::json j = nlohmann::json::array();
   for (const auto& r : rows) j.push_back(toJson(r, true));
+  addFloorRatios(j);
   finish(o, paths, "detection", std::move(j));
   return 0;
 }
@@ -279,7 +280,9 @@ int main(int argc, char** argv) {
                 "mechanisms: reset,replace_cold,replace_preloaded,reset_hang (not by default),peer_erlang,peer_respawn,"
                 "floor_wake,floor_timer");
   auto* det = app.add_subcommand("detection", "detection latency per detector");
-  commonOptions(*det, o, "injected kinds: segfault,divide_by_zero,abort,throw,error_code,out_of_range,hang");
+  commonOptions(*det, o,
+                "injected kinds: segfault,divide_by_zero,abort,throw,error_code,out_of_range,hang; the machine's "
+                "floor: floor_signal,floor_throw");
   std::vector<int> sizes{1, 10, 100, 1000};
   int trials = 5;
   auto* sca = app.add_subcommand("scale", "start-up, memory and diagnosis against the number of components");
@@ -299,7 +302,8 @@ int main(int argc, char** argv) {
                                               "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer"};
     for (const auto& w : o.which) {
       const bool ok = rec->parsed() ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
-                                    : keel::runtime::parseInjectKind(w).has_value();
+                                    : keel::runtime::parseInjectKind(w).has_value() || w == "floor_signal" ||
+                                          w == "floor_throw";
       if (!ok) {
         std::cerr << "keel bench: --only: unknown '" << w << "'\n";
         return 2;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -38,6 +39,13 @@ std::string ratio(const Row* keel, const Row* peer) {
 
 bool isPeer(const std::string& what) { return what.rfind("peer_", 0) == 0; }
 bool isKeel(const std::string& what) { return !isPeer(what) && what.rfind("floor_", 0) != 0; }
+
+/// The machine's floor a detection of `kind` is measured against ("" when none).
+std::string floorOf(const std::string& kind) {
+  if (kind == "segfault" || kind == "divide_by_zero" || kind == "abort") return "floor_signal";
+  if (kind == "throw") return "floor_throw";
+  return "";
+}
 
 }  // namespace
 
@@ -80,6 +88,45 @@ void addPeerRatios(nlohmann::json& rows) {
           {"p50", std::round(k["p50_us"].get<double>() / p50 * 1000) / 1000},
           {"p99", std::round(k["p99_us"].get<double>() / p99 * 1000) / 1000}};
     }
+  }
+}
+
+void addFloorRatios(nlohmann::json& rows) {
+  for (auto& k : rows) {
+    if (!k.contains("kind") || k["n"] == 0) continue;
+    const std::string floor = floorOf(k["kind"]);
+    for (const auto& f : rows) {
+      if (floor.empty() || f.value("kind", "") != floor || f["n"] == 0) continue;
+      if (f["load"] != k["load"] || f["policy"] != k["policy"]) continue;
+      const double p50 = f["p50_us"], p99 = f["p99_us"];
+      if (p50 <= 0 || p99 <= 0) continue;
+      k["vs_floor"] = {{"p50", std::round(k["p50_us"].get<double>() / p50 * 1000) / 1000},
+                       {"p99", std::round(k["p99_us"].get<double>() / p99 * 1000) / 1000}};
+    }
+  }
+}
+
+void printFloorRatios(const std::vector<Row>& rows, std::ostream& out) {
+  std::vector<std::string> kinds;
+  std::vector<std::pair<int, std::string>> cells;  // load, policy, in the order measured
+  for (const auto& r : rows) {
+    if (!floorOf(r.what).empty() && std::find(kinds.begin(), kinds.end(), r.what) == kinds.end())
+      kinds.push_back(r.what);
+    if (std::find(cells.begin(), cells.end(), std::pair{r.load, r.policy}) == cells.end())
+      cells.emplace_back(r.load, r.policy);
+  }
+  const bool any_floor = std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.what.rfind("floor_", 0) == 0; });
+  if (kinds.empty() || !any_floor) return;
+  out << "\nkeel ÷ the machine's floor for the same fault, p50 / p99 (1: keel adds nothing)\n\n| load | policy |";
+  for (const auto& k : kinds) out << ' ' << k << " ÷ " << floorOf(k) << " |";
+  out << "\n|---|---|";
+  for (std::size_t i = 0; i < kinds.size(); ++i) out << "---|";
+  out << '\n';
+  for (const auto& [load, policy] : cells) {
+    out << fmt::format("| {}% | {} |", load, policy);
+    for (const auto& k : kinds)
+      out << ' ' << ratio(find(rows, load, policy, k), find(rows, load, policy, floorOf(k))) << " |";
+    out << '\n';
   }
 }
 

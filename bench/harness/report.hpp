@@ -40,6 +40,14 @@ nlohmann::json toJson(const Row& row, bool detection);
 /// "vs_peer_erlang": {"p50":…, "p99":…} (keel ÷ peer: below 1, keel is faster).
 void addPeerRatios(nlohmann::json& rows);
 
+/// Detection: keel's cells gain their ratio to the machine's floor for the same fault, of the
+/// same load and policy — signals (segfault, divide_by_zero, abort) to floor_signal, throw to
+/// floor_throw: "vs_floor": {"p50":…, "p99":…} (1: keel adds nothing to what the machine costs).
+void addFloorRatios(nlohmann::json& rows);
+
+/// Detection: those ratios as a table, a row per load and policy (nothing when no floor ran).
+void printFloorRatios(const std::vector<Row>& rows, std::ostream& out);
+
 /// Every cell, one line each.
 void printCells(const std::vector<Row>& rows, bool detection, std::ostream& out);
 

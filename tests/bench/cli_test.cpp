@@ -83,13 +83,18 @@ TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
   const auto r = quick({"detection", "--loads", "10,80", "--policy", "other"});
   ASSERT_EQ(r.ran.status, 0) << r.ran.err;
   ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
-  EXPECT_EQ(r.cells.size(), 2u * 7u);
+  EXPECT_EQ(r.cells.size(), 2u * (7u + 2u));  // seven kinds and the two floors, per load
   std::set<std::string> detectors;
+  int beside_floor = 0;
   for (const auto& c : r.cells) {
     detectors.insert(c["detector"].get<std::string>());
     EXPECT_EQ(c["failed"], 0) << c.dump();
+    beside_floor += c.contains("vs_floor");
   }
-  EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog"}));
+  EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog",
+                                              "bare handler", "bare catch"}));
+  EXPECT_EQ(beside_floor, 2 * 4) << "segfault, divide_by_zero, abort and throw, at each load";
+  EXPECT_NE(r.ran.out.find("keel ÷ the machine's floor"), std::string::npos) << r.ran.out;
   expectCellsSound(r.cells, "kind");
   EXPECT_TRUE(r.plotted) << r.ran.out;
 }

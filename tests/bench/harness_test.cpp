@@ -5,8 +5,10 @@
 
 #include <sstream>
 
+#include "floor.hpp"
 #include "load.hpp"
 #include "report.hpp"
+#include "runtime/guard.hpp"
 #include "stats.hpp"
 
 namespace keel::bench {
@@ -93,6 +95,53 @@ TEST(BenchReport, KeelCellsGetTheirRatioToEachPeerOfTheSameLoadAndPolicy) {
   EXPECT_FALSE(rows[0].contains("vs_peer_respawn"));  // that peer ran under the other policy only
   EXPECT_FALSE(rows[1].contains("vs_peer_erlang"));   // peers get no ratio
   EXPECT_FALSE(rows[4].contains("vs_peer_erlang"));   // nor does the machine's floor
+}
+
+// The detection floors catch every fault they cause, with a plausible latency, and the signal
+// floor leaves the process's SIGSEGV action as it found it (keel's guard needs it back).
+TEST(BenchFloor, TheBareSignalAndThrowFloorsCatchEveryFaultAndRestoreTheSignalAction) {
+  runtime::installSignalHandlers();  // what the detection cells measured before find in place
+  struct sigaction before {}, after {};
+  ::sigaction(SIGSEGV, nullptr, &before);
+  const FloorResult sig = measureSignalFloor(15, false);
+  ::sigaction(SIGSEGV, nullptr, &after);
+  EXPECT_EQ(after.sa_sigaction, before.sa_sigaction);
+  EXPECT_EQ(after.sa_flags, before.sa_flags);
+  const FloorResult thr = measureThrowFloor(15, false);
+  for (const auto* f : {&sig, &thr}) {
+    ASSERT_EQ(f->latencies_ns.size(), 15u);
+    for (std::int64_t ns : f->latencies_ns) {
+      EXPECT_GT(ns, 0);
+      EXPECT_LT(ns, 1'000'000'000) << "a fault caught a second later was not caught where it struck";
+    }
+  }
+}
+
+TEST(BenchReport, DetectionCellsGetTheirRatioToTheFloorOfTheSameFaultLoadAndPolicy) {
+  nlohmann::json rows = nlohmann::json::array({toJson(row(0, "segfault", "other", 6, 30), true),
+                                               toJson(row(0, "throw", "other", 4, 20), true),
+                                               toJson(row(0, "out_of_range", "other", 0.2, 1), true),
+                                               toJson(row(0, "floor_signal", "other", 3, 20), true),
+                                               toJson(row(0, "floor_throw", "other", 4, 40), true),
+                                               toJson(row(80, "floor_signal", "other", 1, 1), true),
+                                               toJson(row(0, "abort", "fifo", 9, 9), true)});
+  addFloorRatios(rows);
+  ASSERT_TRUE(rows[0].contains("vs_floor"));
+  EXPECT_DOUBLE_EQ(rows[0]["vs_floor"]["p50"].get<double>(), 2.0);  // segfault ÷ floor_signal, 0%, other
+  EXPECT_DOUBLE_EQ(rows[0]["vs_floor"]["p99"].get<double>(), 1.5);
+  ASSERT_TRUE(rows[1].contains("vs_floor"));
+  EXPECT_DOUBLE_EQ(rows[1]["vs_floor"]["p99"].get<double>(), 0.5);  // throw ÷ floor_throw
+  EXPECT_FALSE(rows[2].contains("vs_floor"));  // a range check has no floor of its own
+  EXPECT_FALSE(rows[3].contains("vs_floor"));  // nor does the floor
+  EXPECT_FALSE(rows[6].contains("vs_floor"));  // no floor ran under fifo
+
+  std::vector<Row> cells{row(0, "segfault", "other", 6, 30), row(0, "floor_signal", "other", 3, 20)};
+  std::ostringstream out;
+  printFloorRatios(cells, out);
+  EXPECT_NE(out.str().find("| 0% | other | 2 / 1.5 |"), std::string::npos) << out.str();
+  std::ostringstream none;
+  printFloorRatios({row(0, "segfault", "other", 6, 30)}, none);
+  EXPECT_EQ(none.str(), "") << "no floor measured, no table";
 }
 
 TEST(BenchReport, Table3HasALineperLoadWithThePapersColumnAndTheRatios) {
