@@ -23,9 +23,9 @@ using namespace std::chrono_literals;
 std::int64_t nowNs() { return runtime::steadyNs(); }  // CLOCK_MONOTONIC, as clock_nanosleep below
 
 /// A thread on a 1 ms absolute-time cycle (SCHED_FIFO 50 when `fifo`) that runs `fault` right
-/// after waking on every third cycle, as keel's detection trials strike, until it has `n`
-/// latencies (fault → caught, from `fault`'s return).
-FloorResult onCycles(int n, bool fifo, const std::function<std::int64_t()>& fault) {
+/// after waking on every `every`-th cycle until it has `n` latencies (fault → caught, from
+/// `fault`'s return).
+FloorResult onCycles(int n, bool fifo, int every, const std::function<std::int64_t()>& fault) {
   FloorResult r;
   r.latencies_ns.reserve(static_cast<std::size_t>(n));
   std::thread t([&] {
@@ -36,7 +36,7 @@ FloorResult onCycles(int n, bool fifo, const std::function<std::int64_t()>& faul
       const timespec at{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
       while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) != 0) {
       }
-      if (cycle % 3 == 0) r.latencies_ns.push_back(fault());
+      if (cycle % every == 0) r.latencies_ns.push_back(fault());
     }
   });
   t.join();
@@ -112,14 +112,14 @@ FloorResult measureTimerFloor(int n, bool fifo) {
   return r;
 }
 
-FloorResult measureSignalFloor(int n, bool fifo) {
+FloorResult measureSignalFloor(int n, bool fifo, int every) {
   struct sigaction bare {}, saved {};
   bare.sa_sigaction = bareHandler;
   sigemptyset(&bare.sa_mask);
   bare.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;  // as keel's guard installs its own
   ::sigaction(SIGSEGV, &bare, &saved);
   constexpr std::size_t kAltStack = 64 * 1024;
-  FloorResult r = onCycles(n, fifo, [&] {
+  FloorResult r = onCycles(n, fifo, every, [&] {
     thread_local struct AltStack {  // the floor thread's own, as an executor has one
       void* mem = ::mmap(nullptr, kAltStack, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
       AltStack() {
@@ -149,8 +149,8 @@ FloorResult measureSignalFloor(int n, bool fifo) {
   return r;
 }
 
-FloorResult measureThrowFloor(int n, bool fifo) {
-  return onCycles(n, fifo, [] {
+FloorResult measureThrowFloor(int n, bool fifo, int every) {
+  return onCycles(n, fifo, every, [] {
     const std::int64_t thrown = nowNs();
     try {
       throwNow();

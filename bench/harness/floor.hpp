@@ -30,9 +30,10 @@ struct FloorResult {
 /// under SCHED_FIFO 50 when `fifo`.
 FloorResult measureWakeFloor(int n, bool fifo);
 FloorResult measureTimerFloor(int n, bool fifo);
-/// `n` faults caught, fault → caught. measureSignalFloor replaces the process's SIGSEGV action
-/// while it runs (and puts it back): no other thread may fault meanwhile.
-FloorResult measureSignalFloor(int n, bool fifo);
-FloorResult measureThrowFloor(int n, bool fifo);
+/// `n` faults caught, fault → caught, one every `every` cycles (3: as keel's detection trials;
+/// 1: on every cycle, the path kept warm). measureSignalFloor replaces the process's SIGSEGV
+/// action while it runs (and puts it back): no other thread may fault meanwhile.
+FloorResult measureSignalFloor(int n, bool fifo, int every = 3);
+FloorResult measureThrowFloor(int n, bool fifo, int every = 3);
 
 }  // namespace keel::bench
