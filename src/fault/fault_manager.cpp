@@ -154,6 +154,7 @@ void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::st
     r.add(ActionKind::Stop, true, detected, "contained: the component stays in Error");
     r.next = Step::Done;
   }
+  r.diagnosed_ns = steadyNowNs();
   unsigned where = onManagerThread() || thread_id_.load() == std::thread::id{} ? kManager : 0;
   if (runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
       ex && ex->onThisThread() && runtime::runningComponent() != accused)
@@ -706,7 +707,7 @@ void FaultManager::logReport(FaultReport& r) {
                 {"rules", has_policy ? "fault_policy" : "none (contained, not recovered)"},
                 {"scope", toString(h ? h->rules.scope : profile::Scope::Component)},
                 {"handling", toString(r.first)},
-                {"t_ns", log_.sinceStart(r.event.t_ns)}});
+                {"t_ns", log_.sinceStart(r.diagnosed_ns)}});
     detections_.push_back({r.id, who, r.event.kind, r.event.t_ns, r.injected_ns});
     detection_count_.store(detections_.size(), std::memory_order_release);
     auto fc = std::find_if(counts_.begin(), counts_.end(),

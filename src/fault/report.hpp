@@ -37,6 +37,7 @@ struct FaultReport {
   std::array<char, 48> detector{};
   std::uint64_t id = 0;
   std::int64_t injected_ns = 0;      // 0: not injected
+  std::int64_t diagnosed_ns = 0;     // when the rules had chosen the handling
   Component* accused = nullptr;
   Component* replacement = nullptr;  // set when the alternative took over
   profile::Severity severity = profile::Severity::Ignore;

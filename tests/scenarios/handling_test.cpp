@@ -207,6 +207,10 @@ void expectResetTrace(const std::vector<json>& log, const std::string& component
                     positionOf(log, id, "action", "reset"), positionOf(log, id, "action", "restore"),
                     positionOf(log, id, "recovered")};
   for (std::size_t i = 1; i < std::size(p); ++i) EXPECT_LT(p[i - 1], p[i]) << "records out of order at " << i;
+  // Each step at its own time: the rules are applied after the detection, the reset after both.
+  EXPECT_LE(record(log, id, "injected")["t_ns"].get<std::int64_t>(), detected["t_ns"].get<std::int64_t>());
+  EXPECT_LT(detected["t_ns"].get<std::int64_t>(), diagnosed["t_ns"].get<std::int64_t>());
+  EXPECT_LE(diagnosed["t_ns"].get<std::int64_t>(), reset["t_ns"].get<std::int64_t>());
   // Its own state records of this fault: into Error with the detection, back to Active with the reset.
   std::vector<std::string> states;
   for (const auto& r : ofFault(log, id))
