@@ -201,8 +201,8 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
                 "read operator commands from stdin: emergency, clear (a latched emergency), status");
   cmd->add_option("--cpu-dma-latency", opts->cpu_dma_latency_us,
                   "US: while running, idle CPUs may only enter sleep states that wake within US µs "
-                  "(0: they poll and never halt; /dev/cpu_dma_latency, root). Faults are caught about "
-                  "twice as fast on a machine whose idle CPUs halt (docs/performance.md)")
+                  "(0: they poll and never halt; /dev/cpu_dma_latency, root). On a machine whose idle CPUs "
+                  "halt, faults are caught in about half the median time (docs/performance.md)")
       ->check(CLI::Range(0, 2'000'000'000));
   cmd->callback([opts, &run] { run = [opts] { return runProfile(*opts); }; });
 }

@@ -1,8 +1,8 @@
 // A wake-up latency request on every CPU (Linux PM QoS, /dev/cpu_dma_latency), held while the
 // engine runs (`keel run --cpu-dma-latency US`): an idle CPU may then only enter an idle state
 // whose exit latency is at most US µs; at 0 it polls instead of halting. What real-time Linux
-// deployments set (cyclictest holds 0 by default): on a VM a halted vCPU costs a VM exit and
-// cold caches on its next wake-up, which doubles the time to catch a fault (docs/performance.md,
+// deployments set (cyclictest holds 0 by default): on a VM a halted vCPU costs a VM exit on its
+// next wake-up, which about doubles the median time to catch a fault (docs/performance.md,
 // "Detection latency"). The price: idle CPUs keep spinning (power; on a VM, host CPU time).
 // The request lasts as long as the descriptor stays open: the kernel drops it when the process
 // ends, however it ends. Thread-safety: a plain value, used from the thread that owns it.
