@@ -40,13 +40,6 @@ std::string ratio(const Row* keel, const Row* peer) {
 bool isPeer(const std::string& what) { return what.rfind("peer_", 0) == 0; }
 bool isKeel(const std::string& what) { return !isPeer(what) && what.rfind("floor_", 0) != 0; }
 
-/// The machine's floor a detection of `kind` is measured against ("" when none).
-std::string floorOf(const std::string& kind) {
-  if (kind == "segfault" || kind == "divide_by_zero" || kind == "abort") return "floor_signal";
-  if (kind == "throw") return "floor_throw";
-  return "";
-}
-
 }  // namespace
 
 void addNote(std::string& notes, const std::string& note) {
@@ -71,6 +64,12 @@ nlohmann::json toJson(const Row& r, bool detection) {
   j["p99_us"] = std::round(r.s.p99_us * 100) / 100;
   j["max_us"] = std::round(r.s.max_us * 100) / 100;
   j["failed"] = r.failed;
+  if (detection && r.floor.n > 0 && r.floor.p50_us > 0 && r.floor.p99_us > 0) {
+    j["floor_p50_us"] = std::round(r.floor.p50_us * 100) / 100;
+    j["floor_p99_us"] = std::round(r.floor.p99_us * 100) / 100;
+    j["vs_floor"] = {{"p50", std::round(r.s.p50_us / r.floor.p50_us * 1000) / 1000},
+                     {"p99", std::round(r.s.p99_us / r.floor.p99_us * 1000) / 1000}};
+  }
   if (r.skipped) j["skipped"] = true;
   if (!r.note.empty()) j["note"] = r.note;
   return j;
@@ -91,41 +90,31 @@ void addPeerRatios(nlohmann::json& rows) {
   }
 }
 
-void addFloorRatios(nlohmann::json& rows) {
-  for (auto& k : rows) {
-    if (!k.contains("kind") || k["n"] == 0) continue;
-    const std::string floor = floorOf(k["kind"]);
-    for (const auto& f : rows) {
-      if (floor.empty() || f.value("kind", "") != floor || f["n"] == 0) continue;
-      if (f["load"] != k["load"] || f["policy"] != k["policy"]) continue;
-      const double p50 = f["p50_us"], p99 = f["p99_us"];
-      if (p50 <= 0 || p99 <= 0) continue;
-      k["vs_floor"] = {{"p50", std::round(k["p50_us"].get<double>() / p50 * 1000) / 1000},
-                       {"p99", std::round(k["p99_us"].get<double>() / p99 * 1000) / 1000}};
-    }
-  }
-}
-
 void printFloorRatios(const std::vector<Row>& rows, std::ostream& out) {
   std::vector<std::string> kinds;
   std::vector<std::pair<int, std::string>> cells;  // load, policy, in the order measured
   for (const auto& r : rows) {
-    if (!floorOf(r.what).empty() && std::find(kinds.begin(), kinds.end(), r.what) == kinds.end())
-      kinds.push_back(r.what);
+    if (r.floor.n > 0 && std::find(kinds.begin(), kinds.end(), r.what) == kinds.end()) kinds.push_back(r.what);
     if (std::find(cells.begin(), cells.end(), std::pair{r.load, r.policy}) == cells.end())
       cells.emplace_back(r.load, r.policy);
   }
-  const bool any_floor = std::any_of(rows.begin(), rows.end(), [](const Row& r) { return r.what.rfind("floor_", 0) == 0; });
-  if (kinds.empty() || !any_floor) return;
-  out << "\nkeel ÷ the machine's floor for the same fault, p50 / p99 (1: keel adds nothing)\n\n| load | policy |";
-  for (const auto& k : kinds) out << ' ' << k << " ÷ " << floorOf(k) << " |";
+  if (kinds.empty()) return;
+  out << "\nkeel ÷ the machine's floor for the same fault, measured interleaved in the same cell, p50 / p99 "
+         "(1: keel adds nothing)\n\n| load | policy |";
+  for (const auto& k : kinds) out << ' ' << k << " |";
   out << "\n|---|---|";
   for (std::size_t i = 0; i < kinds.size(); ++i) out << "---|";
   out << '\n';
   for (const auto& [load, policy] : cells) {
     out << fmt::format("| {}% | {} |", load, policy);
-    for (const auto& k : kinds)
-      out << ' ' << ratio(find(rows, load, policy, k), find(rows, load, policy, floorOf(k))) << " |";
+    for (const auto& k : kinds) {
+      const Row* r = find(rows, load, policy, k);
+      out << ' '
+          << (r && r->s.n && r->floor.n && r->floor.p50_us > 0 && r->floor.p99_us > 0
+                  ? fmt::format("{:.3g} / {:.3g}", r->s.p50_us / r->floor.p50_us, r->s.p99_us / r->floor.p99_us)
+                  : "—")
+          << " |";
+    }
     out << '\n';
   }
 }

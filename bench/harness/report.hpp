@@ -25,6 +25,8 @@ struct Row {
   std::size_t failed = 0;     // faults not recovered / not detected within the bound
   bool skipped = false;       // the cell did not run (note says why)
   std::string note;           // why skipped, the engine's warnings, unexpected handlings
+  Summary floor;              // detection: the machine's floor for the same fault, measured
+                              // interleaved with this cell (n == 0: the kind has none)
 };
 
 /// Appends `note` to `notes` ("; " between), unless it is there already.
@@ -32,7 +34,9 @@ void addNote(std::string& notes, const std::string& note);
 
 /// One cell as JSON. Recovery: {"load","load_achieved","load_source","mechanism","policy","n",
 /// "p50_us","p99_us","max_us","failed"[,"skipped"][,"note"]}; detection has "kind" and
-/// "detector" in place of "mechanism".
+/// "detector" in place of "mechanism", and where the cell measured its floor
+/// "floor_p50_us", "floor_p99_us" and "vs_floor": {"p50":…, "p99":…} (keel ÷ floor; 1: keel adds
+/// nothing to what the machine costs).
 nlohmann::json toJson(const Row& row, bool detection);
 
 /// keel's cells (not the peers', not the floors') gain their ratio to each peer of the same
@@ -40,12 +44,8 @@ nlohmann::json toJson(const Row& row, bool detection);
 /// "vs_peer_erlang": {"p50":…, "p99":…} (keel ÷ peer: below 1, keel is faster).
 void addPeerRatios(nlohmann::json& rows);
 
-/// Detection: keel's cells gain their ratio to the machine's floor for the same fault, of the
-/// same load and policy — signals (segfault, divide_by_zero, abort) to floor_signal, throw to
-/// floor_throw: "vs_floor": {"p50":…, "p99":…} (1: keel adds nothing to what the machine costs).
-void addFloorRatios(nlohmann::json& rows);
-
-/// Detection: those ratios as a table, a row per load and policy (nothing when no floor ran).
+/// Detection: keel ÷ the floor each cell measured, as a table, a row per load and policy
+/// (nothing when no cell measured one).
 void printFloorRatios(const std::vector<Row>& rows, std::ostream& out);
 
 /// Every cell, one line each.

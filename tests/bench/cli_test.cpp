@@ -94,6 +94,11 @@ TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
   EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog",
                                               "bare handler", "bare catch"}));
   EXPECT_EQ(beside_floor, 2 * 4) << "segfault, divide_by_zero, abort and throw, at each load";
+  for (const auto& c : r.cells) {
+    if (c.contains("vs_floor")) {
+      EXPECT_GT(c["floor_p50_us"].get<double>(), 0) << c.dump();
+    }
+  }
   EXPECT_NE(r.ran.out.find("keel ÷ the machine's floor"), std::string::npos) << r.ran.out;
   expectCellsSound(r.cells, "kind");
   EXPECT_TRUE(r.plotted) << r.ran.out;

@@ -117,28 +117,25 @@ TEST(BenchFloor, TheBareSignalAndThrowFloorsCatchEveryFaultAndRestoreTheSignalAc
   }
 }
 
-TEST(BenchReport, DetectionCellsGetTheirRatioToTheFloorOfTheSameFaultLoadAndPolicy) {
-  nlohmann::json rows = nlohmann::json::array({toJson(row(0, "segfault", "other", 6, 30), true),
-                                               toJson(row(0, "throw", "other", 4, 20), true),
-                                               toJson(row(0, "out_of_range", "other", 0.2, 1), true),
-                                               toJson(row(0, "floor_signal", "other", 3, 20), true),
-                                               toJson(row(0, "floor_throw", "other", 4, 40), true),
-                                               toJson(row(80, "floor_signal", "other", 1, 1), true),
-                                               toJson(row(0, "abort", "fifo", 9, 9), true)});
-  addFloorRatios(rows);
-  ASSERT_TRUE(rows[0].contains("vs_floor"));
-  EXPECT_DOUBLE_EQ(rows[0]["vs_floor"]["p50"].get<double>(), 2.0);  // segfault ÷ floor_signal, 0%, other
-  EXPECT_DOUBLE_EQ(rows[0]["vs_floor"]["p99"].get<double>(), 1.5);
-  ASSERT_TRUE(rows[1].contains("vs_floor"));
-  EXPECT_DOUBLE_EQ(rows[1]["vs_floor"]["p99"].get<double>(), 0.5);  // throw ÷ floor_throw
-  EXPECT_FALSE(rows[2].contains("vs_floor"));  // a range check has no floor of its own
-  EXPECT_FALSE(rows[3].contains("vs_floor"));  // nor does the floor
-  EXPECT_FALSE(rows[6].contains("vs_floor"));  // no floor ran under fifo
+TEST(BenchReport, ADetectionCellWithItsFloorCarriesTheFloorAndTheRatio) {
+  Row seg = row(0, "segfault", "other", 6, 30);
+  seg.floor = {1000, 3, 20, 40};
+  const auto j = toJson(seg, true);
+  EXPECT_DOUBLE_EQ(j["floor_p50_us"].get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(j["floor_p99_us"].get<double>(), 20.0);
+  EXPECT_DOUBLE_EQ(j["vs_floor"]["p50"].get<double>(), 2.0);  // keel ÷ floor
+  EXPECT_DOUBLE_EQ(j["vs_floor"]["p99"].get<double>(), 1.5);
+  const auto range = toJson(row(0, "out_of_range", "other", 0.2, 1), true);
+  EXPECT_FALSE(range.contains("vs_floor"));  // a range check has no floor of its own
+  EXPECT_FALSE(range.contains("floor_p99_us"));
 
-  std::vector<Row> cells{row(0, "segfault", "other", 6, 30), row(0, "floor_signal", "other", 3, 20)};
+  Row thr = row(80, "throw", "fifo", 4, 20);
+  thr.floor = {1000, 4, 40, 80};
   std::ostringstream out;
-  printFloorRatios(cells, out);
-  EXPECT_NE(out.str().find("| 0% | other | 2 / 1.5 |"), std::string::npos) << out.str();
+  printFloorRatios({seg, row(0, "out_of_range", "other", 0.2, 1), thr}, out);
+  EXPECT_NE(out.str().find("| segfault | throw |"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("| 0% | other | 2 / 1.5 | — |"), std::string::npos) << out.str();
+  EXPECT_NE(out.str().find("| 80% | fifo | — | 1 / 0.5 |"), std::string::npos) << out.str();
   std::ostringstream none;
   printFloorRatios({row(0, "segfault", "other", 6, 30)}, none);
   EXPECT_EQ(none.str(), "") << "no floor measured, no table";
