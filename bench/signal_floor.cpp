@@ -7,16 +7,10 @@
 // path stays warm) and one every third cycle (as `keel bench detection` strikes): what a few
 // quiet milliseconds cost the kernel's delivery and the unwinder.
 //   build/bin/keel_bench_signal_floor [--n 1000]
-#include <setjmp.h>
-#include <signal.h>
-#include <sys/mman.h>
-
-#include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -24,29 +18,13 @@
 #include "floor.hpp"
 #include "harness/stats.hpp"
 #include "runtime/guard.hpp"
+#include "runtime/injection.hpp"
 
 namespace {
 
-thread_local sigjmp_buf t_env;
-thread_local volatile std::int64_t t_caught = 0;
-
-std::int64_t now() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-void handler(int, siginfo_t*, void*) {
-  t_caught = now();
-  siglongjmp(t_env, 1);
-}
-
-[[gnu::noinline]] void faultNow() {
-  volatile std::uintptr_t addr = 0x10;
-  *reinterpret_cast<volatile int*>(addr) = 1;
-}
-
-[[gnu::noinline]] void throwNow() { throw std::runtime_error("floor"); }
+using keel::bench::bareSegfault;
+using keel::bench::bareThrow;
+using keel::runtime::steadyNs;
 
 void report(const char* what, std::vector<std::int64_t> v) {
   auto s = keel::bench::summarise(std::move(v));
@@ -61,53 +39,41 @@ int main(int argc, char** argv) {
   std::thread t([n] {
     keel::runtime::installSignalHandlers();
     keel::runtime::installAltStack();
-    struct sigaction bare {}, keel_sa {};
-    bare.sa_sigaction = handler;
-    bare.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;
-    sigaction(SIGSEGV, nullptr, &keel_sa);
     std::vector<std::int64_t> seg, thr, kseg, kthr;
     auto nap = [] { std::this_thread::sleep_for(std::chrono::milliseconds(1)); };
     auto bareSeg = [&] {
-      sigaction(SIGSEGV, &bare, nullptr);
+      const keel::bench::BareSegvHandler bare;  // keel's handler is back when it goes
       nap();
-      volatile std::int64_t t0 = now();
-      if (sigsetjmp(t_env, 0) == 0) faultNow();
-      seg.push_back(t_caught - t0);
-      sigaction(SIGSEGV, &keel_sa, nullptr);
+      seg.push_back(bareSegfault());
     };
     auto keelSeg = [&] {
       nap();
       std::int64_t tk = 0;
       auto out = keel::runtime::guarded([&tk] {
-        tk = now();
-        faultNow();
+        tk = steadyNs();
+        keel::bench::storeToPageZero();
         return keel::ReturnCode::Ok;
       });
       kseg.push_back(out.t_ns - tk);
     };
-    auto bareThrow = [&] {
+    auto bareThr = [&] {
       nap();
-      std::int64_t t1 = now();
-      try {
-        throwNow();
-      } catch (const std::exception&) {
-        thr.push_back(now() - t1);
-      }
+      thr.push_back(bareThrow());
     };
-    auto keelThrow = [&] {
+    auto keelThr = [&] {
       nap();
-      std::int64_t tt = now();
-      auto out2 = keel::runtime::guarded([]() -> keel::ReturnCode {
-        throwNow();
+      const std::int64_t tt = steadyNs();
+      auto out = keel::runtime::guarded([]() -> keel::ReturnCode {
+        keel::bench::throwRuntimeError();
         return keel::ReturnCode::Ok;
       });
-      kthr.push_back(out2.t_ns - tt);  // the time keel's catch took, as for a signal
+      kthr.push_back(out.t_ns - tt);  // the time keel's catch took, as for a signal
     };
     for (int i = 0; i < n; ++i) {  // alternate the order: neither side always runs warmer
       if (i % 2) {
-        bareSeg(), keelSeg(), bareThrow(), keelThrow();
+        bareSeg(), keelSeg(), bareThr(), keelThr();
       } else {
-        keelSeg(), bareSeg(), keelThrow(), bareThrow();
+        keelSeg(), bareSeg(), keelThr(), bareThr();
       }
     }
     report("bare SIGSEGV to handler", seg);

@@ -2,7 +2,6 @@
 
 #include <setjmp.h>
 #include <signal.h>
-#include <sys/mman.h>
 #include <time.h>
 
 #include <atomic>
@@ -13,6 +12,7 @@
 #include <thread>
 
 #include "process.hpp"
+#include "runtime/guard.hpp"
 #include "runtime/injection.hpp"
 
 namespace keel::bench {
@@ -58,13 +58,6 @@ void bareHandler(int signo, siginfo_t*, void*) {
   t_caught_ns = nowNs();
   siglongjmp(t_back, 1);
 }
-
-[[gnu::noinline]] void storeToPageZero() {
-  volatile std::uintptr_t addr = 0x10;  // page 0 is never mapped
-  *reinterpret_cast<volatile int*>(addr) = 1;
-}
-
-[[gnu::noinline]] void throwNow() { throw std::runtime_error("floor"); }
 
 }  // namespace
 
@@ -112,53 +105,52 @@ FloorResult measureTimerFloor(int n, bool fifo) {
   return r;
 }
 
-FloorResult measureSignalFloor(int n, bool fifo, int every) {
-  struct sigaction bare {}, saved {};
+void storeToPageZero() {
+  volatile std::uintptr_t addr = 0x10;  // page 0 is never mapped
+  *reinterpret_cast<volatile int*>(addr) = 1;
+}
+
+void throwRuntimeError() { throw std::runtime_error("floor"); }
+
+BareSegvHandler::BareSegvHandler() {
+  struct sigaction bare {};
   bare.sa_sigaction = bareHandler;
   sigemptyset(&bare.sa_mask);
   bare.sa_flags = SA_SIGINFO | SA_ONSTACK | SA_NODEFER;  // as keel's guard installs its own
-  ::sigaction(SIGSEGV, &bare, &saved);
-  constexpr std::size_t kAltStack = 64 * 1024;
-  FloorResult r = onCycles(n, fifo, every, [&] {
-    thread_local struct AltStack {  // the floor thread's own, as an executor has one
-      void* mem = ::mmap(nullptr, kAltStack, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
-      AltStack() {
-        if (mem == MAP_FAILED) return;  // then the handler runs on the thread's stack
-        stack_t ss{};
-        ss.ss_sp = mem;
-        ss.ss_size = kAltStack;
-        ::sigaltstack(&ss, nullptr);
-      }
-      ~AltStack() {
-        stack_t off{};
-        off.ss_flags = SS_DISABLE;
-        ::sigaltstack(&off, nullptr);
-        if (mem != MAP_FAILED) ::munmap(mem, kAltStack);
-      }
-    } alt;
-    volatile std::int64_t faulted = 0;
-    t_armed = true;
-    if (sigsetjmp(t_back, 0) == 0) {
-      faulted = nowNs();
-      storeToPageZero();
-    }
-    t_armed = false;
-    return t_caught_ns - faulted;
-  });
-  ::sigaction(SIGSEGV, &saved, nullptr);
-  return r;
+  ::sigaction(SIGSEGV, &bare, &saved_);
 }
 
-FloorResult measureThrowFloor(int n, bool fifo, int every) {
+BareSegvHandler::~BareSegvHandler() { ::sigaction(SIGSEGV, &saved_, nullptr); }
+
+std::int64_t bareSegfault() {
+  volatile std::int64_t faulted = 0;
+  t_armed = true;
+  if (sigsetjmp(t_back, 0) == 0) {
+    faulted = nowNs();
+    storeToPageZero();
+  }
+  t_armed = false;
+  return t_caught_ns - faulted;
+}
+
+std::int64_t bareThrow() {
+  const std::int64_t thrown = nowNs();
+  try {
+    throwRuntimeError();
+  } catch (const std::exception&) {
+    return nowNs() - thrown;
+  }
+  return 0;
+}
+
+FloorResult measureSignalFloor(int n, bool fifo, int every) {
+  const BareSegvHandler bare;
   return onCycles(n, fifo, every, [] {
-    const std::int64_t thrown = nowNs();
-    try {
-      throwNow();
-    } catch (const std::exception&) {
-      return nowNs() - thrown;
-    }
-    return std::int64_t{0};
+    runtime::installAltStack();  // the floor thread's own, as an executor has one (once)
+    return bareSegfault();
   });
 }
+
+FloorResult measureThrowFloor(int n, bool fifo, int every) { return onCycles(n, fifo, every, bareThrow); }
 
 }  // namespace keel::bench

@@ -15,6 +15,8 @@
 //   floor_throw  a std::runtime_error thrown and caught one frame up: the C++ unwinder.
 #pragma once
 
+#include <signal.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -33,7 +35,31 @@ FloorResult measureTimerFloor(int n, bool fifo);
 /// `n` faults caught, fault → caught, one every `every` cycles (3: as keel's detection trials;
 /// 1: on every cycle, the path kept warm). measureSignalFloor replaces the process's SIGSEGV
 /// action while it runs (and puts it back): no other thread may fault meanwhile.
-FloorResult measureSignalFloor(int n, bool fifo, int every = 3);
-FloorResult measureThrowFloor(int n, bool fifo, int every = 3);
+inline constexpr int kDetectionCadence = 3;  // a fault every third cycle, as keel's trials strike
+FloorResult measureSignalFloor(int n, bool fifo, int every = kDetectionCadence);
+FloorResult measureThrowFloor(int n, bool fifo, int every = kDetectionCadence);
+
+/// One trial of each floor, for benchmarks that interleave them with keel's (signal_floor.cpp).
+/// While a BareSegvHandler lives, the process's SIGSEGV goes to the floor's bare handler (it
+/// takes the time and jumps back) instead of keel's, which is put back after; no other thread
+/// may fault meanwhile.
+class BareSegvHandler {
+ public:
+  BareSegvHandler();
+  ~BareSegvHandler();
+  BareSegvHandler(const BareSegvHandler&) = delete;
+  BareSegvHandler& operator=(const BareSegvHandler&) = delete;
+
+ private:
+  struct sigaction saved_ {};
+};
+/// A store to page 0 under a BareSegvHandler on a thread with an alternate stack: fault →
+/// caught, ns.
+std::int64_t bareSegfault();
+/// A std::runtime_error thrown and caught one frame up: throw → caught, ns.
+std::int64_t bareThrow();
+/// The faults themselves, out of line (a store to page 0; a std::runtime_error), for keel's side.
+[[gnu::noinline]] void storeToPageZero();
+[[gnu::noinline]] void throwRuntimeError();
 
 }  // namespace keel::bench

@@ -22,6 +22,7 @@
 #include <iostream>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <thread>
 
 #include "detection.hpp"
@@ -150,50 +151,60 @@ void recoveryCell(const Paths& paths, int n, const std::string& log, const std::
   addNote(row.note, c.warnings);
 }
 
-/// The machine's floor for the same fault as `kind`, if it has one: a bare handler for a signal,
-/// a bare catch for a throw.
-std::function<FloorResult(int, bool)> floorFor(runtime::InjectKind kind) {
-  if (detectorOf(kind) == "signal") return [](int n, bool fifo) { return measureSignalFloor(n, fifo); };
-  if (kind == runtime::InjectKind::Throw) return [](int n, bool fifo) { return measureThrowFloor(n, fifo); };
-  return {};
+/// The machine's floors for detection (floor.hpp), as cells of their own and inside keel's.
+struct DetectionFloor {
+  const char* name;
+  const char* detector;
+  FloorResult (*measure)(int n, bool fifo, int every);
+};
+constexpr DetectionFloor kDetectionFloors[] = {{"floor_signal", "bare handler", measureSignalFloor},
+                                               {"floor_throw", "bare catch", measureThrowFloor}};
+
+const DetectionFloor* floorNamed(std::string_view name) {
+  for (const auto& f : kDetectionFloors)
+    if (name == f.name) return &f;
+  return nullptr;
+}
+
+/// The floor for the same fault as `kind`, if it has one: a bare handler for a signal, a bare
+/// catch for a throw.
+const DetectionFloor* floorFor(runtime::InjectKind kind) {
+  if (detectorOf(kind) == "signal") return floorNamed("floor_signal");
+  return kind == runtime::InjectKind::Throw ? floorNamed("floor_throw") : nullptr;
 }
 
 void detectionCell(int n, const std::string& what, bool fifo, Row& row) {
-  if (what == "floor_signal" || what == "floor_throw") {
-    FloorResult f = what == "floor_signal" ? measureSignalFloor(n, fifo) : measureThrowFloor(n, fifo);
-    row.detector = what == "floor_signal" ? "bare handler" : "bare catch";
+  if (const DetectionFloor* floor = floorNamed(what)) {
+    FloorResult f = floor->measure(n, fifo, kDetectionCadence);
+    row.detector = floor->detector;
     row.s = summarise(std::move(f.latencies_ns));
     addNote(row.note, f.warnings);
     return;
   }
   const auto kind = *runtime::parseInjectKind(what);
   row.detector = detectorOf(kind);
+  if (kind == runtime::InjectKind::Hang)
+    addNote(row.note, fmt::format("past the {} ms heartbeat timeout", kDetectionHeartbeatNs / 1'000'000));
   // A hang costs the heartbeat timeout per trial: half as many.
   const int total = kind == runtime::InjectKind::Hang ? std::max(1, n / 2) : n;
   // With a floor, keel's trials and the floor's alternate in chunks, so that the machine's drift
   // over the cell (2× over minutes on a shared VM) weighs on both alike.
-  const auto floor = floorFor(kind);
+  const DetectionFloor* floor = floorFor(kind);
   const int chunks = floor ? std::min(10, total) : 1;
-  DetectionCell c;
-  std::vector<std::int64_t> floor_ns;
+  std::vector<std::int64_t> keel_ns, floor_ns;
   for (int i = 0; i < chunks; ++i) {
     const int m = total / chunks + (i < total % chunks ? 1 : 0);
     DetectionCell part = measureDetection(kind, fifo, m);
-    c.latencies_ns.insert(c.latencies_ns.end(), part.latencies_ns.begin(), part.latencies_ns.end());
-    c.failed += part.failed;
-    addNote(c.warnings, part.warnings);
+    keel_ns.insert(keel_ns.end(), part.latencies_ns.begin(), part.latencies_ns.end());
+    row.failed += part.failed;
+    addNote(row.note, part.warnings);
     if (!floor) continue;
-    FloorResult f = floor(m, fifo);
+    FloorResult f = floor->measure(m, fifo, kDetectionCadence);
     floor_ns.insert(floor_ns.end(), f.latencies_ns.begin(), f.latencies_ns.end());
-    addNote(c.warnings, f.warnings);
+    addNote(row.note, f.warnings);
   }
-  row.s = summarise(std::move(c.latencies_ns));
+  row.s = summarise(std::move(keel_ns));
   row.floor = summarise(std::move(floor_ns));
-  row.failed = c.failed;
-  row.note = c.warnings;
-  if (kind == runtime::InjectKind::Hang)
-    row.note = fmt::format("past the {} ms heartbeat timeout", kDetectionHeartbeatNs / 1'000'000) +
-               (row.note.empty() ? "" : "; " + row.note);
 }
 
 /// Runs the plot script on the JSON; a missing python or matplotlib is said, not fatal.
@@ -260,7 +271,7 @@ int detection(Options o, const Paths& paths) {
   if (o.which.empty())
   {
     for (auto k : kDetectionKinds) o.which.emplace_back(runtime::toString(k));
-    o.which.insert(o.which.end(), {"floor_signal", "floor_throw"});
+    for (const auto& f : kDetectionFloors) o.which.emplace_back(f.name);
   }
   const auto low = lowLatency(o.low_latency);
   header(o, "detection");
@@ -327,8 +338,7 @@ int main(int argc, char** argv) {
                                               "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer"};
     for (const auto& w : o.which) {
       const bool ok = rec->parsed() ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
-                                    : keel::runtime::parseInjectKind(w).has_value() || w == "floor_signal" ||
-                                          w == "floor_throw";
+                                    : keel::runtime::parseInjectKind(w).has_value() || floorNamed(w);
       if (!ok) {
         std::cerr << "keel bench: --only: unknown '" << w << "'\n";
         return 2;

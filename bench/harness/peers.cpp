@@ -57,27 +57,6 @@ std::optional<std::int64_t> field(std::string_view line, std::string_view prefix
 
 // --- erlang ------------------------------------------------------------------------------------
 
-/// A temporary directory (mkdtemp), removed with everything in it when this goes.
-class TempDir {
- public:
-  TempDir() {
-    std::error_code ec;
-    std::string tmpl = (fs::temp_directory_path(ec) / "keel-bench-erl-XXXXXX").string();
-    if (ec) tmpl = "/tmp/keel-bench-erl-XXXXXX";
-    if (mkdtemp(tmpl.data()) != nullptr) path_ = tmpl;
-  }
-  ~TempDir() {
-    std::error_code ec;
-    if (!path_.empty()) fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
-
 /// The last few lines of a command's output, for a reason to show.
 std::string lastLines(const std::vector<std::string>& lines) {
   std::string out;
@@ -116,7 +95,7 @@ std::string compileErlang(const std::string& erlc, const std::string& sources, c
 PeerResult runErlangPeer(const Paths& paths, int n, bool fifo) {
   const std::string erl = findInPath("erl"), erlc = findInPath("erlc");
   if (erl.empty() || erlc.empty()) return skip("erl not found (scripts/deps.sh installs erlang-base)");
-  const TempDir dir;
+  const TempDir dir("keel-bench-erl-");
   if (dir.path().empty()) return skip(std::string("mkdtemp: ") + std::strerror(errno));
   if (std::string error = compileErlang(erlc, paths.peers, dir.path()); !error.empty()) return skip(error);
 

@@ -15,6 +15,8 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 #include <utility>
 
 extern char** environ;
@@ -210,6 +212,18 @@ Captured runCaptured(const std::vector<std::string>& argv, bool fifo, Deadline d
   }
   out.status = WIFEXITED(*status) ? WEXITSTATUS(*status) : 128 + WTERMSIG(*status);
   return out;
+}
+
+TempDir::TempDir(const std::string& prefix) {
+  std::error_code ec;
+  const auto base = std::filesystem::temp_directory_path(ec);
+  std::string tmpl = (ec ? std::filesystem::path("/tmp") : base) / (prefix + "XXXXXX");
+  if (mkdtemp(tmpl.data()) != nullptr) path_ = tmpl;
+}
+
+TempDir::~TempDir() {
+  std::error_code ec;
+  if (!path_.empty()) std::filesystem::remove_all(path_, ec);
 }
 
 }  // namespace keel::bench

@@ -1,7 +1,8 @@
 // Child processes of the harness — the peers (peers.cpp), the background load (load.cpp), the
 // plot script (main.cpp): a descriptor that closes itself, a close-on-exec pipe, a line reader
 // bounded by a deadline, a spawned process that is reaped on every path (a pidfd makes its end
-// pollable), run-and-capture for a whole command, and a program looked up in $PATH.
+// pollable), run-and-capture for a whole command, a program looked up in $PATH, and a temporary
+// directory removed with everything in it.
 // Not thread-safe: each object belongs to the one thread that uses it.
 #pragma once
 
@@ -111,5 +112,20 @@ struct Captured {
 
 /// Runs argv to its end (killed, with its process group, at the deadline).
 Captured runCaptured(const std::vector<std::string>& argv, bool fifo, Deadline deadline);
+
+/// A directory of its own under the temporary directory (mkdtemp, named `prefix`XXXXXX),
+/// removed with everything in it when this goes; path() is empty when it could not be made
+/// (errno says why).
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix);
+  ~TempDir();
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+};
 
 }  // namespace keel::bench

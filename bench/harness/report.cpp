@@ -32,9 +32,17 @@ std::string cell(const Row* r) {
   return fmt::format("{:.1f} / {:.1f}", r->s.p50_us, r->s.p99_us);
 }
 
-std::string ratio(const Row* keel, const Row* peer) {
-  if (!keel || !peer || keel->s.n == 0 || peer->s.n == 0 || peer->s.p50_us <= 0 || peer->s.p99_us <= 0) return "—";
-  return fmt::format("{:.3g} / {:.3g}", keel->s.p50_us / peer->s.p50_us, keel->s.p99_us / peer->s.p99_us);
+/// keel ÷ a reference at p50 and p99, as printed ("—" when either is missing or zero).
+std::string ratio(const Summary& keel, const Summary& ref) {
+  if (keel.n == 0 || ref.n == 0 || ref.p50_us <= 0 || ref.p99_us <= 0) return "—";
+  return fmt::format("{:.3g} / {:.3g}", keel.p50_us / ref.p50_us, keel.p99_us / ref.p99_us);
+}
+
+std::string ratio(const Row* keel, const Row* peer) { return keel && peer ? ratio(keel->s, peer->s) : "—"; }
+
+/// keel ÷ a reference at p50 and p99, as written in the JSON (3 decimals).
+nlohmann::json ratioJson(double keel_p50, double keel_p99, double ref_p50, double ref_p99) {
+  return {{"p50", std::round(keel_p50 / ref_p50 * 1000) / 1000}, {"p99", std::round(keel_p99 / ref_p99 * 1000) / 1000}};
 }
 
 bool isPeer(const std::string& what) { return what.rfind("peer_", 0) == 0; }
@@ -67,8 +75,7 @@ nlohmann::json toJson(const Row& r, bool detection) {
   if (detection && r.floor.n > 0 && r.floor.p50_us > 0 && r.floor.p99_us > 0) {
     j["floor_p50_us"] = std::round(r.floor.p50_us * 100) / 100;
     j["floor_p99_us"] = std::round(r.floor.p99_us * 100) / 100;
-    j["vs_floor"] = {{"p50", std::round(r.s.p50_us / r.floor.p50_us * 1000) / 1000},
-                     {"p99", std::round(r.s.p99_us / r.floor.p99_us * 1000) / 1000}};
+    j["vs_floor"] = ratioJson(r.s.p50_us, r.s.p99_us, r.floor.p50_us, r.floor.p99_us);
   }
   if (r.skipped) j["skipped"] = true;
   if (!r.note.empty()) j["note"] = r.note;
@@ -83,9 +90,7 @@ void addPeerRatios(nlohmann::json& rows) {
       if (p["load"] != k["load"] || p["policy"] != k["policy"]) continue;
       const double p50 = p["p50_us"], p99 = p["p99_us"];
       if (p50 <= 0 || p99 <= 0) continue;
-      k["vs_" + p["mechanism"].get<std::string>()] = {
-          {"p50", std::round(k["p50_us"].get<double>() / p50 * 1000) / 1000},
-          {"p99", std::round(k["p99_us"].get<double>() / p99 * 1000) / 1000}};
+      k["vs_" + p["mechanism"].get<std::string>()] = ratioJson(k["p50_us"], k["p99_us"], p50, p99);
     }
   }
 }
@@ -109,11 +114,7 @@ void printFloorRatios(const std::vector<Row>& rows, std::ostream& out) {
     out << fmt::format("| {}% | {} |", load, policy);
     for (const auto& k : kinds) {
       const Row* r = find(rows, load, policy, k);
-      out << ' '
-          << (r && r->s.n && r->floor.n && r->floor.p50_us > 0 && r->floor.p99_us > 0
-                  ? fmt::format("{:.3g} / {:.3g}", r->s.p50_us / r->floor.p50_us, r->s.p99_us / r->floor.p99_us)
-                  : "—")
-          << " |";
+      out << ' ' << (r ? ratio(r->s, r->floor) : "—") << " |";
     }
     out << '\n';
   }

@@ -39,20 +39,19 @@
 #include <chrono>
 #include <cstdint>
 #include <cstdlib>
-#include <filesystem>
 #include <fstream>
 #include <memory>
 #include <optional>
 #include <thread>
 
 #include "engine_setup.hpp"
+#include "process.hpp"
 #include "runtime/injection.hpp"
 #include "stats.hpp"
 
 namespace keel::bench {
 namespace {
 
-namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
 constexpr int kWalksPerTrial = 200;
@@ -249,20 +248,6 @@ ScaleRow measureSize(const Paths& paths, const std::string& dir, int n, int tria
   return summariseRun(run, trials);
 }
 
-/// A directory of its own under the temporary directory, removed with this object.
-struct ScratchDir {
-  std::string path;
-  ScratchDir() {
-    std::string tmpl = (fs::temp_directory_path() / "keel_bench_scale.XXXXXX").string();
-    if (mkdtemp(tmpl.data()) != nullptr) path = tmpl;
-  }
-  ~ScratchDir() {
-    std::error_code ec;
-    if (!path.empty()) fs::remove_all(path, ec);
-  }
-  ScratchDir(const ScratchDir&) = delete;
-  ScratchDir& operator=(const ScratchDir&) = delete;
-};
 
 }  // namespace
 
@@ -294,8 +279,8 @@ std::string writeScaleSystem(const std::string& dir, const Paths& paths, int com
 
 std::vector<ScaleRow> measureScale(const Paths& paths, const std::vector<int>& sizes, int trials) {
   std::vector<ScaleRow> rows;
-  ScratchDir dir;
-  if (dir.path.empty()) {
+  const TempDir dir("keel_bench_scale.");
+  if (dir.path().empty()) {
     ScaleRow row;
     row.error = "cannot make a temporary directory";
     return {row};
@@ -304,10 +289,10 @@ std::vector<ScaleRow> measureScale(const Paths& paths, const std::vector<int>& s
   {  // warm-up, not measured: the process's one-time costs belong to no row
     SizeRun warm;
     warm.n = 1;
-    warm.log = dir.path + "/scale.jsonl";
-    startupTrial(paths, writeScalePackage(dir.path, paths, 1), warm);
+    warm.log = dir.path() + "/scale.jsonl";
+    startupTrial(paths, writeScalePackage(dir.path(), paths, 1), warm);
   }
-  for (int n : sizes) rows.push_back(measureSize(paths, dir.path, std::max(n, 1), trials));
+  for (int n : sizes) rows.push_back(measureSize(paths, dir.path(), std::max(n, 1), trials));
   return rows;
 }
 
