@@ -12,13 +12,13 @@ std::optional<profile::ProfileSet> loadProfiles(const std::string& file, std::st
   return std::nullopt;
 }
 
-std::unique_ptr<runtime::Engine> createEngine(profile::ProfileSet set, const Paths& paths, const std::string& log,
+std::unique_ptr<engine::Engine> createEngine(profile::ProfileSet set, const Paths& paths, const std::string& log,
                                               std::function<void(const std::string&)> warn, std::string& error) {
-  runtime::EngineOptions opts;
+  engine::EngineOptions opts;
   opts.log_path = log;
   opts.search_path = {paths.components};
   opts.warn = std::move(warn);
-  auto engine = runtime::Engine::create(std::move(set), std::move(opts));
+  auto engine = engine::Engine::create(std::move(set), std::move(opts));
   if (!engine) {
     error = "engine: " + engine.error().message;
     return nullptr;
@@ -26,7 +26,7 @@ std::unique_ptr<runtime::Engine> createEngine(profile::ProfileSet set, const Pat
   return std::move(*engine);
 }
 
-bool startEngine(runtime::Engine& engine, std::string& error) {
+bool startEngine(engine::Engine& engine, std::string& error) {
   if (auto r = engine.start(); !r) {
     error = "start: " + r.error().message;
     return false;

@@ -56,7 +56,7 @@ std::optional<profile::ProfileSet> loadPackage(Setup& setup, const std::string& 
 }
 
 /// A fresh engine (the log rewritten), started.
-std::unique_ptr<runtime::Engine> startEngine(Setup& setup, profile::ProfileSet set) {
+std::unique_ptr<engine::Engine> startEngine(Setup& setup, profile::ProfileSet set) {
   auto engine = createEngine(std::move(set), setup.paths, setup.log_path,
                              [&setup](const std::string& w) { addNote(setup.warnings, w); }, setup.error);
   if (!engine || !bench::startEngine(*engine, setup.error)) return nullptr;
@@ -65,7 +65,7 @@ std::unique_ptr<runtime::Engine> startEngine(Setup& setup, profile::ProfileSet s
 
 /// Injects `kind` into the victim and waits for the handling of that fault to recover.
 /// Returns the Handling, or nullopt after `bound`.
-std::optional<fault::Handling> trial(runtime::Engine& engine, runtime::InjectKind kind, std::chrono::milliseconds bound) {
+std::optional<fault::Handling> trial(engine::Engine& engine, runtime::InjectKind kind, std::chrono::milliseconds bound) {
   Component* victim = engine.find("victim");
   auto& fm = engine.faultManager();
   const std::uint64_t id = fm.nextId();
@@ -106,7 +106,7 @@ RecoveryCell measureRecovery(const Paths& paths, const std::string& mechanism, b
     cell.error = setup.error;
     return cell;
   }
-  std::unique_ptr<runtime::Engine> engine;
+  std::unique_ptr<engine::Engine> engine;
   for (int i = 0; i < n; ++i) {
     if (!engine) {
       engine = startEngine(setup, *set);

@@ -93,7 +93,7 @@ long rssKib() {
   return resident * (sysconf(_SC_PAGESIZE) / 1024);
 }
 
-std::size_t activeComponents(const runtime::Engine& engine) {
+std::size_t activeComponents(const engine::Engine& engine) {
   return static_cast<std::size_t>(std::count_if(engine.instances().begin(), engine.instances().end(),
                                                 [](const auto& i) { return i.active()->state() == State::Active; }));
 }

@@ -15,7 +15,7 @@
 #include "cli/commands.hpp"
 #include "fault/dependency_graph.hpp"
 #include "profile/loader.hpp"
-#include "runtime/plan.hpp"
+#include "plan/plan.hpp"
 
 namespace keel::cli {
 namespace {
@@ -72,7 +72,7 @@ std::string node(const std::string& name, bool loose, const Marks& marks, const 
 }
 
 /// The executors (dashed clusters) running `names`, then the passive ones among them.
-std::string components(const runtime::Plan& plan, const std::vector<std::string>& names, int& cluster,
+std::string components(const plan::Plan& plan, const std::vector<std::string>& names, int& cluster,
                        const Marks& marks, const std::string& indent) {
   std::string out;
   std::set<std::string> placed;
@@ -109,7 +109,7 @@ std::string appLabel(const profile::Application& app) {
 
 /// Each application a cluster holding a node that stands for it (shape folder), so that the
 /// depends_on edges join real nodes; compound edges are clipped at the clusters' borders.
-std::string applications(const runtime::Plan& plan, const profile::SystemProfile& system, int& cluster,
+std::string applications(const plan::Plan& plan, const profile::SystemProfile& system, int& cluster,
                          const Marks& marks) {
   std::string out;
   std::map<std::string, int> cluster_of;
@@ -134,7 +134,7 @@ std::string applications(const runtime::Plan& plan, const profile::SystemProfile
   return out;
 }
 
-std::string dot(const runtime::Plan& plan, const profile::ProfileSet& set, const Marks& marks,
+std::string dot(const plan::Plan& plan, const profile::ProfileSet& set, const Marks& marks,
                 const std::string& summary) {
   std::string out = fmt::format("digraph {} {{\n", quote(plan.name));
   if (!summary.empty()) out += "  // keel graph --fail\n  // " + summary + "\n";
@@ -157,7 +157,7 @@ std::string dot(const runtime::Plan& plan, const profile::ProfileSet& set, const
 
 /// Fills `marks` with the blast radius of a fault stop of each of `o.fail`; returns the summary
 /// line, or nothing after printing why the blast radius cannot be drawn.
-std::optional<std::string> blastRadius(const Options& o, const runtime::Plan& plan,
+std::optional<std::string> blastRadius(const Options& o, const plan::Plan& plan,
                                        const profile::ProfileSet& set, Marks& marks) {
   auto graph = fault::DependencyGraph::build(plan, set);
   if (!graph) {
@@ -193,7 +193,7 @@ int graph(const Options& o) {
     for (const auto& d : set.error()) std::cerr << d.str() << '\n';
     return 2;
   }
-  auto plan = runtime::makePlan(*set);
+  auto plan = plan::makePlan(*set);
   if (!plan) {
     std::cerr << plan.error().message << '\n';
     return 2;

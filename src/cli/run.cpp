@@ -27,8 +27,8 @@
 #include "cli/summary.hpp"
 #include "fault/scenario.hpp"
 #include "profile/loader.hpp"
-#include "runtime/engine.hpp"
-#include "runtime/property_settings.hpp"
+#include "engine/engine.hpp"
+#include "plan/property_settings.hpp"
 
 namespace keel::cli {
 namespace {
@@ -44,7 +44,7 @@ struct RunOptions {
 };
 
 /// Reads operator commands from stdin until EOF or `stop`; each is logged by the engine.
-void console(runtime::Engine& engine, const std::atomic<bool>& stop) {
+void console(engine::Engine& engine, const std::atomic<bool>& stop) {
   std::string line;
   while (!stop.load(std::memory_order_acquire)) {
     pollfd pfd{STDIN_FILENO, POLLIN, 0};
@@ -96,7 +96,7 @@ int pendingSignal(const sigset_t& set) {
 
 /// Waits for the end of the duration (none: 0), a stop signal or a component's endRun. A
 /// component's end wakes it at once; signals are looked at every 20 ms.
-int waitForEnd(const sigset_t& set, double duration_s, const runtime::Engine& engine) {
+int waitForEnd(const sigset_t& set, double duration_s, const engine::Engine& engine) {
   using Clock = std::chrono::steady_clock;
   const auto end = duration_s > 0
                        ? Clock::now() + std::chrono::duration_cast<Clock::duration>(
@@ -111,24 +111,24 @@ int waitForEnd(const sigset_t& set, double duration_s, const runtime::Engine& en
 }
 
 /// The `reason` of the log's `stopping` record.
-std::string stopReason(int why, const runtime::Engine& engine) {
+std::string stopReason(int why, const engine::Engine& engine) {
   if (why == kEnded) return "ended by " + engine.runEnd()->component;
   return why == 0 ? "duration" : strsignal(why);
 }
 
 /// The --set options, parsed and checked against the plan of `set`; nothing after printing
 /// every problem, a line each.
-std::optional<std::vector<runtime::PropertySetting>> propertySettings(const RunOptions& o,
+std::optional<std::vector<plan::PropertySetting>> propertySettings(const RunOptions& o,
                                                                       const profile::ProfileSet& set) {
-  std::vector<runtime::PropertySetting> settings;
+  std::vector<plan::PropertySetting> settings;
   std::string errors;
   for (const auto& text : o.sets) {
-    auto s = runtime::parsePropertySetting(text);
+    auto s = plan::parsePropertySetting(text);
     if (s) settings.push_back(std::move(*s));
     else errors += s.error().message + '\n';
   }
-  if (auto plan = runtime::makePlan(set); errors.empty() && plan) {  // no plan: Engine::create says why
-    if (auto r = runtime::applyPropertySettings(*plan, settings); !r) errors = r.error().message + '\n';
+  if (auto plan = plan::makePlan(set); errors.empty() && plan) {  // no plan: Engine::create says why
+    if (auto r = plan::applyPropertySettings(*plan, settings); !r) errors = r.error().message + '\n';
   }
   if (errors.empty()) return settings;
   std::istringstream lines(errors);
@@ -143,7 +143,7 @@ int runProfile(const RunOptions& o) {
     for (const auto& d : set.error()) std::cerr << d.str() << '\n';
     return 2;
   }
-  runtime::EngineOptions eo;
+  engine::EngineOptions eo;
   eo.log_path = o.log;
   eo.cpu_dma_latency_us = o.cpu_dma_latency_us;
   auto settings = propertySettings(o, *set);
@@ -157,7 +157,7 @@ int runProfile(const RunOptions& o) {
     }
     eo.scenario = std::move(*scenario);
   }
-  auto engine = runtime::Engine::create(std::move(*set), eo);
+  auto engine = engine::Engine::create(std::move(*set), eo);
   if (!engine) {
     std::cerr << engine.error().message << '\n';
     return 1;

@@ -8,7 +8,7 @@
 
 namespace keel::cli {
 
-void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s) {
+void printSummary(std::ostream& out, const engine::Engine& engine, double ran_s) {
   fmt::print(out, "keel: '{}' ran {:.2f} s\n\n", engine.plan().name, ran_s);
   fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", "component", "state", "executions",
              "faults", "overruns", "executor");

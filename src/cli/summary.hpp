@@ -4,11 +4,11 @@
 
 #include <ostream>
 
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 
 namespace keel::cli {
 
-void printSummary(std::ostream& out, const runtime::Engine& engine, double ran_s);
+void printSummary(std::ostream& out, const engine::Engine& engine, double ran_s);
 /// The handling part: per fault its severity, actions and recovery latency; totals.
 void printHandling(std::ostream& out, const fault::FaultManager& manager);
 

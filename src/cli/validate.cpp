@@ -5,7 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "profile/loader.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 
 namespace keel::cli {
 namespace {
@@ -27,8 +27,8 @@ int validateFiles(const ValidateOptions& o) {
     bool runnable = set->root_kind == profile::RootKind::Package ||
                     set->root_kind == profile::RootKind::System;
     if (o.load && runnable) {
-      runtime::EngineOptions eo;
-      auto engine = runtime::Engine::create(std::move(*set), eo);
+      engine::EngineOptions eo;
+      auto engine = engine::Engine::create(std::move(*set), eo);
       if (!engine) {
         std::cerr << engine.error().message << '\n';
         ++problems;

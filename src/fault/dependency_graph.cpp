@@ -15,7 +15,7 @@ std::string at(const profile::Where& w) { return w.file.empty() ? "" : fmt::form
 
 }  // namespace
 
-Result<DependencyGraph> DependencyGraph::build(const runtime::Plan& plan, const profile::ProfileSet& set) {
+Result<DependencyGraph> DependencyGraph::build(const plan::Plan& plan, const profile::ProfileSet& set) {
   DependencyGraph g;
   if (auto r = g.indexComponents(plan); !r) return r.error();
   if (auto r = g.indexDepends(plan); !r) return r.error();
@@ -23,7 +23,7 @@ Result<DependencyGraph> DependencyGraph::build(const runtime::Plan& plan, const 
   return g;
 }
 
-Result<void> DependencyGraph::indexComponents(const runtime::Plan& plan) {
+Result<void> DependencyGraph::indexComponents(const plan::Plan& plan) {
   for (const auto& inst : plan.instances) {
     if (!index_.emplace(inst.name, names_.size()).second)
       return fail(fmt::format("dependency graph of '{}': component '{}' appears twice", plan.name, inst.name));
@@ -56,7 +56,7 @@ std::vector<DependencyGraph::Id> DependencyGraph::resolve(const std::string& nam
 }
 
 // coordination/depends: source depends on target, so target's stop stops source.
-Result<void> DependencyGraph::indexDepends(const runtime::Plan& plan) {
+Result<void> DependencyGraph::indexDepends(const plan::Plan& plan) {
   dependants_.assign(names_.size(), {});
   for (const auto& d : plan.depends) {
     const auto sources = resolve(d.source);
@@ -84,7 +84,7 @@ Result<void> DependencyGraph::addGroup(Id app, const std::vector<std::vector<Id>
   return {};
 }
 
-Result<void> DependencyGraph::indexApplications(const runtime::Plan& plan, const profile::ProfileSet& set) {
+Result<void> DependencyGraph::indexApplications(const plan::Plan& plan, const profile::ProfileSet& set) {
   uses_.assign(names_.size(), {});
   if (!set.system) {  // a package (or a component, a composite): one implicit application
     App& app = apps_.emplace_back();

@@ -15,7 +15,7 @@
 #include "keel/result.hpp"
 #include "profile/loader.hpp"
 #include "profile/model.hpp"
-#include "runtime/plan.hpp"
+#include "plan/plan.hpp"
 
 namespace keel::fault {
 
@@ -32,7 +32,7 @@ class DependencyGraph {
   /// one implicit application named after it, running while any component runs). Fails on names that do
   /// not resolve (the loader rejects those first; this only guards against a plan and set
   /// that do not belong together). Dependency cycles are tolerated: they stop together.
-  [[nodiscard]] static Result<DependencyGraph> build(const runtime::Plan& plan,
+  [[nodiscard]] static Result<DependencyGraph> build(const plan::Plan& plan,
                                                      const profile::ProfileSet& set);
 
   /// Everything that stops when the components in `failed` stop: an application stops when a
@@ -81,9 +81,9 @@ class DependencyGraph {
   Impact impactOfIds(const std::vector<Id>& failed) const;
   std::vector<Id> scopeIds(const std::string& component, profile::Scope scope) const;
   std::vector<Id> resolve(const std::string& name) const;
-  Result<void> indexComponents(const runtime::Plan& plan);
-  Result<void> indexDepends(const runtime::Plan& plan);
-  Result<void> indexApplications(const runtime::Plan& plan, const profile::ProfileSet& set);
+  Result<void> indexComponents(const plan::Plan& plan);
+  Result<void> indexDepends(const plan::Plan& plan);
+  Result<void> indexApplications(const plan::Plan& plan, const profile::ProfileSet& set);
   Result<void> addGroup(Id app, const std::vector<std::vector<Id>>& entries, std::size_t min_healthy);
 
   std::vector<std::string> names_;

@@ -12,22 +12,4 @@ ReturnCode FaultManagerComponent::onEvent(InputEventPortBase& port) {
   return ReturnCode::Ok;
 }
 
-const profile::ComponentProfile& FaultManagerComponent::profile() {
-  static const profile::ComponentProfile p = [] {
-    profile::ComponentProfile cp;
-    cp.file = "(keel)";
-    cp.name = "keel::FaultManager";
-    cp.description = "keel's fault manager";
-    cp.execution.type = profile::ExecutionType::Aperiodic;
-    profile::EventPort in;
-    in.name = "faults";
-    in.usage = profile::Usage::Input;
-    in.data_type = "keel::FaultEvent";
-    in.queue_size = 256;
-    cp.event_ports.push_back(in);
-    return cp;
-  }();
-  return p;
-}
-
 }  // namespace keel::fault

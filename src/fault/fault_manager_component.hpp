@@ -7,11 +7,11 @@
 
 #include "fault/fault_manager.hpp"
 #include "keel/component.hpp"
-#include "profile/model.hpp"
+#include "plan/fault_manager_profile.hpp"
 
 namespace keel::fault {
 
-inline constexpr const char* kFaultManagerInstance = "fault_manager";
+using plan::kFaultManagerInstance;
 
 class FaultManagerComponent final : public Component {
  public:
@@ -19,9 +19,6 @@ class FaultManagerComponent final : public Component {
 
   explicit FaultManagerComponent(FaultManager& manager) : manager_(manager) {}
   ReturnCode onEvent(InputEventPortBase& port) override;
-
-  /// The component profile the plan uses for it (aperiodic; the `faults` port).
-  static const profile::ComponentProfile& profile();
 
  private:
   FaultManager& manager_;

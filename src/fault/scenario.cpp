@@ -103,8 +103,15 @@ Result<Scenario, Diagnostics> loadScenario(const std::string& path) {
   Diagnostic syntax;
   auto file = profile::detail::XmlFile::read(path, path, open_error, syntax);
   if (!file) {
-    if (!open_error.empty()) diags.push_back(Diagnostic{{path, 0}, fmt::format("cannot open scenario: {}", open_error)});
-    else diags.push_back(syntax);
+    if (open_error.empty()) {
+      diags.push_back(std::move(syntax));
+    } else {
+      // Built in place member by member: GCC 12 at -O3 warns (-Wmaybe-uninitialized) about the
+      // temporary of a brace-initialised Diagnostic here.
+      Diagnostic& d = diags.emplace_back();
+      d.where.file = path;
+      d.message = fmt::format("cannot open scenario: {}", open_error);
+    }
     return diags;
   }
   pugi::xml_node root = file->root();

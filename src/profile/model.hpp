@@ -1,5 +1,5 @@
 // Plain, validated structs that profiles (SPEC §3) are read into.
-// Produced by profile/loader.hpp, consumed by runtime/plan.hpp; knows nothing of threads or
+// Produced by profile/loader.hpp, consumed by plan/plan.hpp; knows nothing of threads or
 // dlopen. Every struct that came from XML carries the `Where` it came from, so that later
 // stages (the plan, the loader) can still report `file:line`.
 // Thread-safety: plain values; immutable once loaded.

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include "profile/loader.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "scale.hpp"
 
 namespace keel::bench {
@@ -28,15 +28,15 @@ class ScaleProfiles : public ::testing::Test {
   }
   void TearDown() override { fs::remove_all(dir_); }
 
-  std::unique_ptr<runtime::Engine> run(const std::string& profile) {
+  std::unique_ptr<engine::Engine> run(const std::string& profile) {
     auto set = profile::load(profile);
     if (!set) {
       for (const auto& d : set.error()) ADD_FAILURE() << d.str();
       return nullptr;
     }
-    runtime::EngineOptions opts;
+    engine::EngineOptions opts;
     opts.search_path = {paths_.components};
-    auto engine = runtime::Engine::create(std::move(*set), std::move(opts));
+    auto engine = engine::Engine::create(std::move(*set), std::move(opts));
     if (!engine) {
       ADD_FAILURE() << engine.error().message;
       return nullptr;

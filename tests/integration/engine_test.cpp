@@ -1,6 +1,6 @@
 // The engine end to end: profiles → libraries → instances → connections → executors → stop,
 // with the real test component library (found through KEEL_COMPONENT_PATH).
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "support/log_reader.hpp"
 #include "support/recording_hooks.hpp"
 
-namespace keel::runtime {
+namespace keel::engine {
 namespace {
 
 using namespace std::chrono_literals;
@@ -43,7 +43,7 @@ TEST_F(EngineTest, RunsAPackageThroughTheWholeLifecycleInOrder) {
   ASSERT_TRUE(engine->start());
   Component* summer = engine->find("summer");
   ASSERT_NE(summer, nullptr);
-  ASSERT_TRUE(test::eventually([&] { return coreOf(*summer).executions.load() > 20; }));
+  ASSERT_TRUE(test::eventually([&] { return runtime::coreOf(*summer).executions.load() > 20; }));
   engine->shutdown();
   auto log = test::readLog(log_path_);
   for (const char* c : {"counter", "summer", "events", "doubler", "caller"}) {
@@ -74,7 +74,7 @@ TEST_F(EngineTest, AppliesTypedPropertiesWithSubcomponentOverrides) {
 TEST_F(EngineTest, ConfiguresInputQueuesFromTheProfile) {
   auto engine = create("pipeline.xml");
   ASSERT_TRUE(engine);
-  auto* in = static_cast<detail::InputPortBase*>(coreOf(*engine->find("summer")).findPort("in"));
+  auto* in = static_cast<detail::InputPortBase*>(runtime::coreOf(*engine->find("summer")).findPort("in"));
   EXPECT_EQ(in->capacity(), 64u);  // Summer.xml: queue_size 64
 }
 
@@ -84,8 +84,8 @@ TEST_F(EngineTest, ServiceCallsEventsAndDataFlowBetweenComponents) {
   ASSERT_TRUE(engine->start());
   // The event logger raises a user fault once summer's milestone event reports 30 values:
   // data (counter, caller→doubler service) reached summer, and its events reached the logger.
-  ASSERT_TRUE(test::eventually([&] { return coreOf(*engine->find("events")).faults.load() > 0; }));
-  EXPECT_EQ(coreOf(*engine->find("caller")).faults.load(), 0u) << "the caller's service calls failed";
+  ASSERT_TRUE(test::eventually([&] { return runtime::coreOf(*engine->find("events")).faults.load() > 0; }));
+  EXPECT_EQ(runtime::coreOf(*engine->find("caller")).faults.load(), 0u) << "the caller's service calls failed";
   EXPECT_EQ(engine->find("caller")->state(), State::Active);
   engine->shutdown();
   auto detected = test::eventsOf(test::readLog(log_path_), "detected");
@@ -105,8 +105,8 @@ TEST_F(EngineTest, AFaultyComponentGoesToErrorWhileTheRestKeepsRunning) {
   ASSERT_TRUE(test::eventually([&] {
     return crasher->state() == State::Error && thrower->state() == State::Error;
   }));
-  auto before = coreOf(*counter).executions.load();
-  ASSERT_TRUE(test::eventually([&] { return coreOf(*counter).executions.load() > before + 10; }));
+  auto before = runtime::coreOf(*counter).executions.load();
+  ASSERT_TRUE(test::eventually([&] { return runtime::coreOf(*counter).executions.load() > before + 10; }));
   EXPECT_EQ(counter->state(), State::Active);
   engine->shutdown();
   auto log = test::readLog(log_path_);
@@ -132,7 +132,7 @@ TEST_F(EngineTest, FlattensCompositesAndConnectsThroughExportedPorts) {
   EXPECT_NE(engine->find("pair.counter"), nullptr);
   EXPECT_NE(engine->find("pair.summer"), nullptr);
   ASSERT_TRUE(engine->start());
-  ASSERT_TRUE(test::eventually([&] { return coreOf(*engine->find("events")).faults.load() > 0; }));
+  ASSERT_TRUE(test::eventually([&] { return runtime::coreOf(*engine->find("events")).faults.load() > 0; }));
   engine->shutdown();
 }
 
@@ -161,4 +161,4 @@ TEST_F(EngineTest, NamesTheLibraryItCannotFind) {
 }
 
 }  // namespace
-}  // namespace keel::runtime
+}  // namespace keel::engine

@@ -5,12 +5,12 @@
 #include <filesystem>
 
 #include "runtime/component_core.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "support/log_reader.hpp"
 #include "support/process.hpp"
 #include "support/recording_hooks.hpp"
 
-namespace keel::runtime {
+namespace keel::engine {
 namespace {
 
 std::string linked() { return std::string(KEEL_TEST_PROFILES) + "/linked/system.xml"; }
@@ -38,8 +38,8 @@ TEST_F(SystemConnections, CarryDataFromOneApplicationsComponentToAnothers) {
   // raises a user fault (naming summer's label) once 30 values have arrived.
   Component* summer = (*engine)->find("consumer.summer");
   ASSERT_NE(summer, nullptr);
-  ASSERT_TRUE(test::eventually([&] { return coreOf(*(*engine)->find("consumer.events")).faults.load() > 0; }));
-  EXPECT_GT(coreOf(*summer).executions.load(), 0u);
+  ASSERT_TRUE(test::eventually([&] { return runtime::coreOf(*(*engine)->find("consumer.events")).faults.load() > 0; }));
+  EXPECT_GT(runtime::coreOf(*summer).executions.load(), 0u);
   (*engine)->shutdown();
 
   const auto detected = test::eventsOf(test::readLog(log_), "detected");
@@ -62,4 +62,4 @@ TEST_F(SystemConnections, AreValidatedByKeelValidate) {
 }
 
 }  // namespace
-}  // namespace keel::runtime
+}  // namespace keel::engine

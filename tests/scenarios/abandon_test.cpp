@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "runtime/component_core.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "runtime/guard.hpp"
 #include "support/log_reader.hpp"
 
@@ -78,14 +78,14 @@ class Abandon : public ::testing::Test {
   }
   void TearDown() override { g_release = true; }
 
-  std::unique_ptr<runtime::Engine> start(const std::string& package) {
+  std::unique_ptr<engine::Engine> start(const std::string& package) {
     auto set = profile::load(std::string(KEEL_SCENARIOS) + "/abandon/" + package);
     EXPECT_TRUE(set);
-    runtime::EngineOptions eo;
+    engine::EngineOptions eo;
     eo.log_path = log_;
     eo.search_path = {};
     eo.warn = [](const std::string&) {};
-    auto engine = runtime::Engine::create(std::move(*set), eo);
+    auto engine = engine::Engine::create(std::move(*set), eo);
     EXPECT_TRUE(engine) << (engine ? "" : engine.error().message);
     if (!engine) return nullptr;
     EXPECT_TRUE((*engine)->start());
@@ -93,7 +93,7 @@ class Abandon : public ::testing::Test {
   }
 
   /// Hangs stubborn and waits until the fault manager has handled the hang (generously).
-  void hangAndWait(runtime::Engine& engine) {
+  void hangAndWait(engine::Engine& engine) {
     std::this_thread::sleep_for(60ms);
     g_hang = true;
     const auto until = std::chrono::steady_clock::now() + 5s;
@@ -107,11 +107,11 @@ class Abandon : public ::testing::Test {
     ADD_FAILURE() << "the hang was not handled";
   }
 
-  static std::uint64_t executions(runtime::Engine& engine, const char* name) {
+  static std::uint64_t executions(engine::Engine& engine, const char* name) {
     return runtime::coreOf(*engine.find(name)).executions.load();
   }
 
-  static bool hasExecutor(runtime::Engine& engine, const std::string& name) {
+  static bool hasExecutor(engine::Engine& engine, const std::string& name) {
     for (const auto* ex : engine.executors())
       if (ex->config().name == name) return true;
     return false;

@@ -10,7 +10,7 @@
 
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "support/log_reader.hpp"
 
 namespace keel {
@@ -37,12 +37,12 @@ class Detection : public ::testing::Test {
     EXPECT_TRUE(set);
     auto sc = fault::loadScenario(here(scenario));
     EXPECT_TRUE(sc) << (sc ? "" : sc.error().front().str());
-    runtime::EngineOptions eo;
+    engine::EngineOptions eo;
     eo.log_path = log_;
     eo.search_path = {KEEL_TEST_COMPONENTS, KEEL_STOCK_COMPONENTS};
     eo.warn = [](const std::string&) {};
     eo.scenario = std::move(*sc);
-    auto engine = runtime::Engine::create(std::move(*set), eo);
+    auto engine = engine::Engine::create(std::move(*set), eo);
     EXPECT_TRUE(engine) << (engine ? "" : engine.error().message);
     RunResult r;
     if (!engine) return r;

@@ -17,7 +17,7 @@
 
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "support/log_reader.hpp"
 
 namespace keel {
@@ -51,11 +51,11 @@ class Handling : public ::testing::Test {
   }
 
   /// Creates and starts the engine over `package` with `scenario` injected ("" for none).
-  runtime::Engine& start(const std::string& package, const std::string& scenario) {
+  engine::Engine& start(const std::string& package, const std::string& scenario) {
     auto set = profile::load(here(package));
     EXPECT_TRUE(set) << (set ? "" : set.error().front().str());
     if (!set) throw std::runtime_error("profile not loaded");
-    runtime::EngineOptions eo;
+    engine::EngineOptions eo;
     eo.log_path = log_;
     eo.search_path = {KEEL_TEST_COMPONENTS, KEEL_STOCK_COMPONENTS};
     eo.warn = [](const std::string&) {};
@@ -65,7 +65,7 @@ class Handling : public ::testing::Test {
       if (!sc) throw std::runtime_error("scenario not loaded");
       eo.scenario = std::move(*sc);
     }
-    auto engine = runtime::Engine::create(std::move(*set), eo);
+    auto engine = engine::Engine::create(std::move(*set), eo);
     EXPECT_TRUE(engine) << (engine ? "" : engine.error().message);
     if (!engine) throw std::runtime_error("engine not created");
     engine_ = std::move(*engine);
@@ -125,7 +125,7 @@ class Handling : public ::testing::Test {
     return done >= n;
   }
 
-  std::unique_ptr<runtime::Engine> engine_;
+  std::unique_ptr<engine::Engine> engine_;
   std::string log_ = (std::filesystem::temp_directory_path() /
                       ("keel_handling_" + std::to_string(::getpid()) + ".jsonl")).string();
 

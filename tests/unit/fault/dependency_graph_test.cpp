@@ -1,6 +1,6 @@
 // The dependency graph (paper §5.2, Fig. 7): which applications a fault stops, through
 // requirement groups with duplicates, application dependencies, package-level depends and the
-// containment scope. Plans are built by hand, named as runtime::makePlan names them ("app.x").
+// containment scope. Plans are built by hand, named as plan::makePlan names them ("app.x").
 #include "fault/dependency_graph.hpp"
 
 #include <gmock/gmock.h>
@@ -24,7 +24,7 @@ struct AppSpec {
 
 /// A system profile and its plan, as makePlan would make them.
 struct System {
-  runtime::Plan plan;
+  plan::Plan plan;
   profile::ProfileSet set;
 
   explicit System(const std::vector<AppSpec>& apps) {
@@ -36,7 +36,7 @@ struct System {
       for (const auto& [components, min] : a.requires_) app.requires_.push_back({components, min, {}});
       set.system->applications.push_back(app);
       for (const auto& c : a.components) {
-        runtime::PlannedInstance inst;
+        plan::PlannedInstance inst;
         inst.name = a.name + "." + c;
         inst.application = a.name;
         plan.instances.push_back(inst);
@@ -205,10 +205,10 @@ TEST(DependencyGraph, ARequiredCompositeIsOneEntryDownWhenAnyOfItsComponentsIsDo
 }
 
 TEST(DependencyGraph, APackageIsOneImplicitApplicationRunningWhileAnyComponentRuns) {
-  runtime::Plan plan;
+  plan::Plan plan;
   plan.name = "pipeline";
   for (const char* name : {"counter", "summer", "fault_manager"}) {
-    runtime::PlannedInstance inst;
+    plan::PlannedInstance inst;
     inst.name = name;
     plan.instances.push_back(inst);
   }

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "profile_test_support.hpp"
-#include "runtime/plan.hpp"
+#include "plan/plan.hpp"
 
 namespace keel::profile::test {
 namespace {
@@ -31,7 +31,7 @@ TEST(SystemConnections, ArePlannedBetweenAbsoluteInstanceNamesThroughExports) {
   const auto result = load(dataPath("system/connected.xml"));
   ASSERT_TRUE(result.ok()) << joined(result);
 
-  const auto plan = runtime::makePlan(*result);
+  const auto plan = plan::makePlan(*result);
   ASSERT_TRUE(plan) << plan.error().message;
   std::vector<std::string> edges;
   for (const auto& c : plan->connections)

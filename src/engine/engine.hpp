@@ -1,7 +1,7 @@
 // The engine carries a plan out (ARCHITECTURE.md "How data flows", step 3): load libraries and
 // create instances, check their ports against the profiles, initialize, connect, start the
 // executors; at the end stop and destroy everything in reverse order. It is also the runtime's
-// RuntimeHooks: state changes and faults reach the fault log from here.
+// runtime::RuntimeHooks: state changes and faults reach the fault log from here.
 // Thread-safety: build/start/stop from one thread; hooks are called from executor threads.
 #pragma once
 
@@ -31,21 +31,21 @@
 #include "runtime/cpu_latency.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
-#include "runtime/plan.hpp"
-#include "runtime/property_settings.hpp"
-#include "runtime/run_end.hpp"
+#include "plan/plan.hpp"
+#include "plan/property_settings.hpp"
+#include "engine/run_end.hpp"
 
-namespace keel::runtime {
+namespace keel::engine {
 
 struct EngineOptions {
   std::string log_path;  // empty: no log file
-  std::vector<std::string> search_path = Loader::defaultSearchPath();
+  std::vector<std::string> search_path = runtime::Loader::defaultSearchPath();
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   std::function<void(const std::string&)> warn;
   std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
   std::optional<fault::Scenario> scenario;        // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.
-  std::vector<PropertySetting> property_settings;
+  std::vector<plan::PropertySetting> property_settings;
   /// Hold the CPUs' wake-up latency at this many µs while running (keel run --cpu-dma-latency;
   /// src/runtime/cpu_latency.hpp). Not permitted: a warning, and the run goes on without it.
   std::optional<std::int32_t> cpu_dma_latency_us;
@@ -53,9 +53,9 @@ struct EngineOptions {
 
 /// One running instance and what the plan says of it.
 struct Instance {
-  const PlannedInstance* plan = nullptr;
+  const plan::PlannedInstance* plan = nullptr;
   std::unique_ptr<Component> component;  // as created from the plan
-  Executor* executor = nullptr;          // null: passive
+  runtime::Executor* executor = nullptr;          // null: passive
   /// The component in service under this name: `component`, or the alternative that replaced it.
   std::unique_ptr<std::atomic<Component*>> current = std::make_unique<std::atomic<Component*>>(nullptr);
   std::unique_ptr<fault::ComponentHandling> handling;  // its compiled rules (src/fault/rules.hpp)
@@ -70,7 +70,7 @@ struct Wire {
   detail::PortBase* target = nullptr;            // input port, or provided service port
 };
 
-class Engine final : public RuntimeHooks, public fault::HandlingHost {
+class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
  public:
   /// Plans, loads and instantiates; checks every port of code against its profile.
   static Result<std::unique_ptr<Engine>> create(profile::ProfileSet set, EngineOptions options);
@@ -84,10 +84,10 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
 
   /// The component in service under `instance` (a replacement after a replacement).
   Component* find(std::string_view instance) const override;
-  const Plan& plan() const { return plan_; }
+  const plan::Plan& plan() const { return plan_; }
   const std::vector<Instance>& instances() const { return instances_; }
   /// The executors, including those that took over from an abandoned one (a snapshot).
-  std::vector<const Executor*> executors() const;
+  std::vector<const runtime::Executor*> executors() const;
   fault::FaultLog& log() { return log_; }
   fault::FaultManager& faultManager() { return fault_manager_; }
   const fault::FaultManager& faultManager() const { return fault_manager_; }
@@ -109,7 +109,7 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   /// Blocks until a component ends the run or `until` passes; true if one did.
   bool waitForEnd(std::chrono::steady_clock::time_point until) const { return run_end_.waitUntil(until); }
 
-  // RuntimeHooks
+  // runtime::RuntimeHooks
   void stateChanged(Component& c, State from, State to) override;
   void faultDetected(Component& c, const FaultEvent& fault) override;
   void runPending(Component& c) override { fault_manager_.runPending(c); }
@@ -124,7 +124,7 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
  private:
   explicit Engine(EngineOptions options);
   Result<void> instantiate();
-  Result<Instance> makeInstance(const PlannedInstance& pi);  // created, named, ports checked
+  Result<Instance> makeInstance(const plan::PlannedInstance& pi);  // created, named, ports checked
   void setUpHandling();       // rules and checkpoints per instance, the dependency graph
   Result<void> preloadAlternatives();
   /// Re-points the input connections and provided services of `failed` to `alternative`.
@@ -138,8 +138,8 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
 
   EngineOptions options_;
   profile::ProfileSet set_;  // owned: the plan points into it
-  Plan plan_;
-  Loader loader_;
+  plan::Plan plan_;
+  runtime::Loader loader_;
   fault::FaultLog log_;
   std::vector<Instance> instances_;
   // Instance by name, built once instantiate() has made them all (read-only afterwards, from
@@ -150,18 +150,18 @@ class Engine final : public RuntimeHooks, public fault::HandlingHost {
   std::optional<fault::DependencyGraph> graph_;
   std::mutex create_mutex_;                  // one alternative created at a time (any thread)
   std::mutex spares_mutex_;                  // guards the two below
-  std::deque<PlannedInstance> spare_plans_;  // the alternatives' plans (stable addresses)
+  std::deque<plan::PlannedInstance> spare_plans_;  // the alternatives' plans (stable addresses)
   std::vector<std::unique_ptr<Component>> spares_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
-  std::vector<std::unique_ptr<Executor>> executors_;
+  std::vector<std::unique_ptr<runtime::Executor>> executors_;
   fault::FaultManager fault_manager_;
   std::unique_ptr<fault::Watchdog> watchdog_;
-  CpuLatencyRequest cpu_latency_;  // held from start() to shutdown()
+  runtime::CpuLatencyRequest cpu_latency_;  // held from start() to shutdown()
   std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
   RunEndLatch run_end_;  // Component::endRun, from any component's thread
 };
 
-}  // namespace keel::runtime
+}  // namespace keel::engine

@@ -1,10 +1,10 @@
-#include "runtime/run_end.hpp"
+#include "engine/run_end.hpp"
 
 #include <fmt/format.h>
 
 #include <variant>
 
-namespace keel::runtime {
+namespace keel::engine {
 
 bool RunEndLatch::request(RunEnd end) {
   {
@@ -57,4 +57,4 @@ nlohmann::json runEndRecord(const RunEnd& end, std::int64_t t_ns) {
   return record;
 }
 
-}  // namespace keel::runtime
+}  // namespace keel::engine

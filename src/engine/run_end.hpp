@@ -16,7 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace keel::runtime {
+namespace keel::engine {
 
 /// Who ended the run and how (the arguments of the winning Component::endRun).
 struct RunEnd {
@@ -48,4 +48,4 @@ class RunEndLatch {
 /// object, the record carries "fields_error" (why, with the text) instead of them.
 nlohmann::json runEndRecord(const RunEnd& end, std::int64_t t_ns);
 
-}  // namespace keel::runtime
+}  // namespace keel::engine

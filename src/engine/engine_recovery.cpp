@@ -10,11 +10,11 @@
 #include "fault/fault_manager_component.hpp"
 #include "fault/rules.hpp"
 #include "runtime/checkpoint.hpp"
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
 
-namespace keel::runtime {
+namespace keel::engine {
 
 void Engine::setUpHandling() {
   if (auto g = fault::DependencyGraph::build(plan_, set_)) graph_ = std::move(*g);
@@ -26,7 +26,7 @@ void Engine::setUpHandling() {
     h->rules = fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components);
     // the whole window now: recording a recovery never allocates on the executor's thread
     h->recoveries.reserve(static_cast<std::size_t>(std::max(h->rules.intensity, 0)));
-    coreOf(*inst.component).handling = h.get();
+    runtime::coreOf(*inst.component).handling = h.get();
     inst.handling = std::move(h);
   }
   fault_manager_.attach(this, graph());
@@ -48,10 +48,10 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   auto it = std::find_if(instances_.begin(), instances_.end(), [&](const Instance& i) { return i.plan->name == h.name; });
   if (it == instances_.end() || h.rules.alternative == nullptr) return fail("no alternative for '" + h.name + "'");
   const profile::ComponentProfile& cp = *h.rules.alternative;
-  const PlannedInstance* plan = nullptr;
+  const plan::PlannedInstance* plan = nullptr;
   {
     std::lock_guard lock(spares_mutex_);
-    PlannedInstance& p = spare_plans_.emplace_back();
+    plan::PlannedInstance& p = spare_plans_.emplace_back();
     p.name = it->plan->name;
     p.profile = &cp;
     for (const auto& prop : cp.properties) p.properties[prop.name] = prop.value;
@@ -69,18 +69,18 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     return fail(why);
   }
   Component* alt = made->component.get();
-  coreOf(*alt).handling = &h;
+  runtime::coreOf(*alt).handling = &h;
   // Quietly: the log's `state` records of this name are the role's; a failure is returned.
-  coreOf(*alt).hooks = nullptr;
-  const bool initialized = transition(*alt, Transition::Initialize);
-  coreOf(*alt).hooks = this;
+  runtime::coreOf(*alt).hooks = nullptr;
+  const bool initialized = runtime::transition(*alt, Transition::Initialize);
+  runtime::coreOf(*alt).hooks = this;
   if (!initialized) return fail(fmt::format("onInitialize of alternative {} failed", cp.name));
   // Allocates its checkpoint buffers now, off the fault path (the switch copies into them).
-  if (!coreOf(*alt).critical.empty()) takeCheckpoint(coreOf(*alt), steadyNs());
+  if (!runtime::coreOf(*alt).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alt), runtime::steadyNs());
   // Outputs and required services now (it sends nothing before it starts); inputs at the switch.
   for (const Wire& w : wires_) {
     if (&w.source->owner() != &failed) continue;
-    detail::PortBase* port = coreOf(*alt).findPort(w.source->name());
+    detail::PortBase* port = runtime::coreOf(*alt).findPort(w.source->name());
     if (port == nullptr) continue;  // the loader checked that the ports are the same
     if (w.connection) static_cast<detail::OutputPortBase*>(port)->attach(*w.connection);
     else static_cast<ServicePortBase*>(port)->bind(*static_cast<ServicePortBase*>(w.target));
@@ -93,7 +93,7 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
 void Engine::redirectInputs(Component& failed, Component& alternative) {
   for (const Wire& w : wires_) {
     if (&w.target->owner() != &failed) continue;
-    detail::PortBase* port = coreOf(alternative).findPort(w.target->name());
+    detail::PortBase* port = runtime::coreOf(alternative).findPort(w.target->name());
     if (port == nullptr) continue;  // the loader checked that the ports are the same
     if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
     else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
@@ -103,18 +103,18 @@ void Engine::redirectInputs(Component& failed, Component& alternative) {
 void Engine::switchTo(Component& failed, Component& alternative) {
   // The executor first: a value that reaches the alternative through a re-pointed connection
   // wakes the alternative's executor.
-  if (Executor* ex = coreOf(failed).executor.load(std::memory_order_acquire)) ex->replaceMember(failed, alternative);
+  if (runtime::Executor* ex = runtime::coreOf(failed).executor.load(std::memory_order_acquire)) ex->replaceMember(failed, alternative);
   redirectInputs(failed, alternative);
   for (auto& inst : instances_)
     if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
 }
 
 Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacement) {
-  Executor* old = coreOf(hung).executor.load(std::memory_order_acquire);
+  runtime::Executor* old = runtime::coreOf(hung).executor.load(std::memory_order_acquire);
   if (old == nullptr) return fail("'" + hung.instanceName() + "' has no executor");
-  ExecutorConfig cfg = old->config();
+  runtime::ExecutorConfig cfg = old->config();
   cfg.name += "+";
-  auto fresh = std::make_unique<Executor>(cfg, [this](const std::string& m) { warn(m); });
+  auto fresh = std::make_unique<runtime::Executor>(cfg, [this](const std::string& m) { warn(m); });
   // The old thread is stuck in `hung`'s callback and does not touch its members meanwhile;
   // abandon() makes sure it never does again should it come back.
   const std::vector<Component*> members = old->members();
@@ -135,9 +135,9 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacem
     }
   }
   if (replacement) {  // started here: its new executor does not run yet
-    GuardOutcome out = invokeRecovery(*replacement, Callback::Start);
-    setStateQuiet(*replacement, out.ok() ? State::Active : State::Error);
-    if (out.ok() && !coreOf(*replacement).critical.empty()) takeCheckpoint(coreOf(*replacement), steadyNs());
+    runtime::GuardOutcome out = runtime::invokeRecovery(*replacement, runtime::Callback::Start);
+    runtime::setStateQuiet(*replacement, out.ok() ? State::Active : State::Error);
+    if (out.ok() && !runtime::coreOf(*replacement).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*replacement), runtime::steadyNs());
   }
   fresh->start(/*adopt=*/true);
   std::string name = cfg.name;
@@ -146,4 +146,4 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacem
   return name;
 }
 
-}  // namespace keel::runtime
+}  // namespace keel::engine

@@ -1,10 +1,10 @@
-#include "runtime/property_settings.hpp"
+#include "plan/property_settings.hpp"
 
 #include <fmt/format.h>
 
 #include "profile/values.hpp"
 
-namespace keel::runtime {
+namespace keel::plan {
 namespace {
 
 std::string list(const std::vector<std::string>& names) {
@@ -73,4 +73,4 @@ Result<void> applyPropertySettings(Plan& plan, const std::vector<PropertySetting
   return {};
 }
 
-}  // namespace keel::runtime
+}  // namespace keel::plan

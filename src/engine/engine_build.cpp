@@ -4,11 +4,11 @@
 
 #include <filesystem>
 
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 #include "fault/fault_manager_component.hpp"
 #include "runtime/registry.hpp"
 
-namespace keel::runtime {
+namespace keel::engine {
 namespace {
 
 using detail::PortDirection;
@@ -57,11 +57,11 @@ Result<void> Engine::instantiate() {
   std::string errors;
   for (const auto& pi : plan_.instances) {
     const profile::ComponentProfile& cp = *pi.profile;
-    if (&cp == &fault::FaultManagerComponent::profile()) {
+    if (&cp == &plan::faultManagerProfile()) {
       Instance inst;
       inst.plan = &pi;
       inst.component = std::make_unique<fault::FaultManagerComponent>(fault_manager_);
-      detail::ComponentCore& core = coreOf(*inst.component);
+      detail::ComponentCore& core = runtime::coreOf(*inst.component);
       core.instance_name = pi.name;
       core.class_name = cp.name;
       core.hooks = this;
@@ -86,21 +86,21 @@ Result<void> Engine::instantiate() {
   return {};
 }
 
-Result<Instance> Engine::makeInstance(const PlannedInstance& pi) {
+Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   const profile::ComponentProfile& cp = *pi.profile;
   std::string dir = std::filesystem::path(cp.file).parent_path().string();
   Result<std::string> lib = loader_.resolve(cp.library_name, dir);
   std::string library = lib ? *lib : std::string();
-  if (!lib && !Registry::instance().find(cp.name, ""))
+  if (!lib && !runtime::Registry::instance().find(cp.name, ""))
     return fail(fmt::format("{}: component '{}' ({}): {}\n", at(cp.where), pi.name, cp.name, lib.error().message));
   auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
-    return Registry::instance().find(cp.name, "")->factory();
+    return runtime::Registry::instance().find(cp.name, "")->factory();
   }() : loader_.create(cp.name, library);
   if (!created) return fail(fmt::format("{}: component '{}': {}\n", at(cp.where), pi.name, created.error().message));
   Instance inst;
   inst.plan = &pi;
   inst.component = std::move(*created);
-  detail::ComponentCore& core = coreOf(*inst.component);
+  detail::ComponentCore& core = runtime::coreOf(*inst.component);
   core.instance_name = pi.name;
   core.class_name = cp.name;
   core.hooks = this;
@@ -117,7 +117,7 @@ Result<Instance> Engine::makeInstance(const PlannedInstance& pi) {
 
 Result<void> Engine::configurePorts(Instance& inst) {
   const profile::ComponentProfile& cp = *inst.plan->profile;
-  detail::ComponentCore& core = coreOf(*inst.component);
+  detail::ComponentCore& core = runtime::coreOf(*inst.component);
   std::string errors;
   for (const auto& d : cp.data_ports) {
     detail::PortBase* port = core.findPort(d.name);
@@ -149,7 +149,7 @@ Result<void> Engine::configurePorts(Instance& inst) {
 
 Result<void> Engine::checkPorts(const Instance& inst) const {
   const profile::ComponentProfile& cp = *inst.plan->profile;
-  const detail::ComponentCore& core = coreOf(*inst.component);
+  const detail::ComponentCore& core = runtime::coreOf(*inst.component);
   std::string errors;
   auto expected = expectedPorts(cp);
   for (const auto& e : expected) {
@@ -181,7 +181,7 @@ Result<void> Engine::checkPorts(const Instance& inst) const {
 Result<void> Engine::connect() {
   auto port = [this](const profile::Endpoint& e) -> detail::PortBase* {
     Component* c = find(e.component);
-    return c ? coreOf(*c).findPort(e.port) : nullptr;
+    return c ? runtime::coreOf(*c).findPort(e.port) : nullptr;
   };
   std::string errors;
   for (const auto& pc : plan_.connections) {
@@ -218,4 +218,4 @@ Result<void> Engine::connect() {
   return {};
 }
 
-}  // namespace keel::runtime
+}  // namespace keel::engine

@@ -1,4 +1,4 @@
-#include "runtime/engine.hpp"
+#include "engine/engine.hpp"
 
 #include <fmt/format.h>
 
@@ -10,7 +10,7 @@
 #include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
 
-namespace keel::runtime {
+namespace keel::engine {
 
 Engine::Engine(EngineOptions options)
     : options_(std::move(options)),
@@ -22,9 +22,9 @@ Engine::~Engine() { shutdown(); }
 Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOptions options) {
   std::unique_ptr<Engine> engine(new Engine(std::move(options)));
   engine->set_ = std::move(set);
-  auto plan = makePlan(engine->set_);
+  auto plan = plan::makePlan(engine->set_);
   if (!plan) return plan.error();
-  if (auto r = applyPropertySettings(*plan, engine->options_.property_settings); !r) return r.error();
+  if (auto r = plan::applyPropertySettings(*plan, engine->options_.property_settings); !r) return r.error();
   engine->plan_ = std::move(*plan);
   if (!engine->options_.log_path.empty()) {
     if (auto r = engine->log_.open(engine->options_.log_path); !r) return r.error();
@@ -63,15 +63,15 @@ void Engine::warn(const std::string& message) {
 
 void Engine::buildExecutors() {
   for (const auto& pe : plan_.executors) {
-    ExecutorConfig cfg;
+    runtime::ExecutorConfig cfg;
     cfg.name = pe.name;
-    cfg.kind = pe.periodic ? ExecutorKind::Periodic : ExecutorKind::Aperiodic;
+    cfg.kind = pe.periodic ? runtime::ExecutorKind::Periodic : runtime::ExecutorKind::Aperiodic;
     cfg.period = std::chrono::nanoseconds(static_cast<std::int64_t>(pe.period_ms * 1e6));
     cfg.priority = pe.priority;
-    cfg.policy = pe.policy == profile::SchedPolicy::Fifo         ? Policy::Fifo
-                 : pe.policy == profile::SchedPolicy::RoundRobin ? Policy::RoundRobin
-                                                                 : Policy::Other;
-    auto ex = std::make_unique<Executor>(cfg, [this](const std::string& m) { warn(m); });
+    cfg.policy = pe.policy == profile::SchedPolicy::Fifo         ? runtime::Policy::Fifo
+                 : pe.policy == profile::SchedPolicy::RoundRobin ? runtime::Policy::RoundRobin
+                                                                 : runtime::Policy::Other;
+    auto ex = std::make_unique<runtime::Executor>(cfg, [this](const std::string& m) { warn(m); });
     for (const auto& m : pe.members) {
       for (auto& inst : instances_) {
         if (inst.plan->name != m) continue;
@@ -84,9 +84,9 @@ void Engine::buildExecutors() {
 }
 
 Result<void> Engine::start() {
-  installSignalHandlers();
+  runtime::installSignalHandlers();
   for (auto& inst : instances_) {
-    if (transition(*inst.component, Transition::Initialize)) continue;
+    if (runtime::transition(*inst.component, Transition::Initialize)) continue;
     const auto& w = inst.plan->where;
     return fail(fmt::format("{}:{}: component '{}' failed to initialize (see the log for the fault)",
                             w.file, w.line, inst.plan->name));
@@ -97,13 +97,13 @@ Result<void> Engine::start() {
   buildExecutors();
   for (auto& inst : instances_) {
     if (inst.executor) continue;  // passive: started here, under its lock
-    auto& core = coreOf(*inst.component);
+    auto& core = runtime::coreOf(*inst.component);
     std::lock_guard lock(core.passive_mutex);
-    transition(*inst.component, Transition::Start);
-    if (!core.critical.empty()) takeCheckpoint(core, steadyNs());
+    runtime::transition(*inst.component, Transition::Start);
+    if (!core.critical.empty()) runtime::takeCheckpoint(core, runtime::steadyNs());
   }
   if (options_.cpu_dma_latency_us) {  // before the executors' first sleep
-    auto held = CpuLatencyRequest::hold(*options_.cpu_dma_latency_us);
+    auto held = runtime::CpuLatencyRequest::hold(*options_.cpu_dma_latency_us);
     if (held) cpu_latency_ = std::move(*held);
     else warn(held.error().message);
   }
@@ -124,9 +124,9 @@ Result<void> Engine::start() {
 void Engine::startDetectors() {
   std::vector<fault::WatchedComponent> watched;
   for (const auto& inst : instances_) {
-    const auto& core = coreOf(*inst.component);
+    const auto& core = runtime::coreOf(*inst.component);
     if (core.heartbeat_ns == 0) continue;
-    std::int64_t period = inst.executor && inst.executor->config().kind == ExecutorKind::Periodic
+    std::int64_t period = inst.executor && inst.executor->config().kind == runtime::ExecutorKind::Periodic
                               ? inst.executor->config().period.count()
                               : 0;
     watched.push_back({inst.current.get(), core.heartbeat_ns, period});
@@ -144,11 +144,11 @@ void Engine::shutdown() {
   if (watchdog_) watchdog_->stop();
   fault_manager_.stop();  // handles and logs what is queued; adds no executor after this
   for (auto& inst : instances_) {  // injected hangs, of replaced components too
-    coreOf(*inst.component).release_hang.store(true);
-    coreOf(*inst.active()).release_hang.store(true);
+    runtime::coreOf(*inst.component).release_hang.store(true);
+    runtime::coreOf(*inst.active()).release_hang.store(true);
   }
   for (auto& ex : executors_) ex->requestStop();
-  std::vector<const Executor*> abandoned;
+  std::vector<const runtime::Executor*> abandoned;
   for (auto& ex : executors_) {
     if (!ex->abandoned() && ex->join(options_.stop_timeout)) continue;
     if (ex->abandoned() && ex->join(std::chrono::milliseconds(50))) continue;  // it came back meanwhile
@@ -159,27 +159,27 @@ void Engine::shutdown() {
   }
   // A component whose executor is abandoned may still be in use by its stuck thread.
   auto stuck = [&abandoned](const Component& c) {
-    const Executor* ex = coreOf(c).executor.load(std::memory_order_acquire);
+    const runtime::Executor* ex = runtime::coreOf(c).executor.load(std::memory_order_acquire);
     return ex && std::find(abandoned.begin(), abandoned.end(), ex) != abandoned.end();
   };
   for (auto& inst : instances_) {
     if (inst.executor) continue;
     Component& c = *inst.active();
-    std::lock_guard lock(coreOf(c).passive_mutex);
-    transition(c, Transition::Stop);
+    std::lock_guard lock(runtime::coreOf(c).passive_mutex);
+    runtime::transition(c, Transition::Stop);
   }
   fault_manager_.flushUndetected(components());
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
-    if (!stuck(*it->active())) transition(*it->active(), Transition::Destroy);
+    if (!stuck(*it->active())) runtime::transition(*it->active(), Transition::Destroy);
     if (it->active() != it->component.get() && !stuck(*it->component))
-      transition(*it->component, Transition::Destroy);  // replaced
+      runtime::transition(*it->component, Transition::Destroy);  // replaced
   }
   {
     std::lock_guard lock(spares_mutex_);
     for (auto& spare : spares_)  // alternatives still standing by
-      if (spare->state() != State::Destroyed && !stuck(*spare)) transition(*spare, Transition::Destroy);
+      if (spare->state() != State::Destroyed && !stuck(*spare)) runtime::transition(*spare, Transition::Destroy);
   }
-  cpu_latency_ = CpuLatencyRequest();  // the CPUs may sleep again
+  cpu_latency_ = runtime::CpuLatencyRequest();  // the CPUs may sleep again
   if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
@@ -210,9 +210,9 @@ void Engine::endRun(Component& c, std::string_view summary, std::string_view eve
   log_.write({{"event", "end_requested"}, {"component", end.component}, {"summary", end.summary}});
 }
 
-std::vector<const Executor*> Engine::executors() const {
+std::vector<const runtime::Executor*> Engine::executors() const {
   std::lock_guard lock(executors_mutex_);
-  std::vector<const Executor*> out;
+  std::vector<const runtime::Executor*> out;
   for (const auto& ex : executors_) out.push_back(ex.get());
   return out;
 }
@@ -224,4 +224,4 @@ std::vector<Component*> Engine::components() const {
   return out;
 }
 
-}  // namespace keel::runtime
+}  // namespace keel::engine

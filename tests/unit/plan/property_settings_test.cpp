@@ -1,12 +1,12 @@
 // `keel run --set INSTANCE.PROPERTY=VALUE` (runtime/property_settings): how the text is split,
 // and the settings typed against a plan like the profiles' overrides, all or nothing.
-#include "runtime/property_settings.hpp"
+#include "plan/property_settings.hpp"
 
 #include <gtest/gtest.h>
 
 #include "profile/loader.hpp"
 
-namespace keel::runtime {
+namespace keel::plan {
 namespace {
 
 TEST(PropertySetting, SplitsAtTheLastDotBeforeTheFirstEqualsSign) {
@@ -90,4 +90,4 @@ TEST_F(PropertySettings, NameTheComponentsPropertiesOrNone) {
 }
 
 }  // namespace
-}  // namespace keel::runtime
+}  // namespace keel::plan

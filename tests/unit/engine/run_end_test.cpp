@@ -1,12 +1,12 @@
 // RunEndLatch and the record of a run's end (runtime/run_end): the first request wins and
 // wakes a waiter; the record holds keel's keys and the component's fields, or why not.
-#include "runtime/run_end.hpp"
+#include "engine/run_end.hpp"
 
 #include <gtest/gtest.h>
 
 #include <thread>
 
-namespace keel::runtime {
+namespace keel::engine {
 namespace {
 
 using namespace std::chrono_literals;
@@ -67,4 +67,4 @@ TEST(RunEndRecord, MalformedFieldsGiveAFieldsErrorNamingThem) {
 }
 
 }  // namespace
-}  // namespace keel::runtime
+}  // namespace keel::engine

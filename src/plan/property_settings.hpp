@@ -11,9 +11,9 @@
 #include <vector>
 
 #include "keel/result.hpp"
-#include "runtime/plan.hpp"
+#include "plan/plan.hpp"
 
-namespace keel::runtime {
+namespace keel::plan {
 
 struct PropertySetting {
   std::string text;      // as given, for messages and the log
@@ -31,4 +31,4 @@ Result<PropertySetting> parsePropertySetting(std::string_view text);
 /// error has one line per bad setting.
 Result<void> applyPropertySettings(Plan& plan, const std::vector<PropertySetting>& settings);
 
-}  // namespace keel::runtime
+}  // namespace keel::plan

@@ -17,7 +17,7 @@
 #include "profile/loader.hpp"
 #include "profile/model.hpp"
 
-namespace keel::runtime {
+namespace keel::plan {
 
 struct PlannedInstance {
   std::string name;  // qualified instance name
@@ -57,4 +57,4 @@ struct Plan {
 /// Makes the plan for the root of `set` (a package, a system, or a single component).
 Result<Plan> makePlan(const profile::ProfileSet& set);
 
-}  // namespace keel::runtime
+}  // namespace keel::plan

@@ -1,12 +1,12 @@
-#include "runtime/plan.hpp"
+#include "plan/plan.hpp"
 
 #include <fmt/format.h>
 
 #include <set>
 
-#include "fault/fault_manager_component.hpp"
+#include "plan/fault_manager_profile.hpp"
 
-namespace keel::runtime {
+namespace keel::plan {
 namespace {
 
 using profile::Endpoint;
@@ -67,10 +67,10 @@ class Planner {
 
   void addFaultManagerIfConnected() {
     for (const auto& c : plan_.connections) {
-      if (c.target.component != fault::kFaultManagerInstance) continue;
+      if (c.target.component != kFaultManagerInstance) continue;
       PlannedInstance inst;
-      inst.name = fault::kFaultManagerInstance;
-      inst.profile = &fault::FaultManagerComponent::profile();
+      inst.name = kFaultManagerInstance;
+      inst.profile = &faultManagerProfile();
       inst.where = c.where;
       plan_.instances.push_back(std::move(inst));
       return;
@@ -123,7 +123,7 @@ class Planner {
   }
 
   Endpoint resolve(const std::string& prefix, const Endpoint& e) const {
-    if (e.component == fault::kFaultManagerInstance) return e;  // one per run, never prefixed
+    if (e.component == kFaultManagerInstance) return e;  // one per run, never prefixed
     Endpoint out{prefix + e.component, e.port};
     for (auto it = exports_.find({out.component, out.port}); it != exports_.end();
          it = exports_.find({out.component, out.port}))
@@ -188,4 +188,4 @@ Result<Plan> makePlan(const ProfileSet& set) {
   return fail("unknown profile kind");
 }
 
-}  // namespace keel::runtime
+}  // namespace keel::plan
