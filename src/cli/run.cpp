@@ -28,6 +28,7 @@
 #include "fault/scenario.hpp"
 #include "profile/loader.hpp"
 #include "engine/engine.hpp"
+#include "fault/log_schema.hpp"
 #include "plan/property_settings.hpp"
 
 namespace keel::cli {
@@ -175,7 +176,9 @@ int runProfile(const RunOptions& o) {
   stop_console.store(true, std::memory_order_release);
   if (console_thread.joinable()) console_thread.join();
   double ran = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  (*engine)->log().write({{"event", "engine"}, {"phase", "stopping"}, {"reason", stopReason(why, **engine)}});
+  nlohmann::json stopping = fault::schema::engine("stopping");
+  stopping[fault::schema::field::kReason] = stopReason(why, **engine);
+  (*engine)->log().write(std::move(stopping));
   (*engine)->faultManager().drain();       // every handling logged and counted
   printSummary(std::cout, **engine, ran);  // counters, before instances are destroyed
   (*engine)->shutdown();  // a component may still end the run from its onStop

@@ -1,5 +1,8 @@
 #include "engine/engine.hpp"
 
+#include "fault/log_schema.hpp"
+#include "runtime/clock.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -29,8 +32,9 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
   if (!engine->options_.log_path.empty()) {
     if (auto r = engine->log_.open(engine->options_.log_path); !r) return r.error();
   }
-  nlohmann::json load = {{"event", "engine"}, {"phase", "load"}, {"profile", engine->set_.root},
-                         {"instances", engine->plan_.instances.size()}};
+  nlohmann::json load = fault::schema::engine("load");
+  load["profile"] = engine->set_.root;
+  load["instances"] = engine->plan_.instances.size();
   for (const auto& s : engine->options_.property_settings) load["set"].push_back(s.text);
   engine->log_.write(std::move(load));
   if (auto r = engine->instantiate(); !r) return r.error();
@@ -56,9 +60,9 @@ Component* Engine::find(std::string_view instance) const {
 }
 
 void Engine::warn(const std::string& message) {
-  log_.write({{"event", "warning"}, {"message", message}});
+  log_.write(fault::schema::warning(message));
   if (options_.warn) options_.warn(message);
-  else std::cerr << "keel: warning: " << message << '\n';
+  else runtime::warnOnStderr(message);
 }
 
 void Engine::buildExecutors() {
@@ -115,7 +119,8 @@ Result<void> Engine::start() {
   }
   started_ = true;
   startDetectors();
-  nlohmann::json started = {{"event", "engine"}, {"phase", "started"}, {"executors", executors}};
+  nlohmann::json started = fault::schema::engine("started");
+  started["executors"] = executors;
   if (cpu_latency_.held()) started["cpu_dma_latency_us"] = cpu_latency_.microseconds();
   log_.write(std::move(started));
   return {};
@@ -134,7 +139,7 @@ void Engine::startDetectors() {
   watchdog_ = std::make_unique<fault::Watchdog>(std::move(watched), fault_manager_,
                                                 [this](const std::string& m) { warn(m); });
   watchdog_->start();
-  if (injector_) injector_->start(fault::steadyNowNs());
+  if (injector_) injector_->start(runtime::steadyNs());
 }
 
 void Engine::shutdown() {
@@ -180,7 +185,7 @@ void Engine::shutdown() {
       if (spare->state() != State::Destroyed && !stuck(*spare)) runtime::transition(*spare, Transition::Destroy);
   }
   cpu_latency_ = runtime::CpuLatencyRequest();  // the CPUs may sleep again
-  if (started_) log_.write({{"event", "engine"}, {"phase", "stopped"}});
+  if (started_) log_.write(fault::schema::engine("stopped"));
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
@@ -196,10 +201,7 @@ void Engine::shutdown() {
 }
 
 void Engine::stateChanged(Component& c, State from, State to) {
-  log_.write({{"event", "state"},
-              {"component", c.instanceName()},
-              {"from", toString(from)},
-              {"to", toString(to)}});
+  log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
 }
 
 void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manager_.onFault(c, fault); }
@@ -207,7 +209,10 @@ void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manage
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
   RunEnd end{c.instanceName(), std::string(summary), std::string(event), std::string(fields)};
   if (!run_end_.request(end)) return;  // the first request wins
-  log_.write({{"event", "end_requested"}, {"component", end.component}, {"summary", end.summary}});
+  nlohmann::json rec = {{fault::schema::field::kEvent, fault::schema::event::kEndRequested},
+                        {fault::schema::field::kComponent, end.component},
+                        {fault::schema::field::kSummary, end.summary}};
+  log_.write(std::move(rec));
 }
 
 std::vector<const runtime::Executor*> Engine::executors() const {

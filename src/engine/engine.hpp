@@ -31,6 +31,7 @@
 #include "runtime/cpu_latency.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
+#include "runtime/warning.hpp"
 #include "plan/plan.hpp"
 #include "plan/property_settings.hpp"
 #include "engine/run_end.hpp"
@@ -41,7 +42,7 @@ struct EngineOptions {
   std::string log_path;  // empty: no log file
   std::vector<std::string> search_path = runtime::Loader::defaultSearchPath();
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
-  std::function<void(const std::string&)> warn;
+  runtime::Warn warn;
   std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
   std::optional<fault::Scenario> scenario;        // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.

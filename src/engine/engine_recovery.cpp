@@ -21,11 +21,10 @@ void Engine::setUpHandling() {
   else warn("fault stops cover the component alone: " + g.error().message);
   for (auto& inst : instances_) {
     if (inst.plan->name == fault::kFaultManagerInstance) continue;  // the framework's own
-    auto h = std::make_unique<fault::ComponentHandling>();
-    h->name = inst.plan->name;
-    h->rules = fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components);
-    // the whole window now: recording a recovery never allocates on the executor's thread
-    h->recoveries.reserve(static_cast<std::size_t>(std::max(h->rules.intensity, 0)));
+    // The restart window is allocated whole here: recording a recovery never allocates on the
+    // executor's thread.
+    auto h = std::make_unique<fault::ComponentHandling>(
+        fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components), inst.plan->name);
     runtime::coreOf(*inst.component).handling = h.get();
     inst.handling = std::move(h);
   }

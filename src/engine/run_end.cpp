@@ -1,5 +1,7 @@
 #include "engine/run_end.hpp"
 
+#include "fault/log_schema.hpp"
+
 #include <fmt/format.h>
 
 #include <variant>
@@ -51,9 +53,9 @@ nlohmann::json runEndRecord(const RunEnd& end, std::int64_t t_ns) {
     record["fields_error"] = fmt::format("fields_json '{}' is not the members of a JSON object: {}",
                                          end.fields, std::get<std::string>(parsed));
   }
-  record["t_ns"] = t_ns;
-  record["event"] = end.event;
-  record["component"] = end.component;
+  record[fault::schema::field::kTime] = t_ns;
+  record[fault::schema::field::kEvent] = end.event;
+  record[fault::schema::field::kComponent] = end.component;
   return record;
 }
 

@@ -10,13 +10,7 @@
 
 namespace keel::fault {
 
-std::int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
-FaultLog::FaultLog() : epoch_ns_(steadyNowNs()) {}
+FaultLog::FaultLog() : epoch_ns_(steadyNs()) {}
 
 FaultLog::~FaultLog() {
   if (fd_ >= 0) ::close(fd_);
@@ -29,7 +23,7 @@ Result<void> FaultLog::open(const std::string& path) {
   return {};
 }
 
-std::int64_t FaultLog::now() const { return steadyNowNs() - epoch_ns_; }
+std::int64_t FaultLog::now() const { return steadyNs() - epoch_ns_; }
 
 void FaultLog::write(nlohmann::json record) {
   if (fd_ < 0) return;

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "keel/result.hpp"
+#include "runtime/clock.hpp"
 
 namespace keel::fault {
 
@@ -37,7 +38,7 @@ class FaultLog {
   std::mutex mutex_;
 };
 
-/// steady-clock now in ns (the clock of every time in keel).
-std::int64_t steadyNowNs();
+/// keel's one clock (runtime/clock.hpp), for the fault layer's own code.
+using runtime::steadyNs;
 
 }  // namespace keel::fault

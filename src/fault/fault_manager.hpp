@@ -1,17 +1,20 @@
 // The fault manager (paper §3.2, §5.2–5.3): every detected fault reaches it, whichever detector
 // found it — the guard, a port, the watchdog, a monitor or voter, raiseFault, or a FaultEvent
-// sent to its `faults` port. It gives the fault its id (the injection's, when keel injected
-// it), applies the component's compiled rules (fault/rules.hpp) and escalates along
-// reset → replace → stop → emergency.
+// sent to its `faults` port — and it carries the fault's handling through, step by step. It
+// owns the parts of one job each and decides nothing itself:
+//   diagnosis      who is at fault, the fault's id, what the rules call for (fault/diagnosis)
+//   escalation     which step follows which outcome — pure (fault/escalation)
+//   recovery       reset, replacement, abandoning a hung executor (fault/recovery)
+//   containment    fault stop over the dependency graph, emergency stop (fault/containment)
+//   the thread     its own thread and queue (fault/handling_queue)
+//   the records    the fault log's records and the summaries (fault/fault_records)
 //
-// How a fault flows (ARCHITECTURE.md): local recoveries — reset with the checkpoint restored,
-// the switch to a preloaded alternative — run at once on the thread that caught the fault when
-// that is the component's own executor thread, and the manager's thread is told afterwards
-// (no wake-up on the recovery path). Anything else is handed over: to the component's thread
-// (posted between its callbacks, or its hung callback interrupted by a signal), or to the
-// manager's own thread, which does what needs the whole picture: loading an alternative cold,
-// fault stop over the dependency graph, emergency stop, and the log (`injected`, `detected`,
-// `diagnosed`, `action`, `recovered`, `state`).
+// How a fault flows (docs/architecture.md): local recoveries — reset with the checkpoint
+// restored, the switch to a preloaded alternative — run at once on the thread that caught the
+// fault when that is the component's own executor thread, and the manager's thread is told
+// afterwards (no wake-up on the recovery path). Anything else is handed over: to the
+// component's thread (posted between its callbacks, or its hung callback interrupted by a
+// signal), or to the manager's own thread, which does what needs the whole picture.
 // Thread-safety: onFault, runPending, recovered, emergencyStop, clearEmergency and the readers
 // may be called from any thread; attach/start/stop from the engine's thread.
 #pragma once
@@ -26,64 +29,20 @@
 #include <thread>
 #include <vector>
 
+#include "fault/containment.hpp"
 #include "fault/dependency_graph.hpp"
+#include "fault/diagnosis.hpp"
+#include "fault/escalation.hpp"
 #include "fault/fault_log.hpp"
+#include "fault/fault_records.hpp"
+#include "fault/handling_host.hpp"
+#include "fault/handling_queue.hpp"
+#include "fault/recovery.hpp"
 #include "fault/report.hpp"
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
-#include "keel/result.hpp"
-#include "runtime/wake_signal.hpp"
 
 namespace keel::fault {
-
-struct FaultCount {
-  std::string component;
-  std::string kind;
-  std::string detail;  // the first one
-  std::uint64_t count = 0;
-};
-
-/// One detection, as kept for summaries and tests.
-struct Detection {
-  std::uint64_t fault_id = 0;
-  std::string component;
-  FaultKind kind = FaultKind::User;
-  std::int64_t detected_ns = 0;  // steady clock
-  std::int64_t injected_ns = 0;  // 0: not injected
-};
-
-/// One fault's handling, as kept for the run's summary and the benchmarks.
-struct Handling {
-  std::uint64_t fault_id = 0;
-  std::string component;
-  FaultKind kind = FaultKind::User;
-  std::string severity;
-  std::string actions;           // "reset", "escalate reset→replace, replace", ...
-  bool failed = false;           // an action failed (the last word is then the outcome)
-  std::int64_t detected_ns = 0;
-  std::int64_t injected_ns = 0;  // 0: not injected
-  std::int64_t recovered_ns = 0; // 0: not (yet) recovered
-};
-
-/// What the manager needs from the runtime that runs the components (the engine).
-class HandlingHost {
- public:
-  virtual ~HandlingHost() = default;
-  virtual Component* find(std::string_view instance) const = 0;
-  /// Every running component (replacements in place of what they replaced).
-  virtual std::vector<Component*> components() const = 0;
-  /// Cold replacement, on the manager's thread: loads, creates, initializes and wires the
-  /// alternative of `failed` (outputs attached, not started, not yet receiving).
-  virtual Result<Component*> createAlternative(ComponentHandling& h, Component& failed) = 0;
-  /// On `failed`'s own thread: `alternative` takes its place — inputs retargeted, provided
-  /// services rebound, executor member swapped, lookups by name answer the alternative.
-  virtual void switchTo(Component& failed, Component& alternative) = 0;
-  /// `hung`'s executor thread is stuck in its callback and cannot be interrupted: the executor
-  /// is abandoned and a new one (same configuration) takes its other members, and
-  /// `replacement` (may be null) in `hung`'s place, started on the calling thread before the
-  /// new executor runs. Returns the new executor's name, or why it could not be done.
-  virtual Result<std::string> abandonExecutor(Component& hung, Component* replacement) = 0;
-};
 
 class FaultManager {
  public:
@@ -103,7 +62,7 @@ class FaultManager {
   void drain();
 
   /// A new fault id (the injector takes one per injection).
-  std::uint64_t nextId() { return next_id_.fetch_add(1, std::memory_order_relaxed); }
+  std::uint64_t nextId() { return ids_.next(); }
 
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
   /// reporter itself). `detector` names who found it in the log (default: the reporter).
@@ -113,26 +72,25 @@ class FaultManager {
   /// `c` executed normally after a recovery (runtime hook).
   void recovered(Component& c, std::int64_t t_ns);
 
-  /// Emergency stop (§5.3.3): latches the emergency and runs every component's onEmergencyStop,
-  /// on its executor when that answers within `bound`, else on the calling thread. Returns the
-  /// components whose onEmergencyStop ran. `by` is logged.
-  std::vector<std::string> emergencyStop(std::string_view by);
+  /// Emergency stop (§5.3.3, fault/containment.hpp): latches the emergency and runs every
+  /// component's onEmergencyStop. Returns the components whose onEmergencyStop ran. `by` is logged.
+  std::vector<std::string> emergencyStop(std::string_view by) { return containment_.emergencyStop(by); }
   /// Clears the latch (an explicit operator action, logged). False if none was latched.
-  bool clearEmergency(std::string_view by);
-  bool emergencyLatched() const { return emergency_.load(std::memory_order_acquire); }
+  bool clearEmergency(std::string_view by) { return containment_.clearEmergency(by); }
+  bool emergencyLatched() const { return containment_.emergencyLatched(); }
 
-  std::vector<FaultCount> counts() const;
-  std::vector<Detection> detections() const;
-  std::vector<Handling> handlings() const;
+  std::vector<FaultCount> counts() const { return records_.counts(); }
+  std::vector<Detection> detections() const { return records_.detections(); }
+  std::vector<Handling> handlings() const { return records_.handlings(); }
   /// The handling of fault `id`, if it was logged (no copy of the others).
-  std::optional<Handling> handling(std::uint64_t id) const;
+  std::optional<Handling> handling(std::uint64_t id) const { return records_.handling(id); }
   /// How many `recovered` records were logged so far (cheap: for waiting on a recovery).
-  std::size_t recoveredCount() const { return recovered_count_.load(std::memory_order_acquire); }
+  std::size_t recoveredCount() const { return records_.recoveredCount(); }
   /// How many faults were detected so far (cheap: no copy, no lock).
-  std::size_t detectionCount() const { return detection_count_.load(std::memory_order_acquire); }
+  std::size_t detectionCount() const { return records_.detectionCount(); }
   /// The components and applications fault-stopped so far.
-  std::set<std::string> stoppedComponents() const;
-  std::set<std::string> stoppedApplications() const;
+  std::set<std::string> stoppedComponents() const { return containment_.stoppedComponents(); }
+  std::set<std::string> stoppedApplications() const { return containment_.stoppedApplications(); }
   /// Called at the end of a run: logs injections that manifested but were never detected.
   void flushUndetected(const std::vector<Component*>& components);
 
@@ -141,63 +99,24 @@ class FaultManager {
   // passive component's lock), on the manager's thread, or both.
   static constexpr unsigned kLocal = 1, kManager = 2;
 
+  /// Carries `r` through its steps as far as it can from here (`where`).
   void advance(FaultReport& r, unsigned where);
+  /// Records the decision after `step` ended with `outcome` and moves r.next on.
+  void escalate(FaultReport& r, Step step, Outcome outcome, std::string_view detail = {});
   void handOverLocal(FaultReport& r, unsigned where);
   void handOverManager(FaultReport& r);
   void finish(FaultReport& r, unsigned where);
-  bool reset(FaultReport& r, ComponentHandling& h);
-  bool replace(FaultReport& r, ComponentHandling& h);
-  void stopScope(FaultReport& r, ComponentHandling& h);
-  void markRecovering(FaultReport& r, Component& c);
   void checkInterrupted(const FaultReport& handed);
-  /// The hung callback of `r.accused` did not come back: its executor is abandoned, the
-  /// alternative (if any) takes its place on the new executor, else it stays stopped.
-  void abandonHung(FaultReport& r, ComponentHandling& h);
-  Step afterReset(ComponentHandling& h);
+  void process(HandlingItem& item);
+  bool onManagerThread() const { return queue_.onThread(); }
 
-  // the manager's thread and its queue
-  struct Item {
-    // Report: carry on handling; Recovered: log it; CheckInterrupted: verify that a hung
-    // callback came back when interrupted, else abandon its executor.
-    enum class Type : std::uint8_t { Report, Recovered, CheckInterrupted } type = Type::Report;
-    FaultReport report;
-  };
-  /// Hands `report` to the manager's thread (written straight into the queue: one copy), or
-  /// handles it here when the thread does not run.
-  void enqueue(Item::Type type, const FaultReport& report, bool wake);
-  void run();
-  void process(Item& item);
-  void logReport(FaultReport& r);
-  void logRecovered(const FaultReport& r);  // r: id, component, event.t_ns = the recovery
-  bool onManagerThread() const { return std::this_thread::get_id() == thread_id_.load(); }
-
-  FaultLog& log_;
   std::function<Component*(std::string_view)> find_;
   HandlingHost* host_ = nullptr;
-  const DependencyGraph* graph_ = nullptr;
-  std::atomic<std::uint64_t> next_id_{1};
-
-  std::thread thread_;
-  std::atomic<std::thread::id> thread_id_{};
-  runtime::WakeSignal signal_;
-  std::atomic<bool> stop_{false};
-  std::mutex queue_mutex_;
-  std::vector<Item> ring_;  // fixed capacity: enqueue never allocates
-  std::size_t head_ = 0, size_ = 0;
-  bool accepting_ = false;  // the thread runs and takes reports (guarded by queue_mutex_)
-  std::atomic<std::uint64_t> enqueued_{0}, processed_{0};
-
-  std::atomic<bool> emergency_{false};
-  std::mutex emergency_mutex_;  // one emergency stop at a time
-
-  mutable std::mutex mutex_;  // guards the records below
-  std::vector<FaultCount> counts_;
-  std::vector<Detection> detections_;
-  std::vector<Handling> handlings_;
-  std::set<std::string> stopped_components_;
-  std::set<std::string> stopped_applications_;
-  std::atomic<std::size_t> detection_count_{0};
-  std::atomic<std::size_t> recovered_count_{0};
+  FaultIds ids_;
+  FaultRecords records_;
+  Recovery recovery_;
+  Containment containment_;
+  HandlingQueue queue_;
 };
 
 }  // namespace keel::fault

@@ -1,5 +1,7 @@
 #include "fault/injector.hpp"
 
+#include "fault/log_schema.hpp"
+
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -12,7 +14,7 @@ namespace keel::fault {
 
 Injector::Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log, Warn warn)
     : scenario_(std::move(scenario)), find_(std::move(find)), manager_(manager), log_(log), warn_(std::move(warn)) {
-  if (!warn_) warn_ = [](const std::string& m) { std::fprintf(stderr, "keel: warning: %s\n", m.c_str()); };
+  if (!warn_) warn_ = runtime::warnOnStderr;
 }
 
 Injector::~Injector() { stop(); }
@@ -82,8 +84,10 @@ void Injector::run(std::int64_t t0_ns) {
     }
     runtime::InjectArgs args{s.fault->port, s.fault->value,
                              static_cast<std::int64_t>(s.fault->duration_ms * 1e6)};
-    log_.write({{"event", "armed"}, {"fault_id", id}, {"component", s.fault->component},
-                {"kind", s.fault->kind_name}});
+    log_.write({{schema::field::kEvent, schema::event::kArmed},
+                {schema::field::kFaultId, id},
+                {schema::field::kComponent, s.fault->component},
+                {schema::field::kKind, s.fault->kind_name}});
     runtime::arm(*c, s.fault->kind, id, args);
   }
 }
@@ -100,10 +104,11 @@ void Injector::injectHardware(Component& c, const ScheduledFault& f, std::uint64
   } catch (...) {
     outcome = "exception: unknown";
   }
-  nlohmann::json record = {{"event", "injected"}, {"fault_id", id},    {"component", f.component},
-                           {"kind", f.kind_name},  {"detail", command}, {"hardware", true},
-                           {"t_ns", t_ns}};
-  if (!outcome.empty()) record["outcome"] = outcome;
+  nlohmann::json record = schema::injected(id, f.component, t_ns);
+  record[schema::field::kKind] = f.kind_name;
+  record[schema::field::kDetail] = command;
+  record["hardware"] = true;
+  if (!outcome.empty()) record[schema::field::kOutcome] = outcome;
   log_.write(std::move(record));
   if (!outcome.empty())
     warn_(fmt::format("{}:{}: hardware fault '{}' not taken by '{}': {}", f.where.file, f.where.line, command,

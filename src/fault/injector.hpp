@@ -17,13 +17,14 @@
 #include "fault/fault_manager.hpp"
 #include "fault/scenario.hpp"
 #include "runtime/wake_signal.hpp"
+#include "runtime/warning.hpp"
 
 namespace keel::fault {
 
 class Injector {
  public:
   using Find = std::function<Component*(std::string_view)>;
-  using Warn = std::function<void(const std::string&)>;
+  using Warn = runtime::Warn;
 
   /// `warn` reports a hardware fault its component did not take (default: stderr).
   Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log, Warn warn = {});

@@ -2,8 +2,8 @@
 // the actions taken so far. A fixed-size value: it is built and carried on fault paths
 // (executor threads, a signal just caught), copied between threads, never allocated.
 // ComponentHandling is what the fault manager keeps per component role (shared by a component
-// and its replacement): its rules, the restart-intensity window (Erlang/OTP's intensity and
-// period), whether the alternative is in use.
+// and its replacement): its rules, the restart-intensity window (fault/escalation.hpp), whether
+// the alternative is in use.
 // Thread-safety: FaultReport is a plain value, one thread works on a copy at a time.
 // ComponentHandling's fields after `mutex` are guarded by it.
 #pragma once
@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "fault/escalation.hpp"
 #include "fault/rules.hpp"
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
@@ -41,6 +42,8 @@ struct FaultReport {
   Component* accused = nullptr;
   Component* replacement = nullptr;  // set when the alternative took over
   profile::Severity severity = profile::Severity::Ignore;
+  profile::Scope scope = profile::Scope::Component;  // the rules' containment scope
+  bool has_policy = false;           // the component has a <fault_policy>
   Step first = Step::Done;           // the handling the rules chose
   Step next = Step::Done;            // what is left to do
   bool entered_error = false;        // this fault moved the component to Error
@@ -64,22 +67,23 @@ struct FaultReport {
 
 /// What the fault manager keeps per component role (shared by a component and its replacement).
 struct ComponentHandling {
+  ComponentHandling() = default;
+  ComponentHandling(Rules r, std::string instance)
+      : rules(r), name(std::move(instance)), window(rules.intensity, rules.period_ns) {}
+
   Rules rules;
   std::string name;  // instance name
 
   std::mutex mutex;
-  std::vector<std::int64_t> recoveries;  // ring of the last `intensity` recovery times
-  std::size_t next_recovery = 0;
+  RestartWindow window;      // the role's recent recoveries
   bool busy = false;         // a fault of this component is being handled
   bool replaced = false;     // the alternative took its place: no further replacement
   bool stopped = false;      // fault-stopped: further faults are only logged
   Component* standby = nullptr;  // the alternative, created and initialized, not started
   FaultReport pending;           // handed to the component's own thread (core.pending)
 
-  /// True when one more recovery now would be more than `intensity` within `period`.
-  bool intensityExceeded(std::int64_t now_ns) const;
-  /// Records a recovery (reset or replacement) at `now_ns`.
-  void noteRecovery(std::int64_t now_ns);
+  /// The facts the escalation decision needs (call with `mutex` held).
+  RoleFacts facts() const { return {rules.alternative != nullptr, replaced, standby != nullptr, false}; }
 };
 
 }  // namespace keel::fault

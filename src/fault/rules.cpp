@@ -67,23 +67,4 @@ std::string_view toString(ActionKind a) {
   return "?";
 }
 
-bool ComponentHandling::intensityExceeded(std::int64_t now_ns) const {
-  if (rules.intensity <= 0) return true;
-  if (recoveries.size() < static_cast<std::size_t>(rules.intensity)) return false;
-  // The oldest of the last `intensity` recoveries is the next slot to be overwritten.
-  const std::int64_t oldest = recoveries[next_recovery];
-  return now_ns - oldest < rules.period_ns;
-}
-
-void ComponentHandling::noteRecovery(std::int64_t now_ns) {
-  if (rules.intensity <= 0) return;
-  if (recoveries.size() < static_cast<std::size_t>(rules.intensity)) {
-    recoveries.push_back(now_ns);
-    next_recovery = recoveries.size() % static_cast<std::size_t>(rules.intensity);
-    return;
-  }
-  recoveries[next_recovery] = now_ns;
-  next_recovery = (next_recovery + 1) % recoveries.size();
-}
-
 }  // namespace keel::fault

@@ -18,6 +18,7 @@
 #include "fault/fault_manager.hpp"
 #include "keel/component.hpp"
 #include "runtime/wake_signal.hpp"
+#include "runtime/warning.hpp"
 
 namespace keel::fault {
 
@@ -29,7 +30,7 @@ struct WatchedComponent {
 
 class Watchdog {
  public:
-  using Warn = std::function<void(const std::string&)>;
+  using Warn = runtime::Warn;
   /// `realtime`: ask for SCHED_FIFO (the default; benchmarks compare without).
   Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn, bool realtime = true);
   ~Watchdog();

@@ -1,4 +1,5 @@
 #include "runtime/executor.hpp"
+#include "runtime/clock.hpp"
 
 #include <fmt/format.h>
 #include <pthread.h>
@@ -16,13 +17,8 @@
 namespace keel::runtime {
 
 namespace {
-std::int64_t nowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 bool stalled(detail::ComponentCore& core) {
-  if (nowNs() < core.stalled_until_ns.load(std::memory_order_acquire)) return true;
+  if (steadyNs() < core.stalled_until_ns.load(std::memory_order_acquire)) return true;
   core.stalled_until_ns.store(0, std::memory_order_relaxed);
   return false;
 }
@@ -34,7 +30,7 @@ void checkDeadline(Component& c, std::int64_t took_ns) {
   core.deadline_overruns.fetch_add(1, std::memory_order_relaxed);
   FaultEvent ev;
   ev.kind = FaultKind::Deadline;
-  ev.t_ns = nowNs();
+  ev.t_ns = steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
   formatDetail(ev, "onExecute took {:.3f} ms (deadline {:.3f} ms)", took_ns / 1e6, core.deadline_ns / 1e6);
   reportFault(c, ev);
@@ -139,7 +135,7 @@ void Executor::threadMain() {
   setUpThread();
   for (Component* c : members_) {
     if (!adopt_) transition(*c, Transition::Start);
-    if (!coreOf(*c).critical.empty()) takeCheckpoint(coreOf(*c), nowNs());  // the state to return to
+    if (!coreOf(*c).critical.empty()) takeCheckpoint(coreOf(*c), steadyNs());  // the state to return to
   }
   started_.store(true, std::memory_order_release);
   if (config_.kind == ExecutorKind::Periodic) runPeriodic();
@@ -164,15 +160,15 @@ void Executor::serviceBetweenCycles() {
 
 bool Executor::execute(Component& c) {
   detail::ComponentCore& core = coreOf(c);
-  const std::int64_t t0 = core.deadline_ns ? nowNs() : 0;
+  const std::int64_t t0 = core.deadline_ns ? steadyNs() : 0;
   const bool ok = invoke(c, Callback::Execute);
   if (ok) {
     core.executions.fetch_add(1, std::memory_order_relaxed);
     // The first good step after a recovery is the `recovered` moment (SPEC §5).
     if (core.recovering_id.load(std::memory_order_relaxed) != 0 && core.hooks) [[unlikely]]
-      core.hooks->recovered(c, nowNs());
+      core.hooks->recovered(c, steadyNs());
   }
-  if (core.deadline_ns && ok) checkDeadline(c, nowNs() - t0);  // a failed step is already a fault
+  if (core.deadline_ns && ok) checkDeadline(c, steadyNs() - t0);  // a failed step is already a fault
   return ok;
 }
 
@@ -193,7 +189,7 @@ void Executor::cycle() {
     if (now->state() == State::Active && coreOf(*now).recovering_id.load(std::memory_order_relaxed) != 0)
       execute(*now);
   }
-  const std::int64_t now = nowNs();
+  const std::int64_t now = steadyNs();
   for (Component* c : members_) {
     if (c->state() != State::Active) continue;
     invoke(*c, Callback::Updated);
@@ -223,7 +219,7 @@ void Executor::runPeriodic() {
 }
 
 void Executor::runAperiodic() {
-  last_cycle_ns_.store(nowNs(), std::memory_order_relaxed);
+  last_cycle_ns_.store(steadyNs(), std::memory_order_relaxed);
   while (!stop_.load(std::memory_order_acquire)) {
     signal_.wait();
     serviceBetweenCycles();

@@ -23,6 +23,7 @@
 
 #include "keel/component.hpp"
 #include "runtime/wake_signal.hpp"
+#include "runtime/warning.hpp"
 
 namespace keel::runtime {
 
@@ -44,7 +45,7 @@ struct ExecutorStats {
 
 class Executor {
  public:
-  using Warn = std::function<void(const std::string&)>;
+  using Warn = runtime::Warn;
 
   explicit Executor(ExecutorConfig config, Warn warn = {});
   ~Executor();

@@ -1,4 +1,5 @@
 #include "runtime/guard.hpp"
+#include "runtime/clock.hpp"
 
 #include "runtime/fault_detail.hpp"
 
@@ -16,12 +17,6 @@ namespace {
 
 constexpr int kCaught[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 
-// The steady clock in ns (CLOCK_MONOTONIC, as steadyNs()); clock_gettime is async-signal-safe.
-std::int64_t nowNs() noexcept {
-  timespec ts;
-  clock_gettime(CLOCK_MONOTONIC, &ts);
-  return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
 
 // initial-exec: libkeel is linked at start-up, and this is read inside a signal handler, where
 // a lazily allocated TLS block would not be safe.
@@ -52,7 +47,7 @@ void onSignal(int signo, siginfo_t* info, void*) {
     raise(signo);
     return;
   }
-  frame->t_ns = nowNs();  // the moment of detection
+  frame->t_ns = steadyNs();  // the moment of detection
   frame->signo = signo;
   frame->addr = info ? info->si_addr : nullptr;
   unblockBeforeJump();
@@ -66,7 +61,7 @@ void onInterrupt(int signo, siginfo_t*, void*) {
   guard_detail::GuardFrame* frame = t_frame;
   if (frame == nullptr || frame->interrupt == nullptr || !frame->interrupt->load(std::memory_order_acquire))
     return;
-  frame->t_ns = nowNs();
+  frame->t_ns = steadyNs();
   frame->signo = signo;
   frame->addr = nullptr;
   unblockBeforeJump();
@@ -89,7 +84,7 @@ const char* signalName(int signo) {
 guard_detail::GuardFrame*& guard_detail::currentFrame() noexcept { return t_frame; }
 
 void guard_detail::recordException(GuardOutcome& out, const std::exception* e) noexcept {
-  out.t_ns = nowNs();
+  out.t_ns = steadyNs();
   out.kind = GuardOutcome::Kind::Exception;
   const char* what = e ? e->what() : "unknown exception (not derived from std::exception)";
   std::strncpy(out.what.data(), what, out.what.size() - 1);

@@ -41,12 +41,6 @@ void markManifested(detail::ComponentCore& core) {
 
 }  // namespace
 
-std::int64_t steadyNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 std::optional<InjectKind> parseInjectKind(std::string_view name) {
   for (auto [n, k] : kNames)
     if (n == name) return k;

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "keel/component.hpp"
+#include "runtime/clock.hpp"
 
 namespace keel::runtime {
 
@@ -48,8 +49,5 @@ ReturnCode fire(Component& c, InjectKind kind);
 /// The component whose injected value the calling thread is pushing right now, or null: a
 /// range fault found on delivery belongs to that injection.
 detail::ComponentCore* injectionInFlight();
-
-/// steady-clock ns (the clock of every keel time).
-std::int64_t steadyNs();
 
 }  // namespace keel::runtime

@@ -1,4 +1,5 @@
-// Test support: reads a keel fault log (JSON lines) and finds records in it.
+// Test support: reads a keel fault log (JSON lines) and finds records in it, by the names of
+// the log's schema (src/fault/log_schema.hpp).
 #pragma once
 
 #include <fstream>
@@ -6,6 +7,8 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "fault/log_schema.hpp"
 
 namespace keel::test {
 
@@ -22,8 +25,9 @@ inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log,
                                          const std::string& component) {
   std::vector<std::string> out;
   for (const auto& r : log)
-    if (r.value("event", "") == "state" && r.value("component", "") == component)
-      out.push_back(r.value("to", ""));
+    if (r.value(fault::schema::field::kEvent, "") == fault::schema::event::kState &&
+        r.value(fault::schema::field::kComponent, "") == component)
+      out.push_back(r.value(fault::schema::field::kTo, ""));
   return out;
 }
 
@@ -31,7 +35,7 @@ inline std::vector<nlohmann::json> eventsOf(const std::vector<nlohmann::json>& l
                                             const std::string& event) {
   std::vector<nlohmann::json> out;
   for (const auto& r : log)
-    if (r.value("event", "") == event) out.push_back(r);
+    if (r.value(fault::schema::field::kEvent, "") == event) out.push_back(r);
   return out;
 }
 

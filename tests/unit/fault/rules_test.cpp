@@ -1,5 +1,5 @@
 // The compiled fault rules (src/fault/rules.hpp): severities per kind, the first handling step
-// of each severity, defaults without a policy, and the restart-intensity window.
+// of each severity, defaults without a policy; a report's action list.
 #include "fault/rules.hpp"
 
 #include <gtest/gtest.h>
@@ -48,38 +48,6 @@ TEST(Rules, StopReplacesWhenAnAlternativeIsDeclaredAndStopsOtherwise) {
   EXPECT_EQ(with.alternative->name, "Backup");
   EXPECT_TRUE(with.preload);
   EXPECT_EQ(with.firstStep(Severity::Stop), Step::Replace);
-}
-
-void limit(ComponentHandling& h, int intensity, double period_ms) {
-  profile::FaultPolicy p;
-  p.restart.intensity = intensity;
-  p.restart.period_ms = period_ms;
-  h.rules = compileRules(&p, {});
-}
-
-TEST(Rules, MoreThanIntensityRecoveriesWithinThePeriodExceedIt) {
-  ComponentHandling h;
-  limit(h, 3, 100.0);  // at most 3 recoveries in any 100 ms
-  constexpr std::int64_t ms = 1'000'000;
-  EXPECT_FALSE(h.intensityExceeded(0));
-  h.noteRecovery(0);
-  h.noteRecovery(10 * ms);
-  EXPECT_FALSE(h.intensityExceeded(20 * ms));
-  h.noteRecovery(20 * ms);
-  EXPECT_TRUE(h.intensityExceeded(30 * ms));    // a 4th within 100 ms of the 1st
-  EXPECT_TRUE(h.intensityExceeded(99 * ms));
-  EXPECT_FALSE(h.intensityExceeded(100 * ms));  // the 1st has left the window
-  h.noteRecovery(100 * ms);
-  EXPECT_TRUE(h.intensityExceeded(109 * ms));   // 10, 20, 100 are within 100 ms of 109
-  EXPECT_FALSE(h.intensityExceeded(110 * ms));
-}
-
-TEST(Rules, IntensityZeroEscalatesTheFirstFault) {
-  ComponentHandling h;
-  limit(h, 0, 1000.0);
-  EXPECT_TRUE(h.intensityExceeded(0));
-  h.noteRecovery(0);
-  EXPECT_TRUE(h.recoveries.empty());
 }
 
 TEST(Rules, ActionsAreRecordedInOrderAndTheListNeverOverflows) {

@@ -1,0 +1,160 @@
+#include "fault/containment.hpp"
+
+#include <chrono>
+#include <memory>
+
+#include "fault/log_schema.hpp"
+#include "fault/on_thread.hpp"
+#include "plan/fault_manager_profile.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/executor.hpp"
+#include "runtime/invoke.hpp"
+
+namespace keel::fault {
+namespace {
+
+using runtime::coreOf;
+using namespace std::chrono_literals;
+
+// How long the emergency stop waits for an executor to run onEmergencyStop before it runs it
+// on its own thread (the executor is taken to be hung).
+constexpr auto kEmergencyBound = 20ms;
+// How long a fault stop waits for a hung callback to come back after it was interrupted.
+constexpr auto kInterruptBound = 200ms;
+
+ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).handling); }
+
+}  // namespace
+
+void Containment::markStopped(const std::set<std::string>& targets, std::vector<std::string>& components,
+                              std::vector<std::string>& applications) {
+  std::lock_guard lock(mutex_);
+  std::set<std::string> all = stopped_components_;
+  all.insert(targets.begin(), targets.end());
+  Impact impact;
+  if (graph_) impact = graph_->impactOf(all);
+  for (const auto& c : targets)
+    if (!graph_ || !graph_->contains(c)) impact.stopped_components.push_back(c);
+  for (const auto& c : impact.stopped_components)
+    if (stopped_components_.insert(c).second) components.push_back(c);
+  for (const auto& a : impact.stopped_applications)
+    if (stopped_applications_.insert(a).second) applications.push_back(a);
+}
+
+bool Containment::interruptHung(Component* faulty) {
+  if (faulty == nullptr) return true;
+  auto& core = coreOf(*faulty);
+  runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
+  if (!ex || ex->abandoned() || core.callback_since_ns.load(std::memory_order_acquire) == 0) return true;
+  core.interrupt.store(true, std::memory_order_release);
+  ex->interrupt();
+  return waitFor(kInterruptBound, [&] { return core.callback_since_ns.load(std::memory_order_acquire) == 0; });
+}
+
+Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
+  FaultLog& log = records_.log();
+  records_.logReport(r);  // what happened so far goes first
+  const std::string name(r.event.componentName());
+  const profile::Scope scope = h.rules.scope;  // `component` without a policy
+  std::set<std::string> targets = graph_ ? graph_->scopeOf(name, scope) : std::set<std::string>{};
+  targets.insert(name);
+  std::vector<std::string> components, applications;
+  markStopped(targets, components, applications);
+  Component* faulty = find_(name);
+  for (const auto& n : components) {
+    Component* c = find_(n);
+    if (c == nullptr) continue;
+    if (ComponentHandling* hc = handlingOf(*c)) {
+      std::lock_guard lock(hc->mutex);
+      hc->stopped = true;
+    }
+    if (c == faulty) continue;  // in Error: its executor no longer runs it
+    auto stop = [c] { runtime::transition(*c, Transition::Stop); };
+    if (runtime::Executor* ex = coreOf(*c).executor.load(std::memory_order_acquire)) ex->post(stop);
+    else onItsThread(*c, 1s, stop);
+  }
+  // The faulty component's own callback may be the hung one: interrupt it so that its executor
+  // comes back for the components it still runs.
+  const bool hung = !interruptHung(faulty);
+  const std::int64_t t = steadyNs();
+  r.add(ActionKind::Stop, !hung, t, "scope {}: {} components, {} applications", toString(scope), components.size(),
+        applications.size());
+  r.logged_actions = r.n_actions;  // written here, with the lists
+  nlohmann::json rec = schema::action(r.id, name, "stop", !hung, log.sinceStart(t));
+  rec[schema::field::kScope] = toString(scope);
+  rec[schema::field::kComponents] = components;
+  rec[schema::field::kApplications] = applications;
+  if (hung) rec[schema::field::kDetail] = "the hung callback did not return when interrupted";
+  log.write(std::move(rec));
+  for (const auto& a : applications) log.write(schema::applicationState(a, "running", "stopped", r.id, log.sinceStart(t)));
+  if (!hung || host_ == nullptr) return Outcome::Done;
+  // Its executor cannot come back: the others move to a new thread.
+  auto moved = host_->abandonExecutor(*faulty, nullptr);
+  r.add(ActionKind::Stop, static_cast<bool>(moved), steadyNs(), "executor abandoned{}{}",
+        moved ? "; its other components now run on " : ": ", moved ? *moved : moved.error().message);
+  return moved ? Outcome::Done : Outcome::Failed;
+}
+
+std::vector<std::string> Containment::emergencyStop(std::string_view by) {
+  FaultLog& log = records_.log();
+  std::lock_guard guard(emergency_mutex_);
+  emergency_.store(true, std::memory_order_release);
+  std::vector<Component*> all = host_ ? host_->components() : std::vector<Component*>{};
+  for (Component* c : all) coreOf(*c).emergency.store(true, std::memory_order_release);
+  const std::int64_t t0 = steadyNs();
+  nlohmann::json latched = schema::emergency("latched", by);
+  latched[schema::field::kTime] = log.sinceStart(t0);
+  log.write(std::move(latched));
+  std::vector<std::string> ran, direct, late;
+  for (Component* c : all) {
+    if (c->instanceName() == plan::kFaultManagerInstance) continue;
+    // Whoever claims it first runs it: the executor, or this thread once the executor is late.
+    auto claimed = std::make_shared<std::atomic<bool>>(false);
+    auto done = std::make_shared<std::atomic<bool>>(false);
+    auto job = [c, claimed, done] {
+      if (claimed->exchange(true)) return;
+      runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);
+      done->store(true, std::memory_order_release);
+    };
+    if (!onItsThread(*c, kEmergencyBound, job)) {
+      if (!claimed->exchange(true)) {
+        runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);  // its executor is hung
+        direct.push_back(c->instanceName());
+      } else if (!waitFor(1s, [&] { return done->load(std::memory_order_acquire); })) {
+        late.push_back(c->instanceName());  // its executor started it and has not finished
+        continue;
+      }
+    }
+    ran.push_back(c->instanceName());
+  }
+  const std::int64_t t = steadyNs();
+  nlohmann::json rec = schema::action(0, {}, "emergency_stop", late.empty(), log.sinceStart(t));
+  rec[schema::field::kBy] = by;
+  rec[schema::field::kComponents] = ran;
+  rec[schema::field::kLatencyUs] = (t - t0) / 1e3;
+  if (!direct.empty()) rec[schema::field::kOnFaultManagerThread] = direct;
+  if (!late.empty()) rec[schema::field::kNotFinished] = late;
+  log.write(std::move(rec));
+  return ran;
+}
+
+bool Containment::clearEmergency(std::string_view by) {
+  std::lock_guard guard(emergency_mutex_);
+  if (!emergency_.exchange(false, std::memory_order_acq_rel)) return false;
+  if (host_)
+    for (Component* c : host_->components()) coreOf(*c).emergency.store(false, std::memory_order_release);
+  records_.log().write(schema::emergency("cleared", by));
+  return true;
+}
+
+std::set<std::string> Containment::stoppedComponents() const {
+  std::lock_guard lock(mutex_);
+  return stopped_components_;
+}
+
+std::set<std::string> Containment::stoppedApplications() const {
+  std::lock_guard lock(mutex_);
+  return stopped_applications_;
+}
+
+}  // namespace keel::fault

@@ -1,0 +1,66 @@
+#include "fault/diagnosis.hpp"
+
+#include <mutex>
+
+#include "fault/escalation.hpp"
+#include "fault/fault_log.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/injection.hpp"
+
+namespace keel::fault {
+
+using runtime::coreOf;
+
+namespace {
+
+/// The injection this detection answers: one that manifested in the accused component, or a
+/// corrupted value being pushed on this very thread (caught on delivery by the receiver).
+void attributeInjection(FaultReport& r, detail::ComponentCore& core, FaultIds& ids) {
+  detail::ComponentCore* source = &core;
+  std::uint64_t id = core.injected_id.exchange(0, std::memory_order_acq_rel);
+  if (id == 0 && runtime::injectionInFlight()) {
+    source = runtime::injectionInFlight();
+    id = source->injected_id.exchange(0, std::memory_order_acq_rel);
+  }
+  if (id != 0) r.injected_ns = source->injected_t_ns.load(std::memory_order_acquire);
+  r.id = id != 0 ? id : ids.next();
+}
+
+}  // namespace
+
+FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_view detector,
+                     const std::function<Component*(std::string_view)>& find, FaultIds& ids) {
+  const std::int64_t detected = fault.t_ns ? fault.t_ns : steadyNs();
+  Component* accused = &reporter;
+  if (fault.component[0] != '\0' && fault.componentName() != reporter.instanceName()) {
+    if (Component* c = find(fault.componentName())) accused = c;
+  }
+  auto& core = coreOf(*accused);
+  core.faults.fetch_add(1, std::memory_order_relaxed);
+
+  FaultReport r;
+  r.event = fault;
+  r.event.t_ns = detected;
+  if (fault.component[0] == '\0') FaultEvent::copyInto(r.event.component, accused->instanceName());
+  FaultEvent::copyInto(r.detector, detector.empty() ? std::string_view(reporter.instanceName()) : detector);
+  r.accused = accused;
+  attributeInjection(r, core, ids);
+
+  auto* h = static_cast<ComponentHandling*>(core.handling);
+  const Rules no_rules;
+  const Rules& rules = h ? h->rules : no_rules;
+  r.has_policy = rules.has_policy;
+  r.scope = rules.scope;
+  FirstStep first = firstStep(rules, fault.kind, false, false);
+  if (h && first.step != Step::Ignore) {
+    std::lock_guard lock(h->mutex);
+    first = firstStep(rules, fault.kind, h->busy, h->stopped);
+    if (first.step != Step::Done) h->busy = true;  // this fault's handling owns the role now
+  }
+  r.severity = first.severity;
+  r.first = r.next = first.step;
+  if (first.step == Step::Done) r.add(ActionKind::Ignore, true, detected, "{}", first.why);
+  return r;
+}
+
+}  // namespace keel::fault

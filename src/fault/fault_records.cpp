@@ -1,0 +1,103 @@
+#include "fault/fault_records.hpp"
+
+#include <algorithm>
+
+#include "fault/log_schema.hpp"
+#include "runtime/component_core.hpp"
+
+namespace keel::fault {
+
+void FaultRecords::logDetection(const FaultReport& r) {
+  const std::string who(r.event.componentName());
+  const std::string kind(toString(r.event.kind));
+  if (r.injected_ns != 0) log_.write(schema::injected(r.id, who, log_.sinceStart(r.injected_ns)));
+  log_.write(schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(),
+                              log_.sinceStart(r.event.t_ns)));
+  if (r.entered_error) log_.write(schema::componentState(who, "Active", "Error", r.id, log_.sinceStart(r.event.t_ns)));
+  log_.write(schema::diagnosed(r.id, who, toString(r.severity),
+                               r.has_policy ? "fault_policy" : "none (contained, not recovered)", toString(r.scope),
+                               toString(r.first), log_.sinceStart(r.diagnosed_ns)));
+  detections_.push_back({r.id, who, r.event.kind, r.event.t_ns, r.injected_ns});
+  detection_count_.store(detections_.size(), std::memory_order_release);
+  auto fc = std::find_if(counts_.begin(), counts_.end(),
+                         [&](const FaultCount& c) { return c.component == who && c.kind == kind; });
+  if (fc != counts_.end()) ++fc->count;
+  else counts_.push_back({who, kind, std::string(r.event.detailText()), 1});
+  handlings_.push_back({r.id, who, r.event.kind, std::string(toString(r.severity)), {}, false, r.event.t_ns,
+                        r.injected_ns, 0});
+}
+
+void FaultRecords::logReport(FaultReport& r) {
+  const std::string who(r.event.componentName());
+  std::lock_guard lock(mutex_);
+  if (!r.detection_logged) {
+    r.detection_logged = true;
+    logDetection(r);
+  }
+  for (std::size_t i = r.logged_actions; i < r.n_actions; ++i) {  // what is new since last time
+    const Action& a = r.actions[i];
+    nlohmann::json rec = schema::action(r.id, who, toString(a.kind), a.ok, log_.sinceStart(a.t_ns));
+    rec[schema::field::kDetail] = a.detail.data();
+    if (a.kind == ActionKind::Replace && a.ok && r.replacement)
+      rec[schema::field::kReplacement] = runtime::coreOf(*r.replacement).class_name;
+    log_.write(std::move(rec));
+    if (a.ok && (a.kind == ActionKind::Reset || a.kind == ActionKind::Replace))
+      log_.write(schema::componentState(who, "Error", "Active", r.id, log_.sinceStart(a.t_ns)));
+  }
+  auto hd = std::find_if(handlings_.rbegin(), handlings_.rend(), [&](const Handling& x) { return x.fault_id == r.id; });
+  if (hd != handlings_.rend()) {  // the summary's view: every action of this fault so far
+    std::string rebuilt;
+    bool failed = false;
+    for (std::size_t i = 0; i < r.n_actions; ++i) {
+      if (!rebuilt.empty()) rebuilt += ", ";
+      rebuilt += toString(r.actions[i].kind);
+      if (!r.actions[i].ok) rebuilt += " (failed)";
+      failed |= !r.actions[i].ok && r.actions[i].kind != ActionKind::Restore;
+    }
+    hd->actions = std::move(rebuilt);
+    hd->failed = failed;
+  }
+  r.logged_actions = r.n_actions;
+}
+
+void FaultRecords::logRecovered(std::uint64_t id, std::string_view component, std::int64_t t_ns) {
+  std::lock_guard lock(mutex_);
+  auto hd = std::find_if(handlings_.rbegin(), handlings_.rend(), [&](const Handling& x) { return x.fault_id == id; });
+  nlohmann::json rec = schema::recovered(id, component, log_.sinceStart(t_ns));
+  if (hd != handlings_.rend()) {
+    hd->recovered_ns = t_ns;
+    rec[schema::field::kLatencyUs] = (t_ns - hd->detected_ns) / 1e3;
+  }
+  log_.write(std::move(rec));
+  recovered_count_.fetch_add(1, std::memory_order_release);
+}
+
+void FaultRecords::logUndetected(std::uint64_t id, std::string_view component, std::int64_t injected_ns) {
+  nlohmann::json rec = schema::injected(id, component, log_.sinceStart(injected_ns));
+  rec[schema::field::kDetected] = false;
+  log_.write(std::move(rec));
+}
+
+std::vector<FaultCount> FaultRecords::counts() const {
+  std::lock_guard lock(mutex_);
+  return counts_;
+}
+
+std::vector<Detection> FaultRecords::detections() const {
+  std::lock_guard lock(mutex_);
+  return detections_;
+}
+
+std::vector<Handling> FaultRecords::handlings() const {
+  std::lock_guard lock(mutex_);
+  return handlings_;
+}
+
+std::optional<Handling> FaultRecords::handling(std::uint64_t id) const {
+  std::lock_guard lock(mutex_);
+  for (auto it = handlings_.rbegin(); it != handlings_.rend(); ++it)
+    if (it->fault_id == id) return *it;
+  return std::nullopt;
+}
+
+}  // namespace keel::fault

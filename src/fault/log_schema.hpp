@@ -1,0 +1,134 @@
+// The fault log's schema (docs/fault-log.md): every event name and field name of the JSONL log,
+// defined once, and a builder per record so that a record of one kind is always shaped the
+// same, whoever writes it. Used by the writers (the fault manager's parts, the injector, the
+// engine, `keel run`), by the readers (`keel` reports, the tests' log reader) and the tests.
+// Times passed to the builders are already relative to the log's start (FaultLog::sinceStart).
+// Thread-safety: constants and functions of their arguments.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace keel::fault::schema {
+
+/// The `event` of a record.
+namespace event {
+inline constexpr char kInjected[] = "injected";    // keel injected a fault (its manifestation time)
+inline constexpr char kArmed[] = "armed";          // an injection waits for its moment in the component
+inline constexpr char kDetected[] = "detected";    // a detector found a fault
+inline constexpr char kDiagnosed[] = "diagnosed";  // the rules chose the handling
+inline constexpr char kAction[] = "action";        // one step of the handling, with its outcome
+inline constexpr char kRecovered[] = "recovered";  // the component (or its replacement) runs normally again
+inline constexpr char kState[] = "state";          // a component's or an application's state changed
+inline constexpr char kEmergency[] = "emergency";  // the emergency latch was set or cleared
+inline constexpr char kEngine[] = "engine";        // the run's phases: load, started, stopping, stopped
+inline constexpr char kWarning[] = "warning";      // something the run goes on without
+inline constexpr char kEndRequested[] = "end_requested";  // a component asked to end the run
+}  // namespace event
+
+/// Field names.
+namespace field {
+inline constexpr char kEvent[] = "event";
+inline constexpr char kTime[] = "t_ns";  // ns since the engine started (steady clock)
+inline constexpr char kFaultId[] = "fault_id";
+inline constexpr char kComponent[] = "component";
+inline constexpr char kApplication[] = "application";
+inline constexpr char kKind[] = "kind";
+inline constexpr char kDetail[] = "detail";
+inline constexpr char kDetector[] = "detector";
+inline constexpr char kDetected[] = "detected";  // on `injected`: false when never detected
+inline constexpr char kSeverity[] = "severity";
+inline constexpr char kRules[] = "rules";
+inline constexpr char kScope[] = "scope";
+inline constexpr char kHandling[] = "handling";
+inline constexpr char kAction[] = "action";
+inline constexpr char kOutcome[] = "outcome";
+inline constexpr char kReplacement[] = "replacement";
+inline constexpr char kComponents[] = "components";
+inline constexpr char kApplications[] = "applications";
+inline constexpr char kFrom[] = "from";
+inline constexpr char kTo[] = "to";
+inline constexpr char kLatencyUs[] = "latency_us";
+inline constexpr char kPhase[] = "phase";
+inline constexpr char kBy[] = "by";
+inline constexpr char kMessage[] = "message";
+inline constexpr char kReason[] = "reason";
+inline constexpr char kSummary[] = "summary";
+inline constexpr char kOnFaultManagerThread[] = "on_fault_manager_thread";
+inline constexpr char kNotFinished[] = "not_finished";
+}  // namespace field
+
+/// `outcome` values.
+inline constexpr char kOk[] = "ok";
+inline constexpr char kFailed[] = "failed";
+
+// ---- builders: one per record shape --------------------------------------------------------
+
+inline nlohmann::json injected(std::uint64_t id, std::string_view component, std::int64_t t) {
+  return {{field::kEvent, event::kInjected}, {field::kFaultId, id}, {field::kComponent, component},
+          {field::kTime, t}};
+}
+
+inline nlohmann::json detected(std::uint64_t id, std::string_view component, std::string_view kind,
+                               std::string_view detail, std::string_view detector, std::int64_t t) {
+  return {{field::kEvent, event::kDetected}, {field::kFaultId, id},     {field::kComponent, component},
+          {field::kKind, kind},              {field::kDetail, detail},  {field::kDetector, detector},
+          {field::kTime, t}};
+}
+
+inline nlohmann::json diagnosed(std::uint64_t id, std::string_view component, std::string_view severity,
+                                std::string_view rules, std::string_view scope, std::string_view handling,
+                                std::int64_t t) {
+  return {{field::kEvent, event::kDiagnosed}, {field::kFaultId, id},         {field::kComponent, component},
+          {field::kSeverity, severity},       {field::kRules, rules},        {field::kScope, scope},
+          {field::kHandling, handling},       {field::kTime, t}};
+}
+
+/// An `action` record; `id` 0 for an action no fault caused (an operator's emergency stop).
+inline nlohmann::json action(std::uint64_t id, std::string_view component, std::string_view action, bool ok,
+                             std::int64_t t) {
+  nlohmann::json r = {{field::kEvent, event::kAction}, {field::kAction, action},
+                      {field::kOutcome, ok ? kOk : kFailed}, {field::kTime, t}};
+  if (id != 0) r[field::kFaultId] = id;
+  if (!component.empty()) r[field::kComponent] = component;
+  return r;
+}
+
+inline nlohmann::json recovered(std::uint64_t id, std::string_view component, std::int64_t t) {
+  return {{field::kEvent, event::kRecovered}, {field::kFaultId, id}, {field::kComponent, component},
+          {field::kTime, t}};
+}
+
+/// A component's lifecycle change; `id` 0 when no fault caused it.
+inline nlohmann::json componentState(std::string_view component, std::string_view from, std::string_view to,
+                                     std::uint64_t id, std::int64_t t) {
+  nlohmann::json r = {{field::kEvent, event::kState}, {field::kComponent, component}, {field::kFrom, from},
+                      {field::kTo, to}};
+  if (id != 0) r[field::kFaultId] = id;
+  r[field::kTime] = t;
+  return r;
+}
+
+inline nlohmann::json applicationState(std::string_view application, std::string_view from, std::string_view to,
+                                       std::uint64_t id, std::int64_t t) {
+  return {{field::kEvent, event::kState}, {field::kApplication, application}, {field::kFrom, from},
+          {field::kTo, to},               {field::kFaultId, id},              {field::kTime, t}};
+}
+
+/// The emergency latch: `phase` latched or cleared.
+inline nlohmann::json emergency(std::string_view phase, std::string_view by) {
+  return {{field::kEvent, event::kEmergency}, {field::kPhase, phase}, {field::kBy, by}};
+}
+
+inline nlohmann::json engine(std::string_view phase) {
+  return {{field::kEvent, event::kEngine}, {field::kPhase, phase}};
+}
+
+inline nlohmann::json warning(std::string_view message) {
+  return {{field::kEvent, event::kWarning}, {field::kMessage, message}};
+}
+
+}  // namespace keel::fault::schema
