@@ -73,7 +73,7 @@ DetectionCell measureDetection(runtime::InjectKind kind, bool fifo, int n) {
   }
   static detail::ValidityRule rule{{0.0}, {10.0}};
   victim.out.setValidity(&rule);
-  runtime::coreOf(victim).heartbeat_ns = kDetectionHeartbeatNs;
+  runtime::coreOf(victim).watch.heartbeat_ns = kDetectionHeartbeatNs;
   runtime::Executor ex({"victim", runtime::ExecutorKind::Periodic, 1ms, fifo ? 50 : 0,
                         fifo ? runtime::Policy::Fifo : runtime::Policy::Other},
                        warn);
@@ -92,9 +92,9 @@ DetectionCell measureDetection(runtime::InjectKind kind, bool fifo, int n) {
       std::this_thread::sleep_for(200us);  // light polling: the bench must not disturb the victim
     if (fm.detectionCount() == before) ++cell.failed;
     if (kind == runtime::InjectKind::Hang) {
-      core.release_hang.store(true);
-      while (core.callback_since_ns.load() != 0) std::this_thread::sleep_for(50us);
-      core.release_hang.store(false);
+      core.injection.release_hang.store(true);
+      while (core.watch.callback_since_ns.load() != 0) std::this_thread::sleep_for(50us);
+      core.injection.release_hang.store(false);
     }
     runtime::setState(victim, State::Active);
     std::this_thread::sleep_for(2ms);  // a few normal cycles between trials

@@ -130,11 +130,11 @@ void Engine::startDetectors() {
   std::vector<fault::WatchedComponent> watched;
   for (const auto& inst : instances_) {
     const auto& core = runtime::coreOf(*inst.component);
-    if (core.heartbeat_ns == 0) continue;
+    if (core.watch.heartbeat_ns == 0) continue;
     std::int64_t period = inst.executor && inst.executor->config().kind == runtime::ExecutorKind::Periodic
                               ? inst.executor->config().period.count()
                               : 0;
-    watched.push_back({inst.current.get(), core.heartbeat_ns, period});
+    watched.push_back({inst.current.get(), core.watch.heartbeat_ns, period});
   }
   watchdog_ = std::make_unique<fault::Watchdog>(std::move(watched), fault_manager_,
                                                 [this](const std::string& m) { warn(m); });
@@ -149,8 +149,8 @@ void Engine::shutdown() {
   if (watchdog_) watchdog_->stop();
   fault_manager_.stop();  // handles and logs what is queued; adds no executor after this
   for (auto& inst : instances_) {  // injected hangs, of replaced components too
-    runtime::coreOf(*inst.component).release_hang.store(true);
-    runtime::coreOf(*inst.active()).release_hang.store(true);
+    runtime::coreOf(*inst.component).injection.release_hang.store(true);
+    runtime::coreOf(*inst.active()).injection.release_hang.store(true);
   }
   for (auto& ex : executors_) ex->requestStop();
   std::vector<const runtime::Executor*> abandoned;
@@ -180,9 +180,9 @@ void Engine::shutdown() {
       runtime::transition(*it->component, Transition::Destroy);  // replaced
   }
   {
-    std::lock_guard lock(spares_mutex_);
-    for (auto& spare : spares_)  // alternatives still standing by
-      if (spare->state() != State::Destroyed && !stuck(*spare)) runtime::transition(*spare, Transition::Destroy);
+    std::lock_guard lock(alternatives_mutex_);
+    for (auto& alt : alternatives_)  // alternatives still standing by
+      if (alt->state() != State::Destroyed && !stuck(*alt)) runtime::transition(*alt, Transition::Destroy);
   }
   cpu_latency_ = runtime::CpuLatencyRequest();  // the CPUs may sleep again
   if (started_) log_.write(fault::schema::engine("stopped"));
@@ -193,9 +193,9 @@ void Engine::shutdown() {
     if (stuck(*it->component)) (void)it->component.release();
     else it->component.reset();
   }
-  for (auto& spare : spares_)
-    if (stuck(*spare)) (void)spare.release();
-  spares_.clear();
+  for (auto& alt : alternatives_)
+    if (stuck(*alt)) (void)alt.release();
+  alternatives_.clear();
   for (auto& ex : executors_)
     if (std::find(abandoned.begin(), abandoned.end(), ex.get()) != abandoned.end()) (void)ex.release();
 }

@@ -120,7 +120,7 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   // fault::HandlingHost (engine_recovery.cpp)
   Result<Component*> createAlternative(fault::ComponentHandling& h, Component& failed) override;
   void switchTo(Component& failed, Component& alternative) override;
-  Result<std::string> abandonExecutor(Component& hung, Component* replacement) override;
+  Result<std::string> abandonExecutor(Component& hung, Component* alternative) override;
 
  private:
   explicit Engine(EngineOptions options);
@@ -150,9 +150,9 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;
   std::mutex create_mutex_;                  // one alternative created at a time (any thread)
-  std::mutex spares_mutex_;                  // guards the two below
-  std::deque<plan::PlannedInstance> spare_plans_;  // the alternatives' plans (stable addresses)
-  std::vector<std::unique_ptr<Component>> spares_;  // alternatives created: standing by or in service
+  std::mutex alternatives_mutex_;                  // guards the two below
+  std::deque<plan::PlannedInstance> alternative_plans_;  // the alternatives' plans (stable addresses)
+  std::vector<std::unique_ptr<Component>> alternatives_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
   std::vector<std::unique_ptr<runtime::Executor>> executors_;

@@ -108,9 +108,9 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
   if (auto r = checkPorts(inst); !r) return r.error();
   if (pi.policy && pi.policy->heartbeat_timeout_ms)
-    core.heartbeat_ns = static_cast<std::int64_t>(*pi.policy->heartbeat_timeout_ms * 1e6);
+    core.watch.heartbeat_ns = static_cast<std::int64_t>(*pi.policy->heartbeat_timeout_ms * 1e6);
   if (pi.policy && pi.policy->checkpoint_period_ms)
-    core.checkpoint_period_ns = static_cast<std::int64_t>(*pi.policy->checkpoint_period_ms * 1e6);
+    core.checkpoints.period_ns = static_cast<std::int64_t>(*pi.policy->checkpoint_period_ms * 1e6);
   if (auto r = configurePorts(inst); !r) return r.error();
   return inst;
 }

@@ -25,7 +25,7 @@ void Engine::setUpHandling() {
     // executor's thread.
     auto h = std::make_unique<fault::ComponentHandling>(
         fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components), inst.plan->name);
-    runtime::coreOf(*inst.component).handling = h.get();
+    runtime::coreOf(*inst.component).fault.handling = h.get();
     inst.handling = std::move(h);
   }
   fault_manager_.attach(this, graph());
@@ -37,7 +37,7 @@ Result<void> Engine::preloadAlternatives() {
     auto alt = createAlternative(*inst.handling, *inst.component);
     if (!alt) return alt.error();
     std::lock_guard lock(inst.handling->mutex);
-    inst.handling->standby = *alt;
+    inst.handling->ready_alternative = *alt;
   }
   return {};
 }
@@ -49,8 +49,8 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   const profile::ComponentProfile& cp = *h.rules.alternative;
   const plan::PlannedInstance* plan = nullptr;
   {
-    std::lock_guard lock(spares_mutex_);
-    plan::PlannedInstance& p = spare_plans_.emplace_back();
+    std::lock_guard lock(alternatives_mutex_);
+    plan::PlannedInstance& p = alternative_plans_.emplace_back();
     p.name = it->plan->name;
     p.profile = &cp;
     for (const auto& prop : cp.properties) p.properties[prop.name] = prop.value;
@@ -68,7 +68,7 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     return fail(why);
   }
   Component* alt = made->component.get();
-  runtime::coreOf(*alt).handling = &h;
+  runtime::coreOf(*alt).fault.handling = &h;
   // Quietly: the log's `state` records of this name are the role's; a failure is returned.
   runtime::coreOf(*alt).hooks = nullptr;
   const bool initialized = runtime::transition(*alt, Transition::Initialize);
@@ -84,8 +84,8 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     if (w.connection) static_cast<detail::OutputPortBase*>(port)->attach(*w.connection);
     else static_cast<ServicePortBase*>(port)->bind(*static_cast<ServicePortBase*>(w.target));
   }
-  std::lock_guard lock(spares_mutex_);
-  spares_.push_back(std::move(made->component));
+  std::lock_guard lock(alternatives_mutex_);
+  alternatives_.push_back(std::move(made->component));
   return alt;
 }
 
@@ -108,7 +108,7 @@ void Engine::switchTo(Component& failed, Component& alternative) {
     if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
 }
 
-Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacement) {
+Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternative) {
   runtime::Executor* old = runtime::coreOf(hung).executor.load(std::memory_order_acquire);
   if (old == nullptr) return fail("'" + hung.instanceName() + "' has no executor");
   runtime::ExecutorConfig cfg = old->config();
@@ -121,22 +121,22 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* replacem
   for (Component* m : members) {
     if (m != &hung) {
       fresh->add(*m);
-    } else if (replacement) {
-      fresh->add(*replacement);
-      redirectInputs(hung, *replacement);
+    } else if (alternative) {
+      fresh->add(*alternative);
+      redirectInputs(hung, *alternative);
     }
   }
   for (auto& inst : instances_) {
     if (inst.executor == old && inst.active() != &hung) inst.executor = fresh.get();
-    if (replacement && inst.active() == &hung) {
-      inst.current->store(replacement, std::memory_order_release);
+    if (alternative && inst.active() == &hung) {
+      inst.current->store(alternative, std::memory_order_release);
       inst.executor = fresh.get();
     }
   }
-  if (replacement) {  // started here: its new executor does not run yet
-    runtime::GuardOutcome out = runtime::invokeRecovery(*replacement, runtime::Callback::Start);
-    runtime::setStateQuiet(*replacement, out.ok() ? State::Active : State::Error);
-    if (out.ok() && !runtime::coreOf(*replacement).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*replacement), runtime::steadyNs());
+  if (alternative) {  // started here: its new executor does not run yet
+    runtime::GuardOutcome out = runtime::invokeRecovery(*alternative, runtime::Callback::Start);
+    runtime::setStateQuiet(*alternative, out.ok() ? State::Active : State::Error);
+    if (out.ok() && !runtime::coreOf(*alternative).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alternative), runtime::steadyNs());
   }
   fresh->start(/*adopt=*/true);
   std::string name = cfg.name;

@@ -22,7 +22,7 @@ constexpr auto kEmergencyBound = 20ms;
 // How long a fault stop waits for a hung callback to come back after it was interrupted.
 constexpr auto kInterruptBound = 200ms;
 
-ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).handling); }
+ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).fault.handling); }
 
 }  // namespace
 
@@ -45,10 +45,10 @@ bool Containment::interruptHung(Component* faulty) {
   if (faulty == nullptr) return true;
   auto& core = coreOf(*faulty);
   runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
-  if (!ex || ex->abandoned() || core.callback_since_ns.load(std::memory_order_acquire) == 0) return true;
-  core.interrupt.store(true, std::memory_order_release);
+  if (!ex || ex->abandoned() || core.watch.callback_since_ns.load(std::memory_order_acquire) == 0) return true;
+  core.fault.interrupt.store(true, std::memory_order_release);
   ex->interrupt();
-  return waitFor(kInterruptBound, [&] { return core.callback_since_ns.load(std::memory_order_acquire) == 0; });
+  return waitFor(kInterruptBound, [&] { return core.watch.callback_since_ns.load(std::memory_order_acquire) == 0; });
 }
 
 Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
@@ -100,7 +100,7 @@ std::vector<std::string> Containment::emergencyStop(std::string_view by) {
   std::lock_guard guard(emergency_mutex_);
   emergency_.store(true, std::memory_order_release);
   std::vector<Component*> all = host_ ? host_->components() : std::vector<Component*>{};
-  for (Component* c : all) coreOf(*c).emergency.store(true, std::memory_order_release);
+  for (Component* c : all) coreOf(*c).fault.emergency.store(true, std::memory_order_release);
   const std::int64_t t0 = steadyNs();
   nlohmann::json latched = schema::emergency("latched", by);
   latched[schema::field::kTime] = log.sinceStart(t0);
@@ -142,7 +142,7 @@ bool Containment::clearEmergency(std::string_view by) {
   std::lock_guard guard(emergency_mutex_);
   if (!emergency_.exchange(false, std::memory_order_acq_rel)) return false;
   if (host_)
-    for (Component* c : host_->components()) coreOf(*c).emergency.store(false, std::memory_order_release);
+    for (Component* c : host_->components()) coreOf(*c).fault.emergency.store(false, std::memory_order_release);
   records_.log().write(schema::emergency("cleared", by));
   return true;
 }

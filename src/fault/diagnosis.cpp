@@ -17,12 +17,12 @@ namespace {
 /// corrupted value being pushed on this very thread (caught on delivery by the receiver).
 void attributeInjection(FaultReport& r, detail::ComponentCore& core, FaultIds& ids) {
   detail::ComponentCore* source = &core;
-  std::uint64_t id = core.injected_id.exchange(0, std::memory_order_acq_rel);
+  std::uint64_t id = core.injection.injected_id.exchange(0, std::memory_order_acq_rel);
   if (id == 0 && runtime::injectionInFlight()) {
     source = runtime::injectionInFlight();
-    id = source->injected_id.exchange(0, std::memory_order_acq_rel);
+    id = source->injection.injected_id.exchange(0, std::memory_order_acq_rel);
   }
-  if (id != 0) r.injected_ns = source->injected_t_ns.load(std::memory_order_acquire);
+  if (id != 0) r.injected_ns = source->injection.injected_t_ns.load(std::memory_order_acquire);
   r.id = id != 0 ? id : ids.next();
 }
 
@@ -46,7 +46,7 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
   r.accused = accused;
   attributeInjection(r, core, ids);
 
-  auto* h = static_cast<ComponentHandling*>(core.handling);
+  auto* h = static_cast<ComponentHandling*>(core.fault.handling);
   const Rules no_rules;
   const Rules& rules = h ? h->rules : no_rules;
   r.has_policy = rules.has_policy;

@@ -18,7 +18,7 @@ using namespace std::chrono_literals;
 // How long a fault stop waits for a hung callback to come back after it was interrupted.
 constexpr auto kInterruptBound = 200ms;
 
-ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).handling); }
+ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).fault.handling); }
 
 }  // namespace
 
@@ -105,17 +105,17 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
         // Not limited by the restart intensity (docs/fault-handling.md): a role is replaced at
         // most once, and a reset escalates here precisely because the intensity was exceeded.
         bool available = false;
-        Component* standby = nullptr;
+        Component* ready = nullptr;
         {
           std::lock_guard lock(h->mutex);
           available = h->rules.alternative && !h->replaced;
-          standby = h->standby;
+          ready = h->ready_alternative;
         }
         if (!available) {
           escalate(r, Step::Replace, Outcome::Unavailable);
           break;
         }
-        if (standby == nullptr) {
+        if (ready == nullptr) {
           // Not preloaded: load it now, on the component's own thread when this is it (no
           // thread hand-off: under load a wake-up costs more than the dlopen; the executor's
           // other members are one cycle late instead), else on the manager's.
@@ -167,7 +167,7 @@ void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
     std::lock_guard lock(h->mutex);
     h->pending = r;
   }
-  core.pending.store(true, std::memory_order_release);
+  core.fault.pending.store(true, std::memory_order_release);
   // Inside its own callback on this thread (a range fault on push, raiseFault): invoke()
   // carries on as soon as the callback returns.
   if (ex->onThisThread()) return;
@@ -177,14 +177,14 @@ void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
     // Recovered between cycles (a cold replacement, a fault found by another thread): the
     // step it owes runs now rather than at the next release.
     Component* now = find_(c->instanceName());
-    if (now && now->state() == State::Active && coreOf(*now).recovering_id.load(std::memory_order_acquire) != 0 &&
+    if (now && now->state() == State::Active && coreOf(*now).fault.recovering_id.load(std::memory_order_acquire) != 0 &&
         coreOf(*now).executor.load(std::memory_order_acquire) == ex)
       ex->runStep(*now);
   });
   // A hung callback never returns by itself: interrupt it on its thread, and have the manager
   // check that it came back (else its executor is abandoned: checkInterrupted).
-  if (r.event.kind == FaultKind::Heartbeat && core.callback_since_ns.load(std::memory_order_acquire) != 0) {
-    core.interrupt.store(true, std::memory_order_release);
+  if (r.event.kind == FaultKind::Heartbeat && core.watch.callback_since_ns.load(std::memory_order_acquire) != 0) {
+    core.fault.interrupt.store(true, std::memory_order_release);
     ex->interrupt();
     queue_.enqueue(HandlingItem::Type::CheckInterrupted, r, true);
   }
@@ -199,10 +199,10 @@ void FaultManager::runPending(Component& c) {
   FaultReport r;
   {
     std::lock_guard lock(h->mutex);
-    if (!core.pending.exchange(false, std::memory_order_acq_rel)) return;
+    if (!core.fault.pending.exchange(false, std::memory_order_acq_rel)) return;
     r = h->pending;
   }
-  core.interrupt.store(false, std::memory_order_release);
+  core.fault.interrupt.store(false, std::memory_order_release);
   advance(r, kLocal | (onManagerThread() ? kManager : 0));
 }
 
@@ -211,8 +211,8 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
     std::lock_guard lock(h->mutex);
     if (r.first != Step::Ignore && r.first != Step::Done) h->busy = false;
   }
-  Component* recovering = r.replacement ? r.replacement : r.accused;
-  const bool awaits_recovery = coreOf(*recovering).recovering_id.load(std::memory_order_relaxed) == r.id;
+  Component* recovering = r.alternative ? r.alternative : r.accused;
+  const bool awaits_recovery = coreOf(*recovering).fault.recovering_id.load(std::memory_order_relaxed) == r.id;
   if ((where & kManager) && onManagerThread()) {
     records_.logReport(r);
   } else {
@@ -224,7 +224,7 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
 }
 
 void FaultManager::recovered(Component& c, std::int64_t t_ns) {
-  const std::uint64_t id = coreOf(c).recovering_id.exchange(0, std::memory_order_acq_rel);
+  const std::uint64_t id = coreOf(c).fault.recovering_id.exchange(0, std::memory_order_acq_rel);
   if (id == 0) return;
   FaultReport r;  // only the id, the component and the time are read
   r.id = id;
@@ -240,14 +240,14 @@ void FaultManager::checkInterrupted(const FaultReport& handed) {
   auto& core = coreOf(*handed.accused);
   ComponentHandling* h = handlingOf(*handed.accused);
   if (h == nullptr) return;
-  if (waitFor(kInterruptBound, [&] { return !core.pending.load(std::memory_order_acquire); })) return;
+  if (waitFor(kInterruptBound, [&] { return !core.fault.pending.load(std::memory_order_acquire); })) return;
   FaultReport r;
   {
     std::lock_guard lock(h->mutex);
-    if (!core.pending.exchange(false, std::memory_order_acq_rel)) return;  // it came back just now
+    if (!core.fault.pending.exchange(false, std::memory_order_acq_rel)) return;  // it came back just now
     r = h->pending;
   }
-  core.interrupt.store(false, std::memory_order_release);
+  core.fault.interrupt.store(false, std::memory_order_release);
   recovery_.abandon(r, *h);
   advance(r, kManager);
 }
@@ -268,9 +268,9 @@ void FaultManager::process(HandlingItem& item) {
 void FaultManager::flushUndetected(const std::vector<Component*>& components) {
   for (Component* c : components) {
     auto& core = coreOf(*c);
-    std::uint64_t id = core.injected_id.exchange(0, std::memory_order_acq_rel);
+    std::uint64_t id = core.injection.injected_id.exchange(0, std::memory_order_acq_rel);
     if (id == 0) continue;
-    records_.logUndetected(id, c->instanceName(), core.injected_t_ns.load());
+    records_.logUndetected(id, c->instanceName(), core.injection.injected_t_ns.load());
   }
 }
 

@@ -38,8 +38,8 @@ void FaultRecords::logReport(FaultReport& r) {
     const Action& a = r.actions[i];
     nlohmann::json rec = schema::action(r.id, who, toString(a.kind), a.ok, log_.sinceStart(a.t_ns));
     rec[schema::field::kDetail] = a.detail.data();
-    if (a.kind == ActionKind::Replace && a.ok && r.replacement)
-      rec[schema::field::kReplacement] = runtime::coreOf(*r.replacement).class_name;
+    if (a.kind == ActionKind::Replace && a.ok && r.alternative)
+      rec[schema::field::kReplacement] = runtime::coreOf(*r.alternative).class_name;
     log_.write(std::move(rec));
     if (a.ok && (a.kind == ActionKind::Reset || a.kind == ActionKind::Replace))
       log_.write(schema::componentState(who, "Error", "Active", r.id, log_.sinceStart(a.t_ns)));

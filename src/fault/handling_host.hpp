@@ -31,9 +31,9 @@ class HandlingHost {
   virtual void switchTo(Component& failed, Component& alternative) = 0;
   /// `hung`'s executor thread is stuck in its callback and cannot be interrupted: the executor
   /// is abandoned and a new one (same configuration) takes its other members, and
-  /// `replacement` (may be null) in `hung`'s place, started on the calling thread before the
+  /// `alternative` (may be null) in `hung`'s place, started on the calling thread before the
   /// new executor runs. Returns the new executor's name, or why it could not be done.
-  virtual Result<std::string> abandonExecutor(Component& hung, Component* replacement) = 0;
+  virtual Result<std::string> abandonExecutor(Component& hung, Component* alternative) = 0;
 };
 
 }  // namespace keel::fault

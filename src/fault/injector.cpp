@@ -35,7 +35,7 @@ Result<void> Injector::check(const Warn& warn, const std::function<bool(std::str
       errors += fmt::format("{}: fault: component '{}' has no numeric output data port{}\n", at,
                             f.component, f.port.empty() ? "" : fmt::format(" '{}'", f.port));
     }
-    if ((f.kind == InjectKind::Hang || f.kind == InjectKind::StallHeartbeat) && core.heartbeat_ns == 0)
+    if ((f.kind == InjectKind::Hang || f.kind == InjectKind::StallHeartbeat) && core.watch.heartbeat_ns == 0)
       warn(fmt::format("{}: fault: '{}' has no <heartbeat> in its fault_policy: this {} will not be detected",
                        at, f.component, f.kind_name));
     if (passive(f.component) && f.kind != InjectKind::OutOfRange)

@@ -23,7 +23,7 @@ void Recovery::noteRecovery(ComponentHandling& h, std::int64_t t) {
 }
 
 void Recovery::markRecovering(const FaultReport& r, Component& c) {
-  coreOf(c).recovering_id.store(r.id, std::memory_order_release);
+  coreOf(c).fault.recovering_id.store(r.id, std::memory_order_release);
 }
 
 Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
@@ -36,7 +36,7 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
     if (!out.ok() && failed.ok()) failed = out;
   }
   const std::int64_t checkpoint_t = runtime::restoreCheckpoint(core);
-  core.stalled_until_ns.store(0, std::memory_order_relaxed);
+  core.injection.stalled_until_ns.store(0, std::memory_order_relaxed);
   if (failed.ok()) failed = runtime::invokeRecovery(c, runtime::Callback::Recover);
   const std::int64_t t = steadyNs();
   if (!failed.ok()) {
@@ -66,7 +66,7 @@ Outcome Recovery::load(FaultReport& r, ComponentHandling& h) {
     return Outcome::Failed;
   }
   std::lock_guard lock(h.mutex);
-  h.standby = *alt;
+  h.ready_alternative = *alt;
   return Outcome::Done;
 }
 
@@ -75,15 +75,15 @@ Outcome Recovery::replace(FaultReport& r, ComponentHandling& h) {
   bool preloaded = false;
   {
     std::lock_guard lock(h.mutex);
-    alt = h.standby;
-    h.standby = nullptr;
+    alt = h.ready_alternative;
+    h.ready_alternative = nullptr;
     h.replaced = true;
     preloaded = h.rules.preload;
   }
   Component& failed = *r.accused;
   const std::size_t copied = runtime::copyCheckpoint(coreOf(failed), coreOf(*alt));
   host_->switchTo(failed, *alt);
-  r.replacement = alt;
+  r.alternative = alt;
   runtime::GuardOutcome out = runtime::invokeRecovery(*alt, runtime::Callback::Start);
   const std::int64_t t = steadyNs();
   if (!out.ok()) {
@@ -112,7 +112,7 @@ void Recovery::abandon(FaultReport& r, ComponentHandling& h) {
   {
     std::lock_guard lock(h.mutex);
     facts = h.facts();
-    alt = h.standby;
+    alt = h.ready_alternative;
   }
   if (facts.has_alternative && !facts.replaced && alt == nullptr && host_) {
     auto made = host_->createAlternative(h, hung);
@@ -133,11 +133,11 @@ void Recovery::abandon(FaultReport& r, ComponentHandling& h) {
   if (alt) {
     {
       std::lock_guard lock(h.mutex);
-      h.standby = nullptr;
+      h.ready_alternative = nullptr;
       h.replaced = true;
       h.window.note(t);
     }
-    r.replacement = alt;
+    r.alternative = alt;
     const bool started = alt->state() == State::Active;
     r.add(ActionKind::Replace, started, t, "alternative {} took over on the new executor {}", coreOf(*alt).class_name,
           *moved);

@@ -22,10 +22,10 @@ class Recovery {
   Outcome intensityAt(ComponentHandling& h, std::int64_t now_ns) const;
   /// onError → onReset → checkpoint restored → onRecover → Active. Done, or Failed.
   Outcome reset(FaultReport& r, ComponentHandling& h);
-  /// Loads, creates and initializes the alternative now (no preload): h.standby. Done, or
+  /// Loads, creates and initializes the alternative now (no preload): h.ready_alternative. Done, or
   /// Failed with the reason recorded.
   Outcome load(FaultReport& r, ComponentHandling& h);
-  /// h.standby takes the role of r.accused, with its checkpoint: Done, or Failed (onStart).
+  /// h.ready_alternative takes the role of r.accused, with its checkpoint: Done, or Failed (onStart).
   Outcome replace(FaultReport& r, ComponentHandling& h);
   /// r.accused's callback did not come back when interrupted: its executor is abandoned, the
   /// alternative (if any, loaded now if need be) takes its place on the new executor, else it

@@ -18,6 +18,7 @@
 #include "fault/rules.hpp"
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
+#include "runtime/component_core.hpp"
 #include "runtime/fault_detail.hpp"
 
 namespace keel::fault {
@@ -40,7 +41,7 @@ struct FaultReport {
   std::int64_t injected_ns = 0;      // 0: not injected
   std::int64_t diagnosed_ns = 0;     // when the rules had chosen the handling
   Component* accused = nullptr;
-  Component* replacement = nullptr;  // set when the alternative took over
+  Component* alternative = nullptr;  // set when the alternative took the role over
   profile::Severity severity = profile::Severity::Ignore;
   profile::Scope scope = profile::Scope::Component;  // the rules' containment scope
   bool has_policy = false;           // the component has a <fault_policy>
@@ -66,7 +67,7 @@ struct FaultReport {
 };
 
 /// What the fault manager keeps per component role (shared by a component and its replacement).
-struct ComponentHandling {
+struct ComponentHandling : runtime::FaultSlot {
   ComponentHandling() = default;
   ComponentHandling(Rules r, std::string instance)
       : rules(r), name(std::move(instance)), window(rules.intensity, rules.period_ns) {}
@@ -79,11 +80,11 @@ struct ComponentHandling {
   bool busy = false;         // a fault of this component is being handled
   bool replaced = false;     // the alternative took its place: no further replacement
   bool stopped = false;      // fault-stopped: further faults are only logged
-  Component* standby = nullptr;  // the alternative, created and initialized, not started
-  FaultReport pending;           // handed to the component's own thread (core.pending)
+  Component* ready_alternative = nullptr;  // created and initialized, not started
+  FaultReport pending;           // handed to the component's own thread (core.fault.pending)
 
   /// The facts the escalation decision needs (call with `mutex` held).
-  RoleFacts facts() const { return {rules.alternative != nullptr, replaced, standby != nullptr, false}; }
+  RoleFacts facts() const { return {rules.alternative != nullptr, replaced, ready_alternative != nullptr, false}; }
 };
 
 }  // namespace keel::fault

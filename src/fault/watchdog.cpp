@@ -47,7 +47,7 @@ std::int64_t Watchdog::check(const WatchedComponent& w, Episode& e, std::int64_t
   Component& c = *w.component->load(std::memory_order_acquire);
   if (c.state() != State::Active) return now + poll_ns_;
   const auto& core = runtime::coreOf(c);
-  if (std::int64_t since = core.callback_since_ns.load(std::memory_order_relaxed); since != 0) {
+  if (std::int64_t since = core.watch.callback_since_ns.load(std::memory_order_relaxed); since != 0) {
     const std::int64_t deadline = since + w.timeout_ns;
     if (now < deadline) return deadline;
     if (e.reported_since != since) {
@@ -57,7 +57,7 @@ std::int64_t Watchdog::check(const WatchedComponent& w, Episode& e, std::int64_t
     return now + poll_ns_;
   }
   if (w.period_ns == 0) return now + poll_ns_;
-  const std::int64_t beat = core.last_beat_ns.load(std::memory_order_relaxed);
+  const std::int64_t beat = core.watch.last_beat_ns.load(std::memory_order_relaxed);
   if (beat == 0) return now + poll_ns_;  // not executed yet
   const std::int64_t deadline = beat + w.period_ns + w.timeout_ns;
   if (now < deadline) return deadline;

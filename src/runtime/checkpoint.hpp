@@ -16,7 +16,7 @@ void takeCheckpoint(detail::ComponentCore& core, std::int64_t now_ns);
 
 /// Takes a checkpoint when the period has elapsed (cheap otherwise: one comparison).
 inline void checkpointIfDue(detail::ComponentCore& core, std::int64_t now_ns) {
-  if (core.checkpoint_period_ns != 0 && now_ns >= core.next_checkpoint_ns && !core.critical.empty())
+  if (core.checkpoints.period_ns != 0 && now_ns >= core.checkpoints.next_ns && !core.critical.empty())
     takeCheckpoint(core, now_ns);
 }
 

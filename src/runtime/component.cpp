@@ -19,7 +19,7 @@ Component::~Component() = default;
 
 const std::string& Component::instanceName() const { return core_->instance_name; }
 State Component::state() const { return core_->state.load(std::memory_order_acquire); }
-bool Component::emergencyLatched() const { return core_->emergency.load(std::memory_order_acquire); }
+bool Component::emergencyLatched() const { return core_->fault.emergency.load(std::memory_order_acquire); }
 
 const PropertyValue* Component::findProperty(std::string_view name) const {
   auto it = core_->properties.find(name);

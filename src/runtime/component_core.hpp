@@ -1,8 +1,9 @@
 // The runtime's side of a component instance: its name, state, ports, properties, critical
-// memory, the executor that runs it and the hooks that report what happens to it. Allocated by
-// Component's constructor (so ports can register while the derived class is built) and owned
-// by the Component. Only src/runtime and src/fault include this header.
-// Thread-safety: `state` and the counters are atomic; everything else is set before start.
+// memory, the executor that runs it and the hooks that report what happens to it, in cells by
+// owner (the executor's, the watchdog's, fault injection's, the checkpoints', the fault
+// manager's). Allocated by Component's constructor (so ports can register while the derived
+// class is built) and owned by the Component. Included by the runtime and the layers above.
+// Thread-safety: per cell, as stated there; the configuration is set before start.
 #pragma once
 
 #include <atomic>
@@ -41,63 +42,91 @@ struct CriticalRegion {
   void* addr;
   std::size_t len;
 };
+
+/// What the fault layer keeps per component (fault::ComponentHandling derives from it). The
+/// runtime only carries it; it never looks inside.
+class FaultSlot {
+ public:
+  virtual ~FaultSlot() = default;
+};
+
+/// Fault injection's cell (runtime/injection): armed by the injector, fired inside the guard.
+struct InjectionCell {
+  std::atomic<std::uint8_t> kind{0};             // runtime::InjectKind; 0: none armed
+  std::atomic<std::uint64_t> id{0};              // fault_id of the armed injection
+  std::atomic<std::uint64_t> injected_id{0};     // manifested and not yet detected
+  std::atomic<std::int64_t> injected_t_ns{0};    // steady ns of the manifestation
+  std::atomic<std::int64_t> stalled_until_ns{0}; // stall_heartbeat: not executed until then
+  std::atomic<bool> release_hang{false};         // ends an injected hang (at shutdown)
+};
+
+/// The watchdog's cell (fault/watchdog reads it): written by the executor when the component
+/// has a heartbeat.
+struct WatchCell {
+  std::int64_t heartbeat_ns = 0;                   // <heartbeat timeout> of its policy; 0: none
+  std::atomic<std::int64_t> callback_since_ns{0};  // start of the running callback; 0: none
+  std::atomic<std::int64_t> last_beat_ns{0};       // start of its latest onExecute
+};
+
+/// Checkpoints of the critical() memory (runtime/checkpoint): taken on the component's own
+/// thread at cycle boundaries, read by recovery (same thread) or an alternative (any thread).
+struct CheckpointStore {
+  std::int64_t period_ns = 0;              // <checkpoint period>; 0: only at start
+  std::int64_t next_ns = 0;                // its executor's thread only
+  std::mutex mutex;                        // guards the three below
+  std::vector<std::vector<std::byte>> copies;  // one copy per critical region
+  std::int64_t t_ns = 0;                   // when the copy was taken; 0: none yet
+  std::uint64_t count = 0;
+};
+
+/// The fault manager's cell (fault/fault_manager): its per-component state, and the handshake
+/// with the component's own thread.
+struct FaultCell {
+  FaultSlot* handling = nullptr;                // fault::ComponentHandling; null: unmanaged
+  std::atomic<bool> pending{false};             // a fault's handling waits for this thread
+  std::atomic<bool> interrupt{false};           // interrupt the running (hung) callback
+  std::atomic<std::uint64_t> recovering_id{0};  // recovered: after the next good onExecute
+  std::atomic<bool> emergency{false};           // the emergency is latched (containment)
+};
 }  // namespace keel::runtime
 
 namespace keel::detail {
 
+/// The runtime's side of one component, in cells by owner: each cell says who writes it.
 class ComponentCore {
  public:
+  // Identity and configuration: written by the engine while it builds the run, read-only
+  // once the component has started.
   std::string instance_name;
   std::string class_name;
-  std::atomic<State> state{State::Created};
-  std::atomic<bool> emergency{false};
   std::vector<PortBase*> ports;
   std::map<std::string, PropertyValue, std::less<>> properties;
-  std::vector<runtime::CriticalRegion> critical;
-  // null: passive. Atomic: an executor abandoned with a hung thread hands its components to a
-  // new one while other threads wake them (notifyInput) or post to them.
+  std::vector<runtime::CriticalRegion> critical;   // registered in onInitialize
+  std::int64_t deadline_ns = 0;                    // <deadline> of its fault policy; 0: none
+  runtime::RuntimeHooks* hooks = nullptr;          // null: not yet managed by a runtime
+
+  // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).
+  std::atomic<State> state{State::Created};
+
+  // Execution (runtime/executor, runtime/service). The executor is null for a passive
+  // component; atomic because an abandoned executor's components move to a new one while
+  // other threads wake them (notifyInput) or post to them.
   std::atomic<runtime::Executor*> executor{nullptr};
-  runtime::RuntimeHooks* hooks = nullptr;     // null: not yet managed by a runtime
   // Serialises callbacks of passive components. Not a timed mutex: TSan does not see
   // pthread_mutex_clocklock, which try_lock_for uses (timeouts poll try_lock instead).
   std::recursive_mutex passive_mutex;
-  std::atomic<bool> event_pending{false};     // an input event port has something queued
-  std::atomic<bool> input_pending{false};     // an input data port received a value
+  std::atomic<bool> event_pending{false};  // an input event port has something queued
+  std::atomic<bool> input_pending{false};  // an input data port received a value
 
-  std::int64_t deadline_ns = 0;               // <deadline> of its fault policy; 0: none
-  std::int64_t heartbeat_ns = 0;              // <heartbeat timeout> of its policy; 0: none
+  runtime::WatchCell watch;
+  runtime::InjectionCell injection;
+  runtime::CheckpointStore checkpoints;
+  runtime::FaultCell fault;
 
-  // watchdog (src/fault/watchdog): written by the executor when heartbeat_ns != 0
-  std::atomic<std::int64_t> callback_since_ns{0};  // start of the running callback; 0: none
-  std::atomic<std::int64_t> last_beat_ns{0};       // start of its latest onExecute
-
-  // fault injection (src/runtime/injection): armed by the injector, fired inside the guard
-  std::atomic<std::uint8_t> inject_kind{0};        // runtime::InjectKind; 0: none armed
-  std::atomic<std::uint64_t> inject_id{0};         // fault_id of the armed injection
-  std::atomic<std::uint64_t> injected_id{0};       // manifested and not yet detected
-  std::atomic<std::int64_t> injected_t_ns{0};      // steady ns of the manifestation
-  std::atomic<std::int64_t> stalled_until_ns{0};   // stall_heartbeat: not executed until then
-  std::atomic<bool> release_hang{false};           // ends an injected hang (at shutdown)
-
-  // checkpoints of the critical() memory (runtime/checkpoint): taken on the component's own
-  // thread at cycle boundaries, read by recovery (same thread) or a replacement (any thread)
-  std::int64_t checkpoint_period_ns = 0;           // <checkpoint period>; 0: only at start
-  std::int64_t next_checkpoint_ns = 0;             // its executor's thread only
-  std::mutex checkpoint_mutex;                     // guards the three below
-  std::vector<std::vector<std::byte>> checkpoint;  // one copy per critical region
-  std::int64_t checkpoint_t_ns = 0;                // when the copy was taken; 0: none yet
-  std::uint64_t checkpoint_count = 0;
-
-  // fault handling (src/fault/fault_manager): rules and state owned by the fault manager
-  void* handling = nullptr;                        // fault::ComponentHandling*
-  std::atomic<bool> pending{false};                // a fault's handling waits for this thread
-  std::atomic<bool> interrupt{false};              // interrupt the running (hung) callback
-  std::atomic<std::uint64_t> recovering_id{0};     // recovered: after the next good onExecute
-
-  // counters, read by the engine's summary and the watchdog
-  std::atomic<std::uint64_t> executions{0};
-  std::atomic<std::uint64_t> faults{0};  // counted by the fault manager, for the accused
-  std::atomic<std::uint64_t> deadline_overruns{0};
+  // Counters, read by the run's summary and the watchdog.
+  std::atomic<std::uint64_t> executions{0};         // the executor's
+  std::atomic<std::uint64_t> faults{0};             // the fault manager's, for the accused
+  std::atomic<std::uint64_t> deadline_overruns{0};  // the executor's
 
   PortBase* findPort(std::string_view name) const {
     for (PortBase* p : ports)

@@ -18,8 +18,8 @@ namespace keel::runtime {
 
 namespace {
 bool stalled(detail::ComponentCore& core) {
-  if (steadyNs() < core.stalled_until_ns.load(std::memory_order_acquire)) return true;
-  core.stalled_until_ns.store(0, std::memory_order_relaxed);
+  if (steadyNs() < core.injection.stalled_until_ns.load(std::memory_order_acquire)) return true;
+  core.injection.stalled_until_ns.store(0, std::memory_order_relaxed);
   return false;
 }
 
@@ -105,10 +105,10 @@ void Executor::interrupt() {
     interruptThread(native_.load());
 }
 
-void Executor::replaceMember(Component& failed, Component& replacement) {
+void Executor::replaceMember(Component& failed, Component& alternative) {
   for (Component*& m : members_)
-    if (m == &failed) m = &replacement;
-  coreOf(replacement).executor.store(this, std::memory_order_release);
+    if (m == &failed) m = &alternative;
+  coreOf(alternative).executor.store(this, std::memory_order_release);
 }
 
 void Executor::setUpThread() {
@@ -165,7 +165,7 @@ bool Executor::execute(Component& c) {
   if (ok) {
     core.executions.fetch_add(1, std::memory_order_relaxed);
     // The first good step after a recovery is the `recovered` moment (SPEC §5).
-    if (core.recovering_id.load(std::memory_order_relaxed) != 0 && core.hooks) [[unlikely]]
+    if (core.fault.recovering_id.load(std::memory_order_relaxed) != 0 && core.hooks) [[unlikely]]
       core.hooks->recovered(c, steadyNs());
   }
   if (core.deadline_ns && ok) checkDeadline(c, steadyNs() - t0);  // a failed step is already a fault
@@ -178,7 +178,7 @@ void Executor::cycle() {
     Component* c = members_[i];
     if (c->state() != State::Active) continue;
     detail::ComponentCore& core = coreOf(*c);
-    if (core.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
+    if (core.injection.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
     core.input_pending.store(false, std::memory_order_relaxed);
     const bool ok = execute(*c);
     if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;  // back from a hang, too late
@@ -186,7 +186,7 @@ void Executor::cycle() {
     // Recovered at once on this thread (reset, or a preloaded replacement): the step this
     // cycle owes is run now, once — not at the next release.
     Component* now = members_[i];
-    if (now->state() == State::Active && coreOf(*now).recovering_id.load(std::memory_order_relaxed) != 0)
+    if (now->state() == State::Active && coreOf(*now).fault.recovering_id.load(std::memory_order_relaxed) != 0)
       execute(*now);
   }
   const std::int64_t now = steadyNs();

@@ -80,9 +80,9 @@ class Executor {
   /// Runs `c`'s onExecute now, outside the schedule: the step a component recovered between
   /// cycles still owes. Only on this executor's thread.
   bool runStep(Component& c) { return execute(c); }
-  /// Puts `replacement` in `failed`'s place among the members (a fault's replacement). Only on
+  /// Puts `alternative` in `failed`'s place among the members (a fault's replacement). Only on
   /// this executor's thread (the members are iterated there without a lock).
-  void replaceMember(Component& failed, Component& replacement);
+  void replaceMember(Component& failed, Component& alternative);
 
   ExecutorStats stats() const {
     return {cycles_.load(std::memory_order_relaxed), overruns_.load(std::memory_order_relaxed)};

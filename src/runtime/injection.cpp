@@ -20,8 +20,8 @@ constexpr std::pair<std::string_view, InjectKind> kNames[] = {
 };
 
 void markManifested(detail::ComponentCore& core) {
-  core.injected_id.store(core.inject_id.load(std::memory_order_relaxed), std::memory_order_relaxed);
-  core.injected_t_ns.store(steadyNs(), std::memory_order_release);
+  core.injection.injected_id.store(core.injection.id.load(std::memory_order_relaxed), std::memory_order_relaxed);
+  core.injection.injected_t_ns.store(steadyNs(), std::memory_order_release);
 }
 
 // The store faults before it happens; TSan would still see two threads "writing" the same
@@ -64,7 +64,7 @@ detail::OutputPortBase* corruptiblePort(Component& c, std::string_view port) {
 
 bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs& args) {
   detail::ComponentCore& core = coreOf(c);
-  core.inject_id.store(fault_id, std::memory_order_relaxed);
+  core.injection.id.store(fault_id, std::memory_order_relaxed);
   switch (kind) {
     case InjectKind::OutOfRange: {
       detail::OutputPortBase* p = corruptiblePort(c, args.port);
@@ -73,12 +73,12 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
     }
     case InjectKind::StallHeartbeat:
       markManifested(core);
-      core.stalled_until_ns.store(args.duration_ns > 0 ? steadyNs() + args.duration_ns
+      core.injection.stalled_until_ns.store(args.duration_ns > 0 ? steadyNs() + args.duration_ns
                                                        : std::numeric_limits<std::int64_t>::max(),
                                   std::memory_order_release);
       return true;
     default:
-      core.inject_kind.store(static_cast<std::uint8_t>(kind), std::memory_order_release);
+      core.injection.kind.store(static_cast<std::uint8_t>(kind), std::memory_order_release);
       return true;
   }
 }
@@ -93,7 +93,7 @@ ReturnCode fire(Component& c, InjectKind kind) {
     case InjectKind::Throw: throw std::runtime_error("injected exception");
     case InjectKind::ErrorCode: return ReturnCode::InternalFault;
     case InjectKind::Hang:  // never returns by itself; keel ends it at shutdown
-      while (!core.release_hang.load(std::memory_order_acquire))
+      while (!core.injection.release_hang.load(std::memory_order_acquire))
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       return ReturnCode::Ok;
     case InjectKind::StallHeartbeat:  // applied by arm()

@@ -55,14 +55,14 @@ bool isLifecycle(Callback cb) {
 bool finishCall(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   if (out.kind == GuardOutcome::Kind::Signal && out.signo == interruptSignal()) [[unlikely]] {
-    core.interrupt.store(false, std::memory_order_release);
+    core.fault.interrupt.store(false, std::memory_order_release);
     if (core.hooks) core.hooks->runPending(c);
     return false;
   }
   if (!out.ok()) recordFault(c, out, cb);
   // A fault noticed inside the call (a range fault on push, raiseFault) is handled now; the
   // call then counts as failed, so that a recovered component's step is run again.
-  const bool pending = core.pending.load(std::memory_order_acquire);
+  const bool pending = core.fault.pending.load(std::memory_order_acquire);
   if (pending && core.hooks) [[unlikely]] core.hooks->runPending(c);
   return out.ok() && !pending;
 }
@@ -102,26 +102,26 @@ void reportFault(Component& c, const FaultEvent& ev) {
 
 bool invoke(Component& c, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
-  const bool watched = core.heartbeat_ns != 0;
+  const bool watched = core.watch.heartbeat_ns != 0;
   if (watched) {
     const std::int64_t t = steadyNs();
-    core.callback_since_ns.store(t, std::memory_order_relaxed);
-    if (cb == Callback::Execute) core.last_beat_ns.store(t, std::memory_order_relaxed);
+    core.watch.callback_since_ns.store(t, std::memory_order_relaxed);
+    if (cb == Callback::Execute) core.watch.last_beat_ns.store(t, std::memory_order_relaxed);
   }
   GuardOutcome out = guarded(
       [&c, &core, cb] {
         if (cb == Callback::Execute) {
           // acquire (free on x86): pairs with arm()'s release, so inject_id is the armed one.
-          if (auto k = core.inject_kind.load(std::memory_order_acquire)) [[unlikely]] {
-            core.inject_kind.store(0, std::memory_order_relaxed);
+          if (auto k = core.injection.kind.load(std::memory_order_acquire)) [[unlikely]] {
+            core.injection.kind.store(0, std::memory_order_relaxed);
             return fire(c, static_cast<InjectKind>(k));
           }
         }
         return call(c, cb);
       },
-      &c, &core.interrupt);
-  if (watched) core.callback_since_ns.store(0, std::memory_order_relaxed);
-  if (out.ok() && !core.pending.load(std::memory_order_relaxed)) [[likely]] return true;
+      &c, &core.fault.interrupt);
+  if (watched) core.watch.callback_since_ns.store(0, std::memory_order_relaxed);
+  if (out.ok() && !core.fault.pending.load(std::memory_order_relaxed)) [[likely]] return true;
   return finishCall(c, out, cb);
 }
 
@@ -154,8 +154,8 @@ void dispatchEvents(Component& c) {
       continue;
     auto& port = static_cast<InputEventPortBase&>(*p);
     while (c.state() == State::Active && port.takeNext()) {
-      GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); }, &c, &core.interrupt);
-      if (!out.ok() || core.pending.load(std::memory_order_relaxed)) finishCall(c, out, Callback::Event);
+      GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); }, &c, &core.fault.interrupt);
+      if (!out.ok() || core.fault.pending.load(std::memory_order_relaxed)) finishCall(c, out, Callback::Event);
     }
   }
 }

@@ -1,7 +1,7 @@
 // The loader: finds component libraries (library_name relative to the profile, then each
 // directory of KEEL_COMPONENT_PATH, then keel's own component directory next to libkeel),
 // dlopens them once, and creates instances of registered classes — at start, or ahead of use
-// for the standby pool. Libraries stay loaded until the Loader is destroyed.
+// for the alternatives preloaded. Libraries stay loaded until the Loader is destroyed.
 // Thread-safety: load/create may be called from any thread (serialised internally).
 #pragma once
 

@@ -31,7 +31,7 @@ std::string runCall(Component& provider, const std::string& port, detail::Servic
         call.run();
         return ReturnCode::Ok;
       },
-      &provider, &coreOf(provider).interrupt);
+      &provider, &coreOf(provider).fault.interrupt);
   finishCall(provider, out, Callback::Service);  // a fault it raised meanwhile is handled now
   if (out.ok()) return {};                       // ... but the call itself returned its result
   FaultEvent ev;

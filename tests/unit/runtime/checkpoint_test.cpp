@@ -46,14 +46,14 @@ TEST(Checkpoint, APeriodicCheckpointIsTakenOnlyWhenDue) {
   Holder h;
   h.registerAll();
   auto& core = coreOf(h);
-  core.checkpoint_period_ns = 100;
+  core.checkpoints.period_ns = 100;
   checkpointIfDue(core, 0);
-  EXPECT_EQ(core.checkpoint_count, 1u);
+  EXPECT_EQ(core.checkpoints.count, 1u);
   h.state.count = 1;
   checkpointIfDue(core, 50);  // not due: the copy keeps 0
-  EXPECT_EQ(core.checkpoint_count, 1u);
+  EXPECT_EQ(core.checkpoints.count, 1u);
   checkpointIfDue(core, 100);
-  EXPECT_EQ(core.checkpoint_count, 2u);
+  EXPECT_EQ(core.checkpoints.count, 2u);
   h.state.count = 2;
   restoreCheckpoint(core);
   EXPECT_EQ(h.state.count, 1);
@@ -63,7 +63,7 @@ TEST(Checkpoint, WithoutAPeriodNoPeriodicCheckpointIsTaken) {
   Holder h;
   h.registerAll();
   checkpointIfDue(coreOf(h), 1'000'000);
-  EXPECT_EQ(coreOf(h).checkpoint_count, 0u);
+  EXPECT_EQ(coreOf(h).checkpoints.count, 0u);
 }
 
 TEST(Checkpoint, AReplacementReceivesTheCheckpointRegionByRegion) {
