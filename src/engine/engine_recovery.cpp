@@ -135,7 +135,7 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
   }
   if (alternative) {  // started here: its new executor does not run yet
     runtime::GuardOutcome out = runtime::invokeRecovery(*alternative, runtime::Callback::Start);
-    runtime::setStateQuiet(*alternative, out.ok() ? State::Active : State::Error);
+    runtime::setState(*alternative, out.ok() ? State::Active : State::Error);  // the manager's thread: logged now
     if (out.ok() && !runtime::coreOf(*alternative).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alternative), runtime::steadyNs());
   }
   fresh->start(/*adopt=*/true);

@@ -46,8 +46,7 @@ void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::st
   FaultReport r = diagnose(reporter, fault, detector, find_, ids_);
   Component* accused = r.accused;
   if (r.first != Step::Ignore && r.first != Step::Done && allowed(accused->state(), Transition::Fault)) {
-    runtime::setStateQuiet(*accused, State::Error);  // logged with the detection
-    r.entered_error = true;
+    r.noteState(runtime::setStateQuiet(*accused, State::Error), true);  // logged with the detection
   }
   if (handlingOf(*accused) == nullptr && r.next != Step::Ignore) {  // not managed (no runtime): contained only
     r.add(ActionKind::Stop, true, r.event.t_ns, "contained: the component stays in Error");

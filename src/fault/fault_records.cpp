@@ -7,13 +7,23 @@
 
 namespace keel::fault {
 
+void FaultRecords::writeChanges(const FaultReport& r, std::uint8_t action) {
+  const std::string_view who = r.event.componentName();
+  for (std::size_t i = 0; i < r.n_changes; ++i) {
+    const FaultReport::Change& c = r.changes[i];
+    if (c.action != action) continue;
+    log_.write(schema::componentState(who, toString(c.change.from), toString(c.change.to), r.id,
+                                      log_.sinceStart(c.change.t_ns)));
+  }
+}
+
 void FaultRecords::logDetection(const FaultReport& r) {
   const std::string who(r.event.componentName());
   const std::string kind(toString(r.event.kind));
   if (r.injected_ns != 0) log_.write(schema::injected(r.id, who, log_.sinceStart(r.injected_ns)));
   log_.write(schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(),
                               log_.sinceStart(r.event.t_ns)));
-  if (r.entered_error) log_.write(schema::componentState(who, "Active", "Error", r.id, log_.sinceStart(r.event.t_ns)));
+  writeChanges(r, FaultReport::kWithDetection);
   log_.write(schema::diagnosed(r.id, who, toString(r.severity),
                                r.has_policy ? "fault_policy" : "none (contained, not recovered)", toString(r.scope),
                                toString(r.first), log_.sinceStart(r.diagnosed_ns)));
@@ -41,8 +51,7 @@ void FaultRecords::logReport(FaultReport& r) {
     if (a.kind == ActionKind::Replace && a.ok && r.alternative)
       rec[schema::field::kReplacement] = runtime::coreOf(*r.alternative).class_name;
     log_.write(std::move(rec));
-    if (a.ok && (a.kind == ActionKind::Reset || a.kind == ActionKind::Replace))
-      log_.write(schema::componentState(who, "Error", "Active", r.id, log_.sinceStart(a.t_ns)));
+    writeChanges(r, static_cast<std::uint8_t>(i));
   }
   auto hd = std::find_if(handlings_.rbegin(), handlings_.rend(), [&](const Handling& x) { return x.fault_id == r.id; });
   if (hd != handlings_.rend()) {  // the summary's view: every action of this fault so far

@@ -70,6 +70,8 @@ class FaultRecords {
 
  private:
   void logDetection(const FaultReport& r);  // holds mutex_
+  /// The state changes of `r` that go with its detection or with action `action`.
+  void writeChanges(const FaultReport& r, std::uint8_t action);
 
   FaultLog& log_;
   mutable std::mutex mutex_;  // guards the records below

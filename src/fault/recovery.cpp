@@ -29,7 +29,7 @@ void Recovery::markRecovering(const FaultReport& r, Component& c) {
 Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
   Component& c = *r.accused;
   auto& core = coreOf(c);
-  if (c.state() != State::Error) runtime::setStateQuiet(c, State::Error);
+  if (c.state() != State::Error) r.noteState(runtime::setStateQuiet(c, State::Error));
   runtime::GuardOutcome failed;
   for (runtime::Callback cb : {runtime::Callback::Error, runtime::Callback::Reset}) {
     runtime::GuardOutcome out = runtime::invokeRecovery(c, cb);
@@ -45,7 +45,7 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
     r.add(ActionKind::Reset, false, t, "{}", why.detailText());
     return Outcome::Failed;
   }
-  runtime::setStateQuiet(c, State::Active);
+  r.noteState(runtime::setStateQuiet(c, State::Active));
   r.add(ActionKind::Reset, true, t, "onError → onReset → onRecover");
   if (!core.critical.empty()) {
     if (checkpoint_t != 0)
@@ -87,13 +87,13 @@ Outcome Recovery::replace(FaultReport& r, ComponentHandling& h) {
   runtime::GuardOutcome out = runtime::invokeRecovery(*alt, runtime::Callback::Start);
   const std::int64_t t = steadyNs();
   if (!out.ok()) {
-    runtime::setStateQuiet(*alt, State::Error);
+    r.noteState(runtime::setStateQuiet(*alt, State::Error));
     FaultEvent why;
     out.describe(why, "onStart");
     r.add(ActionKind::Replace, false, t, "alternative {}: {}", coreOf(*alt).class_name, why.detailText());
     return Outcome::Failed;
   }
-  runtime::setStateQuiet(*alt, State::Active);
+  r.noteState(runtime::setStateQuiet(*alt, State::Active));
   // Its own first checkpoint: what a later reset of the alternative returns to (the buffers
   // exist since its creation, so nothing is allocated here).
   if (!coreOf(*alt).critical.empty()) runtime::takeCheckpoint(coreOf(*alt), t);

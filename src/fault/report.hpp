@@ -19,6 +19,7 @@
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
 #include "runtime/component_core.hpp"
+#include "runtime/invoke.hpp"
 #include "runtime/fault_detail.hpp"
 
 namespace keel::fault {
@@ -47,12 +48,27 @@ struct FaultReport {
   bool has_policy = false;           // the component has a <fault_policy>
   Step first = Step::Done;           // the handling the rules chose
   Step next = Step::Done;            // what is left to do
-  bool entered_error = false;        // this fault moved the component to Error
   bool detection_logged = false;
   bool emergency_done = false;       // a stop that fails escalates to emergency only once
   std::uint8_t n_actions = 0;
   std::uint8_t logged_actions = 0;
   std::array<Action, 10> actions{};
+
+  /// A state change this fault's handling made, as runtime::setStateQuiet made it, and where it
+  /// goes in the log: with the detection, or after the action added next (the step that made it).
+  static constexpr std::uint8_t kWithDetection = 0xff;
+  struct Change {
+    runtime::StateChange change;
+    std::uint8_t action = kWithDetection;  // index of the action it belongs to
+  };
+  std::uint8_t n_changes = 0;
+  std::array<Change, 6> changes{};
+
+  /// Keeps `change` for the log: with the detection, or with the action about to be added.
+  void noteState(const runtime::StateChange& change, bool with_detection = false) {
+    if (change.from == change.to || n_changes == changes.size()) return;
+    changes[n_changes++] = {change, with_detection ? kWithDetection : n_actions};
+  }
 
   template <class... Args>
   void add(ActionKind kind, bool ok, std::int64_t t_ns, fmt::format_string<Args...> f, Args&&... args) {

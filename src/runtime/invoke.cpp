@@ -2,6 +2,7 @@
 
 #include <mutex>
 
+#include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
 
@@ -85,14 +86,15 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   if (core.hooks) core.hooks->faultDetected(c, ev);
 }
 
-void setState(Component& c, State to) {
+StateChange setState(Component& c, State to) {
   detail::ComponentCore& core = coreOf(c);
-  State from = core.state.exchange(to, std::memory_order_acq_rel);
-  if (from != to && core.hooks) core.hooks->stateChanged(c, from, to);
+  const StateChange change{core.state.exchange(to, std::memory_order_acq_rel), to, steadyNs()};
+  if (change.from != to && core.hooks) core.hooks->stateChanged(c, change.from, to);
+  return change;
 }
 
-State setStateQuiet(Component& c, State to) {
-  return coreOf(c).state.exchange(to, std::memory_order_acq_rel);
+StateChange setStateQuiet(Component& c, State to) {
+  return {coreOf(c).state.exchange(to, std::memory_order_acq_rel), to, steadyNs()};
 }
 
 void reportFault(Component& c, const FaultEvent& ev) {

@@ -36,12 +36,24 @@ void dispatchEvents(Component& c);
 /// Passive components: delivers queued events on the calling thread, under the component's lock.
 void dispatchEventsPassive(Component& c);
 
-/// Sets the state and tells the hooks (runtime only: Error is entered here, never by authors).
-void setState(Component& c, State to);
+/// A change of a component's lifecycle state, as its one writer made it.
+struct StateChange {
+  State from = State::Created;
+  State to = State::Created;
+  std::int64_t t_ns = 0;  // steady clock
+};
 
-/// Sets the state without telling the hooks; returns the previous one. The fault manager's fast
-/// path uses it and logs the change afterwards, off the executor's thread.
-State setStateQuiet(Component& c, State to);
+// The lifecycle state's one writer: these two functions and transition() are the only code
+// that sets it (component_core.hpp), and every change they make is recorded as it was made.
+
+/// Sets the state and tells the hooks, which log it (runtime only: Error is entered here, never
+/// by authors).
+StateChange setState(Component& c, State to);
+
+/// Sets the state without telling the hooks, for the fault path: the returned change is handed
+/// to the fault's records (fault::FaultReport::noteState), which log it with the fault, off the
+/// executor's thread.
+StateChange setStateQuiet(Component& c, State to);
 
 /// Runs a recovery callback (onError, onReset, onRecover, onEmergencyStop) under the guard and
 /// returns the outcome; a failure is not reported as a new fault (the caller escalates).

@@ -1,0 +1,313 @@
+// The fault manager as a whole (src/fault/fault_manager.hpp): one fault of a passive component
+// carried from detection to recovery, with or without the manager's thread, as the fault log
+// shows it; a further fault while one is handled only logged; ignore, containment, emergency.
+#include "fault/fault_manager.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "fault/log_schema.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/invoke.hpp"
+#include "support/log_reader.hpp"
+
+namespace keel::fault {
+namespace {
+
+namespace ev = schema::event;
+namespace fd = schema::field;
+using nlohmann::json;
+using profile::Severity;
+using runtime::coreOf;
+
+/// A passive component (no executor): notes its recovery callbacks, the thread they ran on and
+/// whether they held its lock.
+class Joint : public Component {
+ public:
+  explicit Joint(const std::string& name) { coreOf(*this).instance_name = name; }
+  ReturnCode onError() override { return note("onError"); }
+  ReturnCode onReset() override {
+    if (during_reset) during_reset();
+    return note("onReset");
+  }
+  ReturnCode onRecover() override { return note("onRecover"); }
+  ReturnCode onEmergencyStop() override { return note("onEmergencyStop"); }
+
+  std::vector<std::string> trace() {
+    std::lock_guard lock(mutex_);
+    return trace_;
+  }
+  std::function<void()> during_reset;
+  std::thread::id thread;
+  bool under_lock = false;
+
+ private:
+  ReturnCode note(const char* what) {
+    thread = std::this_thread::get_id();
+    bool taken = false;  // by another thread: only if this one does not hold the passive lock
+    std::thread([&] {
+      if (coreOf(*this).passive_mutex.try_lock()) {
+        taken = true;
+        coreOf(*this).passive_mutex.unlock();
+      }
+    }).join();
+    under_lock = !taken;
+    std::lock_guard lock(mutex_);
+    trace_.push_back(what);
+    return ReturnCode::Ok;
+  }
+  std::mutex mutex_;
+  std::vector<std::string> trace_;
+};
+
+class Host : public HandlingHost {
+ public:
+  std::vector<Component*> all;
+  Component* find(std::string_view name) const override {
+    for (Component* c : all)
+      if (c->instanceName() == name) return c;
+    return nullptr;
+  }
+  std::vector<Component*> components() const override { return all; }
+  Result<Component*> createAlternative(ComponentHandling&, Component&) override { return fail("none"); }
+  void switchTo(Component&, Component&) override {}
+  Result<std::string> abandonExecutor(Component&, Component*) override { return fail("none"); }
+};
+
+/// A record in short: "detected", "state Error", "action reset", ...
+std::string shortly(const json& r) {
+  const std::string event = r.value(fd::kEvent, "");
+  if (event == ev::kState) return event + " " + r.value(fd::kTo, "");
+  if (event == ev::kAction) return event + " " + r.value(fd::kAction, "");
+  return event;
+}
+
+/// The records of fault `id`, in short, in the order they were written.
+std::vector<std::string> recordsOf(const std::vector<json>& log, std::uint64_t id) {
+  std::vector<std::string> out;
+  for (const json& r : log)
+    if (r.value(fd::kFaultId, std::uint64_t{0}) == id) out.push_back(shortly(r));
+  return out;
+}
+
+/// The fault id of the detection with `detail` (0: none).
+std::uint64_t idOf(const std::vector<json>& log, std::string_view detail) {
+  for (const json& r : test::eventsOf(log, ev::kDetected))
+    if (r.value(fd::kDetail, "") == detail) return r.value(fd::kFaultId, std::uint64_t{0});
+  return 0;
+}
+
+/// The detail of fault `id`'s first `action` record of that action ("" when there is none).
+std::string detailOf(const std::vector<json>& log, std::uint64_t id, std::string_view action) {
+  for (const json& r : test::eventsOf(log, ev::kAction))
+    if (r.value(fd::kFaultId, std::uint64_t{0}) == id && r.value(fd::kAction, "") == action)
+      return r.value(fd::kDetail, "");
+  return "";
+}
+
+/// A fault manager without a thread, logging to a temporary file, and one passive component
+/// `arm`, Active, whose role it handles (ComponentHandling set as the engine sets it).
+struct Rig {
+  Rig() {
+    EXPECT_TRUE(log.open(path));
+    runtime::setStateQuiet(arm, State::Active);
+    host.all = {&arm};
+    coreOf(arm).fault.handling = &handling;
+  }
+  ~Rig() { std::filesystem::remove(path); }
+
+  /// The role's policy: every kind of fault has `severity`; no alternative.
+  void policy(Severity severity) {
+    handling.rules.has_policy = true;
+    handling.rules.severity.fill(severity);
+  }
+  std::vector<json> read() const { return test::readLog(path); }
+
+  std::string path = (std::filesystem::temp_directory_path() /
+                      ("keel_fault_manager_" + std::to_string(::getpid()) + ".jsonl"))
+                         .string();
+  FaultLog log;
+  Joint arm{"arm"};
+  ComponentHandling handling{Rules{}, "arm"};
+  Host host;
+  FaultManager manager{log, [this](std::string_view n) { return host.find(n); }};
+};
+
+FaultEvent segfault(const char* detail = "SIGSEGV in onExecute") { return FaultEvent(FaultKind::Signal, "", detail); }
+
+TEST(FaultManager, WithoutAThreadAResetFaultIsLoggedFromDetectionToRecoveryUnderOneFaultId) {
+  Rig rig;
+  rig.policy(Severity::Reset);
+
+  rig.manager.onFault(rig.arm, segfault());
+
+  EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"}));
+  EXPECT_EQ(rig.arm.thread, std::this_thread::get_id()) << "no thread: handled on the reporting one";
+  EXPECT_TRUE(rig.arm.under_lock) << "a passive component is reset holding its lock";
+  EXPECT_EQ(rig.arm.state(), State::Active);
+  const auto log = rig.read();
+  const auto detected = test::eventsOf(log, ev::kDetected);
+  ASSERT_EQ(detected.size(), 1u);
+  const auto id = detected[0][fd::kFaultId].get<std::uint64_t>();
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action reset",
+                                                          "state Active", "recovered"}));
+  EXPECT_EQ(log.size(), 6u) << "every record of it carries its fault_id";
+  EXPECT_EQ(rig.manager.recoveredCount(), 1u);
+  ASSERT_TRUE(rig.manager.handling(id));
+  EXPECT_EQ(rig.manager.handling(id)->actions, "reset");
+  std::lock_guard lock(rig.handling.mutex);
+  EXPECT_FALSE(rig.handling.busy) << "the role is free for the next fault";
+}
+
+TEST(FaultManager, WithItsThreadAPassiveComponentIsResetThereAndLoggedTheSame) {
+  Rig rig;
+  rig.policy(Severity::Reset);
+  rig.manager.start();
+
+  rig.manager.onFault(rig.arm, segfault());
+  rig.manager.drain();
+
+  EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"}));
+  EXPECT_NE(rig.arm.thread, std::this_thread::get_id()) << "handed over to the manager's thread";
+  EXPECT_TRUE(rig.arm.under_lock);
+  EXPECT_EQ(rig.arm.state(), State::Active);
+  const auto log = rig.read();
+  ASSERT_FALSE(log.empty());
+  const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action reset",
+                                                          "state Active", "recovered"}));
+}
+
+TEST(FaultManager, ASecondFaultWhileTheFirstIsBeingHandledIsOnlyLogged) {
+  Rig rig;
+  rig.policy(Severity::Reset);
+  rig.arm.during_reset = [&rig, reported = false]() mutable {
+    if (reported) return;
+    reported = true;
+    rig.manager.onFault(rig.arm, segfault("second, during onReset"));
+  };
+
+  rig.manager.onFault(rig.arm, segfault("first"));
+
+  EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"})) << "reset once";
+  EXPECT_EQ(rig.arm.state(), State::Active);
+  const auto log = rig.read();
+  const std::uint64_t first = idOf(log, "first"), second = idOf(log, "second, during onReset");
+  ASSERT_NE(first, 0u);
+  ASSERT_NE(second, 0u);
+  EXPECT_NE(first, second);
+  EXPECT_EQ(recordsOf(log, second), (std::vector<std::string>{"detected", "diagnosed", "action ignore"}));
+  EXPECT_EQ(detailOf(log, second, "ignore"), "a fault of it is being handled");
+  EXPECT_EQ(recordsOf(log, first), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action reset",
+                                                             "state Active", "recovered"}));
+  EXPECT_EQ(rig.manager.detectionCount(), 2u);
+}
+
+TEST(FaultManager, OnceAFaultIsHandledTheNextOneIsHandledAgain) {
+  Rig rig;
+  rig.policy(Severity::Reset);
+  rig.manager.onFault(rig.arm, segfault("first"));
+
+  rig.manager.onFault(rig.arm, segfault("second"));
+
+  EXPECT_EQ(rig.arm.trace(),
+            (std::vector<std::string>{"onError", "onReset", "onRecover", "onError", "onReset", "onRecover"}));
+  const auto log = rig.read();
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 2u);
+  EXPECT_EQ(rig.manager.recoveredCount(), 2u);
+}
+
+TEST(FaultManager, AResetBeyondTheRestartIntensityEscalatesToAStop) {
+  Rig rig;
+  rig.policy(Severity::Reset);
+  rig.handling.rules.intensity = 1;
+  rig.handling.window = RestartWindow(1, 10'000'000'000);
+  rig.manager.onFault(rig.arm, segfault("first"));
+
+  rig.manager.onFault(rig.arm, segfault("second"));
+
+  EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"})) << "not reset twice";
+  EXPECT_EQ(rig.arm.state(), State::Error);
+  EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"});
+  const auto log = rig.read();
+  EXPECT_EQ(recordsOf(log, idOf(log, "second")),
+            (std::vector<std::string>{"detected", "state Error", "diagnosed", "action escalate", "action stop"}));
+}
+
+TEST(FaultManager, AnIgnoredFaultIsOnlyLoggedAndLeavesTheComponentActive) {
+  Rig rig;
+  rig.policy(Severity::Ignore);
+
+  rig.manager.onFault(rig.arm, FaultEvent(FaultKind::Range, "", "NaN on distance"));
+
+  EXPECT_TRUE(rig.arm.trace().empty());
+  EXPECT_EQ(rig.arm.state(), State::Active);
+  const auto log = rig.read();
+  ASSERT_FALSE(log.empty());
+  const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "diagnosed", "action ignore"}));
+  EXPECT_EQ(detailOf(log, id, "ignore"), "severity ignore: logged only");
+}
+
+TEST(FaultManager, AComponentWithoutHandlingIsContainedInError) {
+  Rig rig;
+  coreOf(rig.arm).fault.handling = nullptr;  // not managed by a runtime
+
+  rig.manager.onFault(rig.arm, segfault());
+
+  EXPECT_TRUE(rig.arm.trace().empty()) << "no recovery without rules";
+  EXPECT_EQ(rig.arm.state(), State::Error);
+  const auto log = rig.read();
+  ASSERT_FALSE(log.empty());
+  const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action stop"}));
+  EXPECT_EQ(detailOf(log, id, "stop"), "contained: the component stays in Error");
+}
+
+TEST(FaultManager, AStopSeverityFaultStopsTheComponentAndItsLaterFaultsAreOnlyLogged) {
+  Rig rig;
+  rig.policy(Severity::Stop);
+  rig.manager.onFault(rig.arm, segfault("first"));
+
+  rig.manager.onFault(rig.arm, segfault("later"));
+
+  EXPECT_TRUE(rig.arm.trace().empty());
+  EXPECT_EQ(rig.arm.state(), State::Error);
+  EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"});
+  const auto log = rig.read();
+  EXPECT_EQ(recordsOf(log, idOf(log, "first")),
+            (std::vector<std::string>{"detected", "state Error", "diagnosed", "action stop"}));
+  EXPECT_EQ(recordsOf(log, idOf(log, "later")), (std::vector<std::string>{"detected", "diagnosed", "action ignore"}));
+  EXPECT_EQ(detailOf(log, idOf(log, "later"), "ignore"), "the component is stopped");
+}
+
+TEST(FaultManager, AnEmergencyFaultRunsEveryOnEmergencyStopThenStopsTheFaultyComponent) {
+  Rig rig;
+  rig.policy(Severity::Emergency);
+  Joint leg("leg");
+  rig.host.all.push_back(&leg);
+  rig.manager.attach(&rig.host, nullptr);
+
+  rig.manager.onFault(rig.arm, segfault());
+
+  EXPECT_EQ(rig.arm.trace(), std::vector<std::string>{"onEmergencyStop"});
+  EXPECT_EQ(leg.trace(), std::vector<std::string>{"onEmergencyStop"});
+  EXPECT_TRUE(rig.manager.emergencyLatched());
+  EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"}) << "an emergency goes on as a stop";
+  const auto log = rig.read();
+  const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action stop"}));
+  const auto emergency = test::eventsOf(log, ev::kEmergency);
+  ASSERT_EQ(emergency.size(), 1u);
+  EXPECT_EQ(emergency[0][fd::kBy], "fault " + std::to_string(id) + " of arm");
+}
+
+}  // namespace
+}  // namespace keel::fault
