@@ -95,7 +95,8 @@ Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
   return moved ? Outcome::Done : Outcome::Failed;
 }
 
-std::vector<std::string> Containment::emergencyStop(std::string_view by) {
+std::vector<std::string> Containment::emergencyStop(std::string_view by, std::uint64_t fault_id,
+                                                    std::string_view component) {
   FaultLog& log = records_.log();
   std::lock_guard guard(emergency_mutex_);
   emergency_.store(true, std::memory_order_release);
@@ -128,7 +129,7 @@ std::vector<std::string> Containment::emergencyStop(std::string_view by) {
     ran.push_back(c->instanceName());
   }
   const std::int64_t t = steadyNs();
-  nlohmann::json rec = schema::action(0, {}, "emergency_stop", late.empty(), log.sinceStart(t));
+  nlohmann::json rec = schema::action(fault_id, component, "emergency_stop", late.empty(), log.sinceStart(t));
   rec[schema::field::kBy] = by;
   rec[schema::field::kComponents] = ran;
   rec[schema::field::kLatencyUs] = (t - t0) / 1e3;

@@ -40,8 +40,10 @@ class Containment {
 
   /// Latches the emergency and runs every component's onEmergencyStop, on its executor when
   /// that answers within 20 ms, else on the calling thread. Returns the components whose
-  /// onEmergencyStop ran. `by` is logged.
-  std::vector<std::string> emergencyStop(std::string_view by);
+  /// onEmergencyStop ran. `by` is logged; so are `fault_id` and `component` when a fault of
+  /// that component called for it (0 and empty: an operator).
+  std::vector<std::string> emergencyStop(std::string_view by, std::uint64_t fault_id = 0,
+                                         std::string_view component = {});
   /// Clears the latch (an explicit operator action, logged). False if none was latched.
   bool clearEmergency(std::string_view by);
   bool emergencyLatched() const { return emergency_.load(std::memory_order_acquire); }

@@ -138,7 +138,8 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
       case Step::Emergency: {
         if (!(where & kManager)) return handOverManager(r);
         records_.logReport(r);  // what happened so far goes first
-        const auto ran = containment_.emergencyStop(fmt::format("fault {} of {}", r.id, r.event.componentName()));
+        const auto ran = containment_.emergencyStop(fmt::format("fault {} of {}", r.id, r.event.componentName()), r.id,
+                                                    r.event.componentName());
         r.add(ActionKind::EmergencyStop, true, steadyNs(), "onEmergencyStop ran in {} components", ran.size());
         r.logged_actions = r.n_actions;  // emergencyStop wrote its own record
         r.emergency_done = true;
@@ -152,6 +153,16 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
 void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
   auto& core = coreOf(*r.accused);
   runtime::Executor* ex = core.executor.load(std::memory_order_acquire);
+  ComponentHandling* h = handlingOf(*r.accused);
+  if (ex == nullptr && runtime::runningComponent() == r.accused) {
+    // A passive component that faulted inside its own callback, on this thread: its lock is
+    // recursive, so taking it here would run the recovery nested inside that callback. The
+    // guard carries on with runPending as soon as the callback returns.
+    std::lock_guard lock(h->mutex);
+    h->pending = r;
+    core.fault.pending.store(true, std::memory_order_release);
+    return;
+  }
   if (ex == nullptr) {  // passive: holding its lock makes this thread its own
     if (!(where & kManager)) return handOverManager(r);
     std::unique_lock lock(core.passive_mutex, std::defer_lock);
@@ -161,7 +172,6 @@ void FaultManager::handOverLocal(FaultReport& r, unsigned where) {
     }
     return advance(r, where | kLocal);
   }
-  ComponentHandling* h = handlingOf(*r.accused);
   {
     std::lock_guard lock(h->mutex);
     h->pending = r;

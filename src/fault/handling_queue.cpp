@@ -48,17 +48,19 @@ void HandlingQueue::drain() {
 
 void HandlingQueue::enqueue(HandlingItem::Type type, const FaultReport& report, bool wake) {
   std::unique_lock lock(mutex_);
+  // Full: let the thread catch up (never drops a fault). The thread may stop meanwhile, and
+  // what it has not taken by then would never be processed: check again each time.
+  while (accepting_ && !onThread() && size_ == ring_.size()) {
+    lock.unlock();
+    signal_.notify();
+    std::this_thread::yield();
+    lock.lock();
+  }
   if (!accepting_ || onThread()) {  // no thread (not started, or stopping): process it here
     lock.unlock();
     HandlingItem item{type, report};
     process_(item);
     return;
-  }
-  while (size_ == ring_.size()) {  // full: let the thread catch up (never drops a fault)
-    lock.unlock();
-    signal_.notify();
-    std::this_thread::yield();
-    lock.lock();
   }
   HandlingItem& slot = ring_[(head_ + size_) % ring_.size()];  // one copy, straight into its slot
   slot.type = type;

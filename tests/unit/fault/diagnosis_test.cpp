@@ -87,6 +87,7 @@ TEST(Diagnosis, AnEventNamingAnUnknownComponentAccusesTheReporter) {
 
   EXPECT_EQ(r.accused, &monitor);
   EXPECT_EQ(coreOf(monitor).faults.load(), 1u);
+  EXPECT_EQ(r.event.componentName(), "monitor") << "the records name whom the fault is handled for";
 }
 
 TEST(Diagnosis, AGivenDetectorNameIsLoggedInsteadOfTheReporter) {

@@ -39,12 +39,17 @@ class Joint : public Component {
   }
   ReturnCode onRecover() override { return note("onRecover"); }
   ReturnCode onEmergencyStop() override { return note("onEmergencyStop"); }
+  ReturnCode onExecute() override {
+    if (during_execute) during_execute();
+    return note("onExecute");
+  }
 
   std::vector<std::string> trace() {
     std::lock_guard lock(mutex_);
     return trace_;
   }
   std::function<void()> during_reset;
+  std::function<void()> during_execute;
   std::thread::id thread;
   bool under_lock = false;
 
@@ -141,6 +146,33 @@ struct Rig {
 };
 
 FaultEvent segfault(const char* detail = "SIGSEGV in onExecute") { return FaultEvent(FaultKind::Signal, "", detail); }
+
+/// The runtime's hooks as the engine implements them, forwarding to the manager.
+class Hooks : public runtime::RuntimeHooks {
+ public:
+  explicit Hooks(FaultManager& m) : manager_(m) {}
+  void stateChanged(Component&, State, State) override {}
+  void faultDetected(Component& c, const FaultEvent& f) override { manager_.onFault(c, f); }
+  void runPending(Component& c) override { manager_.runPending(c); }
+  void recovered(Component& c, std::int64_t t) override { manager_.recovered(c, t); }
+
+ private:
+  FaultManager& manager_;
+};
+
+TEST(FaultManager, APassiveComponentFaultingInsideItsOwnCallbackIsResetAfterTheCallbackReturns) {
+  Rig rig;
+  rig.policy(Severity::Reset);
+  Hooks hooks(rig.manager);
+  coreOf(rig.arm).hooks = &hooks;
+  rig.arm.during_execute = [&] { runtime::reportFault(rig.arm, FaultEvent(FaultKind::User, "", "noticed")); };
+
+  (void)runtime::invoke(rig.arm, runtime::Callback::Execute);
+
+  // Not nested inside onExecute (its lock is recursive): the reset follows the callback.
+  EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onExecute", "onError", "onReset", "onRecover"}));
+  EXPECT_EQ(rig.arm.state(), State::Active);
+}
 
 TEST(FaultManager, WithoutAThreadAResetFaultIsLoggedFromDetectionToRecoveryUnderOneFaultId) {
   Rig rig;
@@ -303,7 +335,9 @@ TEST(FaultManager, AnEmergencyFaultRunsEveryOnEmergencyStopThenStopsTheFaultyCom
   EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"}) << "an emergency goes on as a stop";
   const auto log = rig.read();
   const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action stop"}));
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed",
+                                                         "action emergency_stop", "action stop"}))
+      << "the emergency stop is one of this fault's actions";
   const auto emergency = test::eventsOf(log, ev::kEmergency);
   ASSERT_EQ(emergency.size(), 1u);
   EXPECT_EQ(emergency[0][fd::kBy], "fault " + std::to_string(id) + " of arm");
