@@ -35,7 +35,8 @@ void report(const char* what, std::vector<std::int64_t> v) {
 
 int main(int argc, char** argv) {
   int n = (argc > 2 && std::string(argv[1]) == "--n") ? std::atoi(argv[2]) : 1000;
-  std::printf("| fault right after a 1 ms sleep, interleaved | n | p50 µs | p99 µs | max µs |\n|---|---|---|---|---|\n");
+  std::printf(
+      "| fault right after a 1 ms sleep, interleaved | n | p50 µs | p99 µs | max µs |\n|---|---|---|---|---|\n");
   std::thread t([n] {
     keel::runtime::installSignalHandlers();
     keel::runtime::installAltStack();

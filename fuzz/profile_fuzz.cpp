@@ -19,8 +19,7 @@ namespace {
 /// directory, so the fuzzer may also reach the file itself (reference cycles).
 const std::string& scratchPath() {
   static const std::string path =
-      (std::filesystem::temp_directory_path() / ("keel_profile_fuzz_" + std::to_string(getpid()) + ".xml"))
-          .string();
+      (std::filesystem::temp_directory_path() / ("keel_profile_fuzz_" + std::to_string(getpid()) + ".xml")).string();
   return path;
 }
 

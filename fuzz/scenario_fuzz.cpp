@@ -17,8 +17,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   static const std::string path =
-      (std::filesystem::temp_directory_path() / ("keel_scenario_fuzz_" + std::to_string(getpid()) + ".xml"))
-          .string();
+      (std::filesystem::temp_directory_path() / ("keel_scenario_fuzz_" + std::to_string(getpid()) + ".xml")).string();
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (f == nullptr) return 0;
   const bool written = std::fwrite(data, 1, size, f) == size;

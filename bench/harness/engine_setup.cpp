@@ -13,7 +13,7 @@ std::optional<profile::ProfileSet> loadProfiles(const std::string& file, std::st
 }
 
 std::unique_ptr<engine::Engine> createEngine(profile::ProfileSet set, const Paths& paths, const std::string& log,
-                                              std::function<void(const std::string&)> warn, std::string& error) {
+                                             std::function<void(const std::string&)> warn, std::string& error) {
   engine::EngineOptions opts;
   opts.log_path = log;
   opts.search_path = {paths.components};

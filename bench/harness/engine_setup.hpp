@@ -8,9 +8,9 @@
 #include <optional>
 #include <string>
 
+#include "engine/engine.hpp"
 #include "paths.hpp"
 #include "profile/loader.hpp"
-#include "engine/engine.hpp"
 
 namespace keel::bench {
 
@@ -20,7 +20,7 @@ std::optional<profile::ProfileSet> loadProfiles(const std::string& file, std::st
 /// An engine over `set` (libraries from paths.components, the fault log written to `log`),
 /// created, not started; its warnings go to `warn`. nullptr with the reason in `error`.
 std::unique_ptr<engine::Engine> createEngine(profile::ProfileSet set, const Paths& paths, const std::string& log,
-                                              std::function<void(const std::string&)> warn, std::string& error);
+                                             std::function<void(const std::string&)> warn, std::string& error);
 
 /// Starts it; false with the reason in `error`.
 bool startEngine(engine::Engine& engine, std::string& error);

@@ -34,8 +34,7 @@ FloorResult onCycles(int n, bool fifo, int every, const std::function<std::int64
     for (int cycle = 1; static_cast<int>(r.latencies_ns.size()) < n; ++cycle) {
       next += 1'000'000;
       const timespec at{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
-      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) != 0) {
-      }
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) != 0) {}
       if (cycle % every == 0) r.latencies_ns.push_back(fault());
     }
   });
@@ -96,8 +95,7 @@ FloorResult measureTimerFloor(int n, bool fifo) {
     for (int i = 0; i < n; ++i) {
       next += 1'000'000;  // a 1 ms periodic cycle, as the benchmark's executors run
       const timespec at{static_cast<time_t>(next / 1'000'000'000), static_cast<long>(next % 1'000'000'000)};
-      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) != 0) {
-      }
+      while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &at, nullptr) != 0) {}
       r.latencies_ns.push_back(nowNs() - next);
     }
   });

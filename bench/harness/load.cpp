@@ -47,7 +47,8 @@ BackgroundLoad::BackgroundLoad(int percent, LoadSource source, const std::string
   const bool stress = source != LoadSource::Internal && !stress_ng.empty();
   // --timeout bounds stress-ng should keel-bench die without stopping it.
   const std::vector<std::string> argv =
-      stress ? std::vector<std::string>{stress_ng, "--cpu", "0", "--cpu-load", std::to_string(percent), "--timeout", "7200s"}
+      stress ? std::vector<std::string>{stress_ng,   "--cpu", "0", "--cpu-load", std::to_string(percent),
+                                        "--timeout", "7200s"}
              : std::vector<std::string>{self_exe, "_load", std::to_string(percent)};
   const Fd null(::open("/dev/null", O_WRONLY | O_CLOEXEC));
   auto spawned = Process::spawn(argv, {.in = -1, .out = null.get(), .err = null.get()}, false, true);
@@ -74,8 +75,7 @@ int runInternalLoad(int percent) {
       auto next = std::chrono::steady_clock::now();
       while (!g_stop.load(std::memory_order_relaxed)) {
         const auto busy_until = next + busy;
-        while (std::chrono::steady_clock::now() < busy_until) {
-        }
+        while (std::chrono::steady_clock::now() < busy_until) {}
         next += period;
         std::this_thread::sleep_until(next);
       }

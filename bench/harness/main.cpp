@@ -249,16 +249,17 @@ void header(const Options& o, const std::string& what) {
 
 int recovery(Options o, const Paths& paths) {
   if (o.which.empty())
-    o.which = {"reset", "replace_cold", "replace_preloaded", "peer_erlang", "peer_respawn", "floor_wake", "floor_timer"};
+    o.which = {"reset",        "replace_cold", "replace_preloaded", "peer_erlang",
+               "peer_respawn", "floor_wake",   "floor_timer"};
   const auto low = lowLatency(o.low_latency);
   header(o, "recovery");
   const std::string log = fmt::format("/tmp/keel-bench-recovery.{}.log", ::getpid());
-  auto rows = runCells(o, paths, o.which, [&](const std::string& w, bool fifo, Row& row) {
-    recoveryCell(paths, o.n, log, w, fifo, row);
-  });
+  auto rows = runCells(o, paths, o.which,
+                       [&](const std::string& w, bool fifo, Row& row) { recoveryCell(paths, o.n, log, w, fifo, row); });
   std::remove(log.c_str());
   printTable3(rows, std::cout);
-  std::cout << "\nEvery cell (p50 / p99 / max over n faults; achieved: the machine's busy CPU time during the cell)\n\n";
+  std::cout
+      << "\nEvery cell (p50 / p99 / max over n faults; achieved: the machine's busy CPU time during the cell)\n\n";
   printCells(rows, false, std::cout);
   nlohmann::json j = nlohmann::json::array();
   for (const auto& r : rows) j.push_back(toJson(r, false));
@@ -268,16 +269,14 @@ int recovery(Options o, const Paths& paths) {
 }
 
 int detection(Options o, const Paths& paths) {
-  if (o.which.empty())
-  {
+  if (o.which.empty()) {
     for (auto k : kDetectionKinds) o.which.emplace_back(runtime::toString(k));
     for (const auto& f : kDetectionFloors) o.which.emplace_back(f.name);
   }
   const auto low = lowLatency(o.low_latency);
   header(o, "detection");
-  auto rows = runCells(o, paths, o.which, [&](const std::string& w, bool fifo, Row& row) {
-    detectionCell(o.n, w, fifo, row);
-  });
+  auto rows = runCells(o, paths, o.which,
+                       [&](const std::string& w, bool fifo, Row& row) { detectionCell(o.n, w, fifo, row); });
   std::cout << "\nDetection latency, detected − injected (p50 / p99 / max µs)\n\n";
   printCells(rows, true, std::cout);
   printFloorRatios(rows, std::cout);
@@ -288,7 +287,9 @@ int detection(Options o, const Paths& paths) {
 }
 
 void commonOptions(CLI::App& sub, Options& o, const std::string& items_help) {
-  sub.add_option("--loads", o.loads, "load levels, % busy on every CPU (0: idle)")->delimiter(',')->check(CLI::Range(0, 100));
+  sub.add_option("--loads", o.loads, "load levels, % busy on every CPU (0: idle)")
+      ->delimiter(',')
+      ->check(CLI::Range(0, 100));
   sub.add_option("--n", o.n, "faults per cell (at least 1000 for the numbers we publish)")->check(CLI::PositiveNumber);
   sub.add_flag("--quick", o.quick, "20 faults per cell: a smoke test of the harness, not of the numbers");
   sub.add_option("--policy", o.policy, "scheduling policy of the measured threads")
@@ -346,8 +347,8 @@ int main(int argc, char** argv) {
     }
     if (rec->parsed()) return recovery(o, paths);
     if (det->parsed()) return detection(o, paths);
-    std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n", fmt::join(sizes, "/"),
-                             o.quick ? 1 : trials, std::thread::hardware_concurrency())
+    std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
+                             fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())
               << std::flush;
     const auto rows = measureScale(paths, sizes, o.quick ? 1 : trials);
     printScale(rows, std::cout);

@@ -100,8 +100,8 @@ PeerResult runErlangPeer(const Paths& paths, int n, bool fifo) {
   if (std::string error = compileErlang(erlc, paths.peers, dir.path()); !error.empty()) return skip(error);
 
   n = std::max(n, 0);
-  std::vector<std::string> argv{erl,    "-noshell", "-noinput", "-pa", dir.path(),
-                                "-eval", "keel_bench_sup:main(" + std::to_string(n) + ")."};
+  std::vector<std::string> argv{
+      erl, "-noshell", "-noinput", "-pa", dir.path(), "-eval", "keel_bench_sup:main(" + std::to_string(n) + ")."};
   // Under SCHED_FIFO the schedulers' busy wait (the VM spins a while before sleeping) would
   // starve every SCHED_OTHER process on the machine, the load and the harness included; an
   // Erlang node run at real-time priority turns it off, and so do we.

@@ -204,10 +204,12 @@ Captured runCaptured(const std::vector<std::string>& argv, bool fifo, Deadline d
   }
   LineReader reader(pipe.read.get());
   while (auto line = reader.next(deadline)) out.lines.push_back(std::move(*line));
-  const auto status = proc->waitUntil(reader.atEnd() ? std::max(deadline, std::chrono::steady_clock::now() + std::chrono::seconds(5))
-                                                     : std::chrono::steady_clock::now());
+  const auto status = proc->waitUntil(
+      reader.atEnd() ? std::max(deadline, std::chrono::steady_clock::now() + std::chrono::seconds(5))
+                     : std::chrono::steady_clock::now());
   if (!status) {
-    out.error = "killed: no end within the time allowed (output: " + (out.lines.empty() ? "none" : out.lines.back()) + ")";
+    out.error = "killed: no end within the time allowed (output: " + (out.lines.empty() ? "none" : out.lines.back()) +
+                ")";
     return out;
   }
   out.status = WIFEXITED(*status) ? WEXITSTATUS(*status) : 128 + WTERMSIG(*status);

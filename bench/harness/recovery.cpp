@@ -37,7 +37,8 @@ std::optional<std::int64_t> inPlaceNs(const std::string& log_path) {
     auto r = nlohmann::json::parse(line, nullptr, false);
     if (r.is_discarded() || !r.contains("t_ns")) continue;
     if (r["event"] == "detected") detected = r["t_ns"].get<std::int64_t>();
-    if (r["event"] == "action" && r["action"] == "replace" && r["outcome"] == "ok") replaced = r["t_ns"].get<std::int64_t>();
+    if (r["event"] == "action" && r["action"] == "replace" && r["outcome"] == "ok")
+      replaced = r["t_ns"].get<std::int64_t>();
   }
   if (!detected || !replaced) return std::nullopt;
   return *replaced - *detected;
@@ -57,15 +58,17 @@ std::optional<profile::ProfileSet> loadPackage(Setup& setup, const std::string& 
 
 /// A fresh engine (the log rewritten), started.
 std::unique_ptr<engine::Engine> startEngine(Setup& setup, profile::ProfileSet set) {
-  auto engine = createEngine(std::move(set), setup.paths, setup.log_path,
-                             [&setup](const std::string& w) { addNote(setup.warnings, w); }, setup.error);
+  auto engine = createEngine(
+      std::move(set), setup.paths, setup.log_path, [&setup](const std::string& w) { addNote(setup.warnings, w); },
+      setup.error);
   if (!engine || !bench::startEngine(*engine, setup.error)) return nullptr;
   return engine;
 }
 
 /// Injects `kind` into the victim and waits for the handling of that fault to recover.
 /// Returns the Handling, or nullopt after `bound`.
-std::optional<fault::Handling> trial(engine::Engine& engine, runtime::InjectKind kind, std::chrono::milliseconds bound) {
+std::optional<fault::Handling> trial(engine::Engine& engine, runtime::InjectKind kind,
+                                     std::chrono::milliseconds bound) {
   Component* victim = engine.find("victim");
   auto& fm = engine.faultManager();
   const std::uint64_t id = fm.nextId();

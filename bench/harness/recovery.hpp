@@ -26,11 +26,11 @@ namespace keel::bench {
 struct RecoveryCell {
   std::vector<std::int64_t> latencies_ns;  // recovered − detected, one per recovered fault
   std::vector<std::int64_t> in_place_ns;   // replacements: detected → the `replace` action
-  std::size_t failed = 0;          // trials without a `recovered` within the bound
-  std::size_t unexpected = 0;      // trials whose actions were not the mechanism's
-  std::size_t already_mapped = 0;  // replace_cold: the library was mapped before the fault
-  std::string error;               // non-empty: the cell could not run (profile, engine)
-  std::string warnings;            // the engine's warnings (e.g. a policy it could not set)
+  std::size_t failed = 0;                  // trials without a `recovered` within the bound
+  std::size_t unexpected = 0;              // trials whose actions were not the mechanism's
+  std::size_t already_mapped = 0;          // replace_cold: the library was mapped before the fault
+  std::string error;                       // non-empty: the cell could not run (profile, engine)
+  std::string warnings;                    // the engine's warnings (e.g. a policy it could not set)
 };
 
 /// `n` faults of `mechanism` under SCHED_FIFO 50 (`fifo`) or SCHED_OTHER; the fault log goes

@@ -179,7 +179,8 @@ void printTable3(const std::vector<Row>& rows, std::ostream& out) {
     for (int load : loads) {
       out << fmt::format("| ~{}% |", load);
       for (const auto& k : keel)
-        for (const auto& p : peers) out << ' ' << ratio(find(rows, load, policy, k), find(rows, load, policy, p)) << " |";
+        for (const auto& p : peers)
+          out << ' ' << ratio(find(rows, load, policy, k), find(rows, load, policy, p)) << " |";
       out << '\n';
     }
   }

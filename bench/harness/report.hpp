@@ -15,18 +15,18 @@
 namespace keel::bench {
 
 struct Row {
-  int load = 0;               // the level asked for: % busy on every CPU
-  double load_achieved = 0;   // % of the machine's CPU time busy during the cell (everyone)
-  std::string load_source;    // stress-ng | internal | none
-  std::string what;           // recovery: the mechanism; detection: the injected kind
-  std::string detector;       // detection: the detector that finds it
-  std::string policy;         // other | fifo
+  int load = 0;              // the level asked for: % busy on every CPU
+  double load_achieved = 0;  // % of the machine's CPU time busy during the cell (everyone)
+  std::string load_source;   // stress-ng | internal | none
+  std::string what;          // recovery: the mechanism; detection: the injected kind
+  std::string detector;      // detection: the detector that finds it
+  std::string policy;        // other | fifo
   Summary s;
-  std::size_t failed = 0;     // faults not recovered / not detected within the bound
-  bool skipped = false;       // the cell did not run (note says why)
-  std::string note;           // why skipped, the engine's warnings, unexpected handlings
-  Summary floor;              // detection: the machine's floor for the same fault, measured
-                              // interleaved with this cell (n == 0: the kind has none)
+  std::size_t failed = 0;  // faults not recovered / not detected within the bound
+  bool skipped = false;    // the cell did not run (note says why)
+  std::string note;        // why skipped, the engine's warnings, unexpected handlings
+  Summary floor;           // detection: the machine's floor for the same fault, measured
+                           // interleaved with this cell (n == 0: the kind has none)
 };
 
 /// Appends `note` to `notes` ("; " between), unless it is there already.

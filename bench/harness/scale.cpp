@@ -70,18 +70,20 @@ std::string componentProfile(const Paths& paths) { return paths.profiles + "/Ben
 std::string packageXml(const std::string& name, int count, const std::string& reference) {
   std::string subs, tasks;
   for (int i = 0; i < count; ++i)
-    subs += fmt::format("    <subcomponent><name>c{}</name><reference>{}</reference>\n"
-                        "      <fault_policy><severity>stop</severity></fault_policy></subcomponent>\n",
-                        i, reference);
+    subs += fmt::format(
+        "    <subcomponent><name>c{}</name><reference>{}</reference>\n"
+        "      <fault_policy><severity>stop</severity></fault_policy></subcomponent>\n",
+        i, reference);
   for (int first = 0; first < count; first += kScaleTaskSize) {
     tasks += fmt::format("    <task name=\"t{}\" period=\"{}\">", first / kScaleTaskSize, kScalePeriodMs);
     for (int i = first; i < std::min(count, first + kScaleTaskSize); ++i)
       tasks += fmt::format("<member component=\"c{}\"/>", i);
     tasks += "</task>\n";
   }
-  return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<package_profile>\n  <name>{}</name>\n"
-                     "  <subcomponents>\n{}  </subcomponents>\n  <tasks>\n{}  </tasks>\n</package_profile>\n",
-                     name, subs, tasks);
+  return fmt::format(
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<package_profile>\n  <name>{}</name>\n"
+      "  <subcomponents>\n{}  </subcomponents>\n  <tasks>\n{}  </tasks>\n</package_profile>\n",
+      name, subs, tasks);
 }
 
 int applicationsFor(int components) { return (components + kScaleTaskSize - 1) / kScaleTaskSize; }
@@ -248,7 +250,6 @@ ScaleRow measureSize(const Paths& paths, const std::string& dir, int n, int tria
   return summariseRun(run, trials);
 }
 
-
 }  // namespace
 
 std::string writeScalePackage(const std::string& dir, const Paths& paths, int components) {
@@ -303,11 +304,12 @@ void printScale(const std::vector<ScaleRow>& rows, std::ostream& out) {
   for (const auto& r : rows) {
     std::string faults = fmt::format("{}", r.faults);
     if (r.failed) faults += fmt::format(", {} failed", r.failed);
-    out << fmt::format("| {} | {} | {} | {:.1f} | {:.1f} / {:.1f} / {:.1f} | {:.0f} | {:.1f} | {:.1f} / {:.1f} ({}) | "
-                       "{:.1f} / {:.1f} | {} |",
-                       r.components, r.applications, r.graph_nodes, r.startup_ms, r.load_ms, r.create_ms,
-                       r.start_ms, r.memory_kib, r.memory_kib_per_component, r.diagnosis_p50_us, r.diagnosis_p99_us, faults,
-                       r.graph_walk_p50_us, r.graph_walk_p99_us, r.trials);
+    out << fmt::format(
+        "| {} | {} | {} | {:.1f} | {:.1f} / {:.1f} / {:.1f} | {:.0f} | {:.1f} | {:.1f} / {:.1f} ({}) | "
+        "{:.1f} / {:.1f} | {} |",
+        r.components, r.applications, r.graph_nodes, r.startup_ms, r.load_ms, r.create_ms, r.start_ms, r.memory_kib,
+        r.memory_kib_per_component, r.diagnosis_p50_us, r.diagnosis_p99_us, faults, r.graph_walk_p50_us,
+        r.graph_walk_p99_us, r.trials);
     if (!r.error.empty()) out << " error: " << r.error;
     out << '\n';
   }

@@ -23,18 +23,18 @@ inline constexpr int kScalePeriodMs = 10;
 
 struct ScaleRow {
   int components = 0;
-  int applications = 0;             // of the system profile the diagnosis runs (a chain)
-  int graph_nodes = 0;              // nodes of the dependency graph the diagnosis walks
-  double startup_ms = 0;            // load + create + initialize + start, median of the trials
-  double load_ms = 0, create_ms = 0, start_ms = 0;  // its parts, each the median of the trials
-  double memory_kib = 0;             // resident set grown by one start-up, median of the trials
-  double memory_kib_per_component = 0;  // memory_kib / components
-  double diagnosis_p50_us = 0, diagnosis_p99_us = 0;  // detected → diagnosed
+  int applications = 0;                                 // of the system profile the diagnosis runs (a chain)
+  int graph_nodes = 0;                                  // nodes of the dependency graph the diagnosis walks
+  double startup_ms = 0;                                // load + create + initialize + start, median of the trials
+  double load_ms = 0, create_ms = 0, start_ms = 0;      // its parts, each the median of the trials
+  double memory_kib = 0;                                // resident set grown by one start-up, median of the trials
+  double memory_kib_per_component = 0;                  // memory_kib / components
+  double diagnosis_p50_us = 0, diagnosis_p99_us = 0;    // detected → diagnosed
   double graph_walk_p50_us = 0, graph_walk_p99_us = 0;  // the dependency graph's answer alone
-  int faults = 0;                   // faults behind the diagnosis percentiles
-  int failed = 0;                   // faults whose stop did not come, or not of the whole graph
+  int faults = 0;                                       // faults behind the diagnosis percentiles
+  int failed = 0;                                       // faults whose stop did not come, or not of the whole graph
   int trials = 0;
-  std::string error;                // non-empty: the size could not run (profile, engine)
+  std::string error;  // non-empty: the size could not run (profile, engine)
 };
 
 std::vector<ScaleRow> measureScale(const Paths& paths, const std::vector<int>& sizes, int trials);

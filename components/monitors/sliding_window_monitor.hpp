@@ -45,23 +45,22 @@ class SlidingWindowMonitor : public Component {
     monitored_ = property<std::string>("monitored", "");
 
     if (window < 1 || window > kMaxWindow)
-      rejectProperty("window", "must be between 1 and " + std::to_string(kMaxWindow) + " (got " +
-                         std::to_string(window) + ")");
+      rejectProperty("window",
+                     "must be between 1 and " + std::to_string(kMaxWindow) + " (got " + std::to_string(window) + ")");
     if (mode == "ratio") mode_ = Mode::Ratio;
     else if (mode == "absolute") mode_ = Mode::Absolute;
     else rejectProperty("mode", "must be 'ratio' or 'absolute' (got '" + mode + "')");
-    if (!std::isfinite(threshold_) || (mode_ == Mode::Ratio && threshold_ <= 0) ||
-        threshold_ < 0)
-      rejectProperty("threshold", std::string(mode_ == Mode::Ratio ? "must be > 0 in ratio mode"
-                                                         : "must be >= 0 in absolute mode") +
-                            " (got " + std::to_string(threshold_) + ")");
+    if (!std::isfinite(threshold_) || (mode_ == Mode::Ratio && threshold_ <= 0) || threshold_ < 0)
+      rejectProperty("threshold",
+                     std::string(mode_ == Mode::Ratio ? "must be > 0 in ratio mode" : "must be >= 0 in absolute mode") +
+                         " (got " + std::to_string(threshold_) + ")");
     if (min_consecutive < 1)
       rejectProperty("min_consecutive", "must be at least 1 (got " + std::to_string(min_consecutive) + ")");
     if (!std::isfinite(min_reference_) || min_reference_ < 0)
       rejectProperty("min_reference", "must be >= 0 (got " + std::to_string(min_reference_) + ")");
     if (monitored_.size() >= FaultEvent{}.component.size())
       rejectProperty("monitored", "is longer than a fault event can name (" +
-                            std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
+                                      std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
 
     min_consecutive_ = static_cast<std::size_t>(min_consecutive);
     target_avg_.reset(static_cast<std::size_t>(window));
@@ -98,8 +97,7 @@ class SlidingWindowMonitor : public Component {
       return;  // reference ~0 (standing still): the ratio says nothing; counters unchanged
     const double value = mode_ == Mode::Ratio ? ft / fr : ft - fr;
     residual.push(value);
-    const bool violating =
-        mode_ == Mode::Ratio ? value < threshold_ : std::fabs(value) > threshold_;
+    const bool violating = mode_ == Mode::Ratio ? value < threshold_ : std::fabs(value) > threshold_;
     track(violating, ft, fr, value);
   }
 
@@ -130,8 +128,7 @@ class SlidingWindowMonitor : public Component {
       std::snprintf(detail, sizeof detail,
                     "filtered target %.4g %s %.4g \u00d7 reference %.4g (ratio %.3g) for %zu "
                     "sample%s (window %zu)",
-                    ft, fr > 0 ? "<" : ">", threshold_, fr, value, n, plural,
-                    target_avg_.window());
+                    ft, fr > 0 ? "<" : ">", threshold_, fr, value, n, plural, target_avg_.window());
     else
       std::snprintf(detail, sizeof detail,
                     "|filtered target %.4g - reference %.4g| = %.4g > %.4g for %zu sample%s "
@@ -146,7 +143,6 @@ class SlidingWindowMonitor : public Component {
     violating_run_ = clear_run_ = 0;
     in_episode_ = false;
   }
-
 
   // configuration (onInitialize)
   Mode mode_ = Mode::Ratio;

@@ -46,8 +46,7 @@ class MedianVoterN : public Component {
       rejectProperty("tolerance", "must be >= 0 (got " + std::to_string(tolerance_) + ")");
     if (!std::isfinite(tolerance_ratio_) || tolerance_ratio_ < 0)
       rejectProperty("tolerance_ratio", "must be >= 0 (got " + std::to_string(tolerance_ratio_) + ")");
-    if (stale_after < 0)
-      rejectProperty("stale_after", "must be >= 0 (got " + std::to_string(stale_after) + ")");
+    if (stale_after < 0) rejectProperty("stale_after", "must be >= 0 (got " + std::to_string(stale_after) + ")");
     stale_after_ = static_cast<std::uint64_t>(stale_after);
     parseSources(sources);
     forget();
@@ -83,20 +82,17 @@ class MedianVoterN : public Component {
  private:
   struct Slot {
     double value = 0.0;
-    bool seen = false;         // delivered at least once
-    std::uint64_t age = 0;     // executions since the last delivery
-    bool reported = false;     // an outlier fault is open for this input
+    bool seen = false;      // delivered at least once
+    std::uint64_t age = 0;  // executions since the last delivery
+    bool reported = false;  // an outlier fault is open for this input
   };
 
   template <std::size_t... I>
-  static std::array<InputDataPort<double>, N> makeInputs(Component* self,
-                                                         std::index_sequence<I...>) {
+  static std::array<InputDataPort<double>, N> makeInputs(Component* self, std::index_sequence<I...>) {
     return {{InputDataPort<double>(self, "in" + std::to_string(I))...}};
   }
 
-  bool present(const Slot& s) const {
-    return s.seen && (stale_after_ == 0 || s.age < stale_after_);
-  }
+  bool present(const Slot& s) const { return s.seen && (stale_after_ == 0 || s.age < stale_after_); }
 
   void vote() {
     std::array<double, N> values{};
@@ -134,31 +130,26 @@ class MedianVoterN : public Component {
     if (s.reported) return;
     s.reported = true;
     char detail[192];  // formatted on the stack: no allocation on the fault path
-    if (!std::isfinite(s.value))
-      std::snprintf(detail, sizeof detail, "in%zu = %g is not a finite number", i, s.value);
+    if (!std::isfinite(s.value)) std::snprintf(detail, sizeof detail, "in%zu = %g is not a finite number", i, s.value);
     else if (tolerance_ratio_ > 0)
       std::snprintf(detail, sizeof detail,
                     "in%zu = %.4g deviates from median %.4g by %.4g (tolerance %.4g = %g "
                     "\u00d7 median)",
                     i, s.value, median, std::fabs(s.value - median), tol, tolerance_ratio_);
     else
-      std::snprintf(detail, sizeof detail,
-                    "in%zu = %.4g deviates from median %.4g by %.4g (tolerance %g)", i, s.value,
+      std::snprintf(detail, sizeof detail, "in%zu = %.4g deviates from median %.4g by %.4g (tolerance %g)", i, s.value,
                     median, std::fabs(s.value - median), tol);
     reportFault(FaultEvent(FaultKind::Vote, sources_[i], detail));
   }
 
   void reportNoMajority(std::size_t agree, double median, double tol) {
     char detail[192];
-    int n = std::snprintf(detail, sizeof detail,
-                          "no majority: %zu of %zu inputs within %.4g of median %.4g:", agree, N,
+    int n = std::snprintf(detail, sizeof detail, "no majority: %zu of %zu inputs within %.4g of median %.4g:", agree, N,
                           tol, median);
     for (std::size_t i = 0; i < N && n > 0 && static_cast<std::size_t>(n) < sizeof detail; ++i) {
       const std::size_t room = sizeof detail - static_cast<std::size_t>(n);
-      if (present(slots_[i]))
-        n += std::snprintf(detail + n, room, " in%zu=%.4g", i, slots_[i].value);
-      else
-        n += std::snprintf(detail + n, room, " in%zu=missing", i);
+      if (present(slots_[i])) n += std::snprintf(detail + n, room, " in%zu=%.4g", i, slots_[i].value);
+      else n += std::snprintf(detail + n, room, " in%zu=missing", i);
     }
     reportFault(FaultEvent(FaultKind::Vote, "", detail));  // about the voter itself
   }
@@ -171,12 +162,11 @@ class MedianVoterN : public Component {
       if (n < N) names[n] = w;
       if (w.size() >= FaultEvent{}.component.size())
         rejectProperty("sources", "names '" + w + "', longer than a fault event can name (" +
-                            std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
+                                      std::to_string(FaultEvent{}.component.size() - 1) + " characters)");
     }
     if (n != 0 && n != N)
-      rejectProperty("sources", "must name " + std::to_string(N) +
-                          " components, one per input in order (got " + std::to_string(n) +
-                          ": '" + text + "')");
+      rejectProperty("sources", "must name " + std::to_string(N) + " components, one per input in order (got " +
+                                    std::to_string(n) + ": '" + text + "')");
     sources_ = std::move(names);  // empty names: faults are about the voter itself
   }
 
@@ -185,10 +175,9 @@ class MedianVoterN : public Component {
     no_majority_reported_ = false;
   }
 
-
   // configuration (onInitialize)
   double tolerance_ = 10.0;
-  double tolerance_ratio_ = 0.0;  // > 0: tolerance relative to |median| instead
+  double tolerance_ratio_ = 0.0;   // > 0: tolerance relative to |median| instead
   std::uint64_t stale_after_ = 0;  // > 0: an input silent this many executions is missing
   std::array<std::string, N> sources_{};
   // state

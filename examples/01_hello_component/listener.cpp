@@ -15,8 +15,8 @@ class Listener : public keel::Component {
 
   keel::ReturnCode onEvent(keel::InputEventPortBase& port) override {
     if (&port == &news)
-      std::printf("[%s] %s: %ld (last count seen: %d)\n", instanceName().c_str(),
-                  news.current().name.c_str(), static_cast<long>(news.current().code), last_);
+      std::printf("[%s] %s: %ld (last count seen: %d)\n", instanceName().c_str(), news.current().name.c_str(),
+                  static_cast<long>(news.current().code), last_);
     return keel::ReturnCode::Ok;
   }
 

@@ -21,8 +21,8 @@ template <class T>
 class InputDataPort final : public detail::InputPortBase, private detail::Sink<T> {
  public:
   InputDataPort(Component* owner, std::string name)
-      : InputPortBase(owner, std::move(name), detail::PortKind::Data, detail::PortDirection::Input,
-                      typeid(T), ::keel::typeName<T>()) {}
+      : InputPortBase(owner, std::move(name), detail::PortKind::Data, detail::PortDirection::Input, typeid(T),
+                      ::keel::typeName<T>()) {}
 
   /// The next value by the queue policy, or nothing if the queue is empty.
   std::optional<T> pop() { return queue_.pop(); }
@@ -32,9 +32,7 @@ class InputDataPort final : public detail::InputPortBase, private detail::Sink<T
   bool numeric() const override { return detail::NumericTraits<T>::numeric; }
 
   // ---- runtime side ----
-  void configureQueue(detail::QueuePolicy policy, std::size_t size) override {
-    queue_.configure(policy, size);
-  }
+  void configureQueue(detail::QueuePolicy policy, std::size_t size) override { queue_.configure(policy, size); }
   std::size_t capacity() const override { return queue_.capacity(); }
   std::size_t queued() const override { return queue_.size(); }
   std::size_t dropped() const override { return queue_.dropped(); }
@@ -67,8 +65,8 @@ template <class T>
 class OutputDataPort final : public detail::OutputPortBase {
  public:
   OutputDataPort(Component* owner, std::string name)
-      : OutputPortBase(owner, std::move(name), detail::PortKind::Data,
-                       detail::PortDirection::Output, typeid(T), ::keel::typeName<T>()) {}
+      : OutputPortBase(owner, std::move(name), detail::PortKind::Data, detail::PortDirection::Output, typeid(T),
+                       ::keel::typeName<T>()) {}
 
   /// Sends `value` to every connected input. A value that violates the port's validity rule
   /// is a `range` fault of this component and is not sent.

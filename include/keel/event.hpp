@@ -8,9 +8,9 @@
 namespace keel {
 
 struct Event {
-  std::string name;        // what happened, e.g. "obstacle_close"
-  std::int64_t code = 0;   // an application-defined code
-  double value = 0.0;      // an application-defined value
+  std::string name;       // what happened, e.g. "obstacle_close"
+  std::int64_t code = 0;  // an application-defined code
+  double value = 0.0;     // an application-defined value
 };
 
 }  // namespace keel

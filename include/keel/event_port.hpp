@@ -29,8 +29,8 @@ template <class T = Event>
 class InputEventPort final : public InputEventPortBase, private detail::Sink<T> {
  public:
   InputEventPort(Component* owner, std::string name)
-      : InputEventPortBase(owner, std::move(name), detail::PortKind::Event,
-                           detail::PortDirection::Input, typeid(T), ::keel::typeName<T>()),
+      : InputEventPortBase(owner, std::move(name), detail::PortKind::Event, detail::PortDirection::Input, typeid(T),
+                           ::keel::typeName<T>()),
         queue_(64, detail::QueuePolicy::Fifo) {}
 
   /// The event being delivered (valid inside onEvent for this port).
@@ -43,9 +43,7 @@ class InputEventPort final : public InputEventPortBase, private detail::Sink<T> 
     current_ = std::move(*next);
     return true;
   }
-  void configureQueue(detail::QueuePolicy policy, std::size_t size) override {
-    queue_.configure(policy, size);
-  }
+  void configureQueue(detail::QueuePolicy policy, std::size_t size) override { queue_.configure(policy, size); }
   std::size_t capacity() const override { return queue_.capacity(); }
   std::size_t queued() const override { return queue_.size(); }
   std::size_t dropped() const override { return queue_.dropped(); }
@@ -72,8 +70,8 @@ template <class T = Event>
 class OutputEventPort final : public detail::OutputPortBase {
  public:
   OutputEventPort(Component* owner, std::string name)
-      : OutputPortBase(owner, std::move(name), detail::PortKind::Event,
-                       detail::PortDirection::Output, typeid(T), ::keel::typeName<T>()) {}
+      : OutputPortBase(owner, std::move(name), detail::PortKind::Event, detail::PortDirection::Output, typeid(T),
+                       ::keel::typeName<T>()) {}
 
   /// Sends `event` to every connected input event port.
   void send(const T& event) {

@@ -30,11 +30,9 @@ constexpr bool allowed(State from, Transition t) {
     case Transition::Start: return from == State::Ready || from == State::Inactive;
     case Transition::Stop: return from == State::Active;
     case Transition::Destroy:
-      return from == State::Created || from == State::Ready || from == State::Inactive ||
-             from == State::Error;
+      return from == State::Created || from == State::Ready || from == State::Inactive || from == State::Error;
     case Transition::Fault:
-      return from == State::Created || from == State::Active || from == State::Ready ||
-             from == State::Inactive;
+      return from == State::Created || from == State::Active || from == State::Ready || from == State::Inactive;
     case Transition::Recover: return from == State::Error;
   }
   return false;

@@ -25,8 +25,7 @@ class PropertyError : public std::runtime_error {
 
 namespace detail {
 
-[[noreturn]] void throwPropertyError(std::string_view component, std::string_view name,
-                                     std::string_view why);
+[[noreturn]] void throwPropertyError(std::string_view component, std::string_view name, std::string_view why);
 
 template <class T>
 T propertyAs(const PropertyValue* v, std::string_view component, std::string_view name) {
@@ -54,8 +53,9 @@ T propertyAs(const PropertyValue* v, std::string_view component, std::string_vie
     if (auto* d = std::get_if<double>(v)) return {*d};
     throwPropertyError(component, name, "is not a double[]");
   } else {
-    static_assert(!sizeof(T*), "property<T>: T must be bool, an integer, a floating point, "
-                               "std::string or std::vector<double>");
+    static_assert(!sizeof(T*),
+                  "property<T>: T must be bool, an integer, a floating point, "
+                  "std::string or std::vector<double>");
   }
 }
 

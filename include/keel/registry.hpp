@@ -23,11 +23,10 @@ bool registerComponent(const char* name, Factory factory) noexcept;
 #define KEEL_DETAIL_CAT(a, b) KEEL_DETAIL_CAT2(a, b)
 
 /// Registers `Class` under the name `NAME` (a string literal).
-#define KEEL_REGISTER_COMPONENT_AS(Class, NAME)                                            \
-  namespace {                                                                              \
-  [[maybe_unused]] const bool KEEL_DETAIL_CAT(keel_registered_, __COUNTER__) =             \
-      ::keel::detail::registerComponent(                                                   \
-          NAME, []() -> std::unique_ptr<::keel::Component> { return std::make_unique<Class>(); }); \
+#define KEEL_REGISTER_COMPONENT_AS(Class, NAME)                                                                   \
+  namespace {                                                                                                     \
+  [[maybe_unused]] const bool KEEL_DETAIL_CAT(keel_registered_, __COUNTER__) = ::keel::detail::registerComponent( \
+      NAME, []() -> std::unique_ptr<::keel::Component> { return std::make_unique<Class>(); });                    \
   }
 
 /// Registers `Class` under its own name, as written ("Sonar", or "robot::Sonar").

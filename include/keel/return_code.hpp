@@ -9,12 +9,12 @@ namespace keel {
 
 enum class ReturnCode : int {
   Ok = 0,
-  BadInput = 400,             // OPROS_BAD_INPUT_PARAMETER
-  CallApiError = 401,         // OPROS_CALL_API_ERROR
-  InputOutOfRange = 402,      // OPROS_INPUT_OUT_OF_RANGE
-  PreconditionNotMet = 405,   // OPROS_PRECONDITION_NOT_MET
-  InternalFault = 500,        // OPROS_INTERNAL_FAULT
-  Unsupported = 501,          // OPROS_UNSUPPORTED_METHOD
+  BadInput = 400,            // OPROS_BAD_INPUT_PARAMETER
+  CallApiError = 401,        // OPROS_CALL_API_ERROR
+  InputOutOfRange = 402,     // OPROS_INPUT_OUT_OF_RANGE
+  PreconditionNotMet = 405,  // OPROS_PRECONDITION_NOT_MET
+  InternalFault = 500,       // OPROS_INTERNAL_FAULT
+  Unsupported = 501,         // OPROS_UNSUPPORTED_METHOD
 };
 
 constexpr bool ok(ReturnCode rc) { return rc == ReturnCode::Ok; }

@@ -35,8 +35,7 @@ class ServiceCall {
 /// Runs `call` as a callback of `provider` and waits up to `timeout`. Returns an empty
 /// message on success, or why it failed (timeout, provider not active, provider faulted).
 /// Defined in libkeel.
-std::string invokeService(Component& provider, const std::string& port,
-                          const std::shared_ptr<ServiceCall>& call,
+std::string invokeService(Component& provider, const std::string& port, const std::shared_ptr<ServiceCall>& call,
                           std::chrono::nanoseconds timeout);
 
 template <class R>
@@ -49,7 +48,10 @@ class ServicePortBase : public detail::PortBase {
  public:
   using PortBase::PortBase;
   /// Required side: binds to a provided port of the same signature; false on mismatch.
-  virtual bool bind(ServicePortBase& provided) { (void)provided; return false; }
+  virtual bool bind(ServicePortBase& provided) {
+    (void)provided;
+    return false;
+  }
   /// Required side: the default call timeout (from the profile).
   virtual void setTimeout(std::chrono::nanoseconds timeout) { (void)timeout; }
 };
@@ -63,9 +65,8 @@ template <class R, class... A>
 class ProvidedServicePort<R(A...)> final : public ServicePortBase {
  public:
   ProvidedServicePort(Component* owner, std::string name, std::function<R(A...)> fn)
-      : ServicePortBase(owner, std::move(name), detail::PortKind::Service,
-                        detail::PortDirection::Input, typeid(R(A...)),
-                        detail::demangle(typeid(R(A...)).name())),
+      : ServicePortBase(owner, std::move(name), detail::PortKind::Service, detail::PortDirection::Input,
+                        typeid(R(A...)), detail::demangle(typeid(R(A...)).name())),
         fn_(std::move(fn)) {}
 
   R invoke(A... args) const { return fn_(std::forward<A>(args)...); }
@@ -80,9 +81,8 @@ class RequiredServicePort<R(A...)> final : public ServicePortBase {
   using Value = detail::Returned<R>;
 
   RequiredServicePort(Component* owner, std::string name)
-      : ServicePortBase(owner, std::move(name), detail::PortKind::Service,
-                        detail::PortDirection::Output, typeid(R(A...)),
-                        detail::demangle(typeid(R(A...)).name())) {}
+      : ServicePortBase(owner, std::move(name), detail::PortKind::Service, detail::PortDirection::Output,
+                        typeid(R(A...)), detail::demangle(typeid(R(A...)).name())) {}
 
   /// Calls the connected provider with the profile's timeout.
   Result<Value> call(A... args) const { return callWithin(timeout_, std::move(args)...); }
@@ -100,8 +100,7 @@ class RequiredServicePort<R(A...)> final : public ServicePortBase {
   bool connected() const { return provider_.load(std::memory_order_acquire) != nullptr; }
 
   bool bind(ServicePortBase& provided) override {
-    if (provided.type() != type() || provided.direction() != detail::PortDirection::Input)
-      return false;
+    if (provided.type() != type() || provided.direction() != detail::PortDirection::Input) return false;
     // atomic: a replacement provider is bound while this port's owner may be calling
     provider_.store(static_cast<ProvidedServicePort<R(A...)>*>(&provided), std::memory_order_release);
     return true;

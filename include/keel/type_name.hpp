@@ -24,10 +24,10 @@ struct TypeName {
   static std::string get() { return detail::demangle(typeid(T).name()); }
 };
 
-#define KEEL_TYPE_NAME(T, NAME)                        \
-  template <>                                          \
-  struct keel::TypeName<T> {                           \
-    static std::string get() { return NAME; }          \
+#define KEEL_TYPE_NAME(T, NAME)               \
+  template <>                                 \
+  struct keel::TypeName<T> {                  \
+    static std::string get() { return NAME; } \
   }
 
 template <class T>
@@ -36,9 +36,9 @@ const std::string& typeName() {
   return name;
 }
 
-#define KEEL_DETAIL_BUILTIN_NAME(T, NAME) \
-  template <>                             \
-  struct TypeName<T> {                    \
+#define KEEL_DETAIL_BUILTIN_NAME(T, NAME)     \
+  template <>                                 \
+  struct TypeName<T> {                        \
     static std::string get() { return NAME; } \
   };
 KEEL_DETAIL_BUILTIN_NAME(bool, "bool")

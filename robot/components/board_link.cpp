@@ -25,8 +25,8 @@ std::string defaultProgram() {
   char self[PATH_MAX] = {};
   const ssize_t n = readlink("/proc/self/exe", self, sizeof self - 1);
   if (n <= 0) return "keel_motion_board";
-  return (std::filesystem::path(std::string(self, static_cast<std::size_t>(n))).parent_path() /
-          "keel_motion_board").string();
+  return (std::filesystem::path(std::string(self, static_cast<std::size_t>(n))).parent_path() / "keel_motion_board")
+      .string();
 }
 
 /// One line from `fd` within `timeout_ms`, without the newline; "" on timeout or EOF.
@@ -63,11 +63,16 @@ BoardLink::BoardLink(const BoardLinkConfig& config) {
 void BoardLink::spawn(const BoardLinkConfig& config) {
   const std::string program = config.program.empty() ? defaultProgram() : config.program;
   std::vector<std::string> args = {program,
-                                   "--seed", std::to_string(config.sim.seed),
-                                   "--world", config.sim.world,
-                                   "--deadman-ms", std::to_string(config.sim.deadman_ms),
-                                   "--period-ms", std::to_string(config.period_ms),
-                                   "--noise", std::to_string(config.sim.sonar_noise_cm)};
+                                   "--seed",
+                                   std::to_string(config.sim.seed),
+                                   "--world",
+                                   config.sim.world,
+                                   "--deadman-ms",
+                                   std::to_string(config.sim.deadman_ms),
+                                   "--period-ms",
+                                   std::to_string(config.period_ms),
+                                   "--noise",
+                                   std::to_string(config.sim.sonar_noise_cm)};
   if (!config.sim.truth_path.empty()) {
     args.push_back("--truth");
     args.push_back(config.sim.truth_path);

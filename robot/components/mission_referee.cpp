@@ -27,7 +27,10 @@ ReturnCode MissionReferee::onInitialize() {
   if (!trace.empty()) {
     trace_ = std::fopen(trace.c_str(), "w");
     if (trace_ == nullptr) rejectProperty("trace", "names a file that cannot be written: " + trace);
-    std::fputs("t_s,x_m,y_m,heading_rad,rpm_left,rpm_right,measured_left,measured_right,reference_left,reference_right,clearance_m,collisions\n", trace_);
+    std::fputs(
+        "t_s,x_m,y_m,heading_rad,rpm_left,rpm_right,measured_left,measured_right,reference_left,reference_right,"
+        "clearance_m,collisions\n",
+        trace_);
     writeWorld(trace + ".world.json");
   }
   return ReturnCode::Ok;
@@ -69,10 +72,10 @@ void MissionReferee::finish(const char* how) {
   const std::string fields = fmt::format(
       R"("goal_reached":{},"collisions":{},"min_clearance_cm":{:.1f},"duration_s":{:.2f},"ended":"{}","distance_to_target_m":{:.2f},"x_m":{:.3f},"y_m":{:.3f})",
       goal, static_cast<int>(t.collisions), clearance_cm, duration, how, distance, t.x_m, t.y_m);
-  const std::string summary = fmt::format(
-      "mission {} — goal {}, {} collision{}, min clearance {:.1f} cm, {:.1f} s, {:.2f} m from the target",
-      how, goal ? "reached" : "not reached", static_cast<int>(t.collisions), t.collisions == 1 ? "" : "s",
-      clearance_cm, duration, distance);
+  const std::string summary =
+      fmt::format("mission {} — goal {}, {} collision{}, min clearance {:.1f} cm, {:.1f} s, {:.2f} m from the target",
+                  how, goal ? "reached" : "not reached", static_cast<int>(t.collisions), t.collisions == 1 ? "" : "s",
+                  clearance_cm, duration, distance);
   endRun(summary, "mission", fields);
 }
 
@@ -103,8 +106,9 @@ void MissionReferee::writeWorld(const std::string& path) const {
     boxes += fmt::format("{}[{},{},{},{}]", boxes.empty() ? "" : ",", b.min_x, b.min_y, b.max_x, b.max_y);
   const Target& t = world_->target();
   const Pose& s = world_->start();
-  std::fprintf(f, "{\"boxes\":[%s],\"target\":{\"x\":%g,\"y\":%g,\"r\":%g},\"start\":{\"x\":%g,\"y\":%g,\"heading\":%g}}\n",
-               boxes.c_str(), t.x_m, t.y_m, t.radius_m, s.x_m, s.y_m, s.heading_rad);
+  std::fprintf(
+      f, "{\"boxes\":[%s],\"target\":{\"x\":%g,\"y\":%g,\"r\":%g},\"start\":{\"x\":%g,\"y\":%g,\"heading\":%g}}\n",
+      boxes.c_str(), t.x_m, t.y_m, t.radius_m, s.x_m, s.y_m, s.heading_rad);
   std::fclose(f);
 }
 

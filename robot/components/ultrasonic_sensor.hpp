@@ -20,8 +20,7 @@ class UltrasonicSensor : public Component {
 
   ReturnCode onInitialize() override {
     const auto index = property<std::int64_t>("index", 0);
-    if (index < 0 || index > 3)
-      rejectProperty("index", "must be 0..3 (got " + std::to_string(index) + ")");
+    if (index < 0 || index > 3) rejectProperty("index", "must be 0..3 (got " + std::to_string(index) + ")");
     index_ = static_cast<std::size_t>(index);
     return ReturnCode::Ok;
   }

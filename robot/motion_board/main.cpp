@@ -9,9 +9,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
-#include <memory>
 #include <array>
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -19,6 +18,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <string>
 
 #include "robot/sim/board_server.hpp"
@@ -33,8 +33,7 @@ struct Options {
   int period_ms = 20;
 };
 
-constexpr const char* kUsage =
-    "use --seed N, --deadman-ms N, --period-ms N, --world NAME, --truth PATH, --noise CM";
+constexpr const char* kUsage = "use --seed N, --deadman-ms N, --period-ms N, --world NAME, --truth PATH, --noise CM";
 
 bool parseInt(const char* text, long long min, long long& out) {
   char* end = nullptr;
@@ -70,8 +69,8 @@ bool parseNumberOption(const std::string& flag, const char* text, Options& optio
 bool parseOptions(int argc, char** argv, Options& options) {
   for (int i = 1; i < argc; i += 2) {
     const std::string flag = argv[i];
-    const bool known = flag == "--seed" || flag == "--deadman-ms" || flag == "--period-ms" ||
-                       flag == "--world" || flag == "--truth" || flag == "--noise";
+    const bool known = flag == "--seed" || flag == "--deadman-ms" || flag == "--period-ms" || flag == "--world" ||
+                       flag == "--truth" || flag == "--noise";
     if (!known) {
       std::fprintf(stderr, "keel_motion_board: unknown option %s (%s)\n", flag.c_str(), kUsage);
       return false;

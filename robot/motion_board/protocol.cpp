@@ -8,8 +8,8 @@
 namespace keel::robot {
 namespace {
 
-constexpr std::size_t kMotionLength = 3;  // motion_type u8, parameter i16
-constexpr std::size_t kFaultLength = 4;   // kind u8, index u8, value u16
+constexpr std::size_t kMotionLength = 3;   // motion_type u8, parameter i16
+constexpr std::size_t kFaultLength = 4;    // kind u8, index u8, value u16
 constexpr std::size_t kStatusLength = 16;  // left i32, right i32, 4 × sonar u16
 
 std::optional<std::size_t> payloadLength(std::uint8_t type) {
@@ -30,9 +30,7 @@ void put32(std::vector<std::uint8_t>& out, std::uint32_t v) {
   for (int shift = 0; shift < 32; shift += 8) out.push_back(static_cast<std::uint8_t>(v >> shift));
 }
 
-std::uint16_t get16(const std::uint8_t* p) {
-  return static_cast<std::uint16_t>(p[0] | (p[1] << 8));
-}
+std::uint16_t get16(const std::uint8_t* p) { return static_cast<std::uint16_t>(p[0] | (p[1] << 8)); }
 
 std::uint32_t get32(const std::uint8_t* p) {
   return static_cast<std::uint32_t>(p[0]) | (static_cast<std::uint32_t>(p[1]) << 8) |
@@ -101,8 +99,7 @@ std::uint8_t crc8(std::span<const std::uint8_t> bytes) {
   std::uint8_t crc = 0;
   for (std::uint8_t byte : bytes) {
     crc ^= byte;
-    for (int bit = 0; bit < 8; ++bit)
-      crc = static_cast<std::uint8_t>((crc & 0x80) ? (crc << 1) ^ 0x07 : crc << 1);
+    for (int bit = 0; bit < 8; ++bit) crc = static_cast<std::uint8_t>((crc & 0x80) ? (crc << 1) ^ 0x07 : crc << 1);
   }
   return crc;
 }
@@ -132,14 +129,26 @@ std::vector<Frame> Decoder::feed(std::span<const std::uint8_t> bytes) {
     const std::size_t avail = buffer_.size() - pos;
     if (avail < 2) break;
     const auto length = payloadLength(buffer_[pos + 1]);
-    if (!length) { reject(stats_.unknown_type); continue; }
+    if (!length) {
+      reject(stats_.unknown_type);
+      continue;
+    }
     if (avail < 3) break;
-    if (buffer_[pos + 2] != *length) { reject(stats_.bad_length); continue; }
+    if (buffer_[pos + 2] != *length) {
+      reject(stats_.bad_length);
+      continue;
+    }
     if (avail < kFrameOverhead + *length) break;
     const std::uint8_t expected = crc8(std::span(buffer_).subspan(pos + 1, 2 + *length));
-    if (buffer_[pos + 3 + *length] != expected) { reject(stats_.bad_checksum); continue; }
+    if (buffer_[pos + 3 + *length] != expected) {
+      reject(stats_.bad_checksum);
+      continue;
+    }
     auto frame = parsePayload(static_cast<FrameType>(buffer_[pos + 1]), &buffer_[pos + 3]);
-    if (!frame) { reject(stats_.bad_content); continue; }
+    if (!frame) {
+      reject(stats_.bad_content);
+      continue;
+    }
     frames.push_back(*frame);
     ++stats_.frames;
     pos += kFrameOverhead + *length;

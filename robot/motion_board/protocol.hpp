@@ -43,8 +43,8 @@ enum class SonarId : std::uint8_t { FrontA = 0, FrontB = 1, FrontC = 2, Back = 3
 inline constexpr std::size_t kSonarCount = 4;
 
 struct StatusReport {
-  std::int32_t left_encoder = 0;   // counts, wrapping
-  std::int32_t right_encoder = 0;  // counts, wrapping
+  std::int32_t left_encoder = 0;                      // counts, wrapping
+  std::int32_t right_encoder = 0;                     // counts, wrapping
   std::array<std::uint16_t, kSonarCount> sonar_cm{};  // 3..3000, 0 = unplugged / no echo
   bool operator==(const StatusReport&) const = default;
 };

@@ -32,8 +32,7 @@ double normaliseAngle(double a) {
 
 }  // namespace
 
-Simulator::Simulator(SimulatorConfig config)
-    : config_(std::move(config)), rng_(config_.seed), pose_(config_.start) {
+Simulator::Simulator(SimulatorConfig config) : config_(std::move(config)), rng_(config_.seed), pose_(config_.start) {
   sampleSonars();
 }
 
@@ -118,9 +117,7 @@ std::int32_t Simulator::encoder(Wheel wheel) const {
   return static_cast<std::int32_t>(static_cast<std::uint32_t>(counts));  // a 32-bit counter wraps
 }
 
-StatusReport Simulator::status() const {
-  return StatusReport{encoder(Wheel::Left), encoder(Wheel::Right), sonar_cm_};
-}
+StatusReport Simulator::status() const { return StatusReport{encoder(Wheel::Left), encoder(Wheel::Right), sonar_cm_}; }
 
 double Simulator::rawRangeCm(std::size_t sonar) const {
   const Mount& m = kMounts[sonar];

@@ -44,11 +44,11 @@ struct SimulatorConfig {
   double track_width_m = 0.140;          // wheel to wheel across the 140 mm body
   double body_length_m = 0.210;          // front/back sonars sit at ± half of it
   int counts_per_revolution = 360;
-  double max_rpm = 300.0;                // commands are clamped to ± this
-  double sonar_half_angle_rad = 0.26;   // ±15° beam; 0 = a single ray
-  int sonar_beam_rays = 7;               // rays spread across the beam (at least 2 when > 0)
+  double max_rpm = 300.0;              // commands are clamped to ± this
+  double sonar_half_angle_rad = 0.26;  // ±15° beam; 0 = a single ray
+  int sonar_beam_rays = 7;             // rays spread across the beam (at least 2 when > 0)
   Pose start{};
-  RayCast ray_cast;                      // empty: free space, every ray reads kFreeSpaceCm
+  RayCast ray_cast;  // empty: free space, every ray reads kFreeSpaceCm
 };
 
 class Simulator {

@@ -14,18 +14,18 @@
 namespace keel::robot {
 
 struct NavigatorConfig {
-  int cruise_rpm = 120;           // forward speed
-  int turn_rpm = 80;              // rpm difference when turning in place to avoid or search
-  int min_steer_rpm = 30;         // smallest rpm difference when steering toward the target
-  double steer_gain = 4.0;        // rpm difference per degree of bearing
-  double aligned_deg = 6.0;       // drive forward when the target is within this bearing
-  double min_blob_px = 4.0;       // smaller blobs are noise
-  double goal_height_px = 30.0;   // the target this tall and centred, and blocked: arrived
+  int cruise_rpm = 120;          // forward speed
+  int turn_rpm = 80;             // rpm difference when turning in place to avoid or search
+  int min_steer_rpm = 30;        // smallest rpm difference when steering toward the target
+  double steer_gain = 4.0;       // rpm difference per degree of bearing
+  double aligned_deg = 6.0;      // drive forward when the target is within this bearing
+  double min_blob_px = 4.0;      // smaller blobs are noise
+  double goal_height_px = 30.0;  // the target this tall and centred, and blocked: arrived
   double goal_bearing_deg = 15.0;
-  double extra_turn_s = 0.20;     // keep turning this long once the way ahead is clear
-  double detour_s = 1.5;          // then drive forward this long
-  double lost_after_s = 0.5;      // no target this long: search
-  double stale_after_s = 0.5;     // obstacle information older than this: halt
+  double extra_turn_s = 0.20;  // keep turning this long once the way ahead is clear
+  double detour_s = 1.5;       // then drive forward this long
+  double lost_after_s = 0.5;   // no target this long: search
+  double stale_after_s = 0.5;  // obstacle information older than this: halt
 };
 
 /// What the obstacle-avoidance component reports: the filtered range ahead and whether the way

@@ -12,8 +12,7 @@ namespace keel::robot {
 
 class WheelReference {
  public:
-  WheelReference(double time_constant_s, double sample_s)
-      : alpha_(1.0 - std::exp(-sample_s / time_constant_s)) {}
+  WheelReference(double time_constant_s, double sample_s) : alpha_(1.0 - std::exp(-sample_s / time_constant_s)) {}
 
   /// Advances by one sample toward `target` (left, right rpm); returns the modelled rpm.
   const std::array<double, 2>& update(const std::array<double, 2>& target) {

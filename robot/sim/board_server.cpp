@@ -32,14 +32,14 @@ void serveBoard(int fd, SimHost& host, int period_ms, const std::atomic<bool>& s
     const auto now = std::chrono::steady_clock::now();
     if (now < next) continue;
     const auto frame = host.step(period_ms / 1000.0);
-    if (write(fd, frame.data(), frame.size()) < 0) { /* nobody reading: drop the frame */ }
+    if (write(fd, frame.data(), frame.size()) < 0) { /* nobody reading: drop the frame */
+    }
     next += period;
     if (now - next > 10 * period) next = now + period;  // fell far behind (stopped?): resync
   }
 }
 
-InProcessBoard::InProcessBoard(const SimHostConfig& config, int period_ms)
-    : host_(std::make_unique<SimHost>(config)) {
+InProcessBoard::InProcessBoard(const SimHostConfig& config, int period_ms) : host_(std::make_unique<SimHost>(config)) {
   int fds[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
     throw std::runtime_error(std::string("socketpair: ") + std::strerror(errno));

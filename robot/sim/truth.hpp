@@ -15,19 +15,19 @@ namespace keel::robot {
 
 /// One instant of the simulated world.
 struct TruthSample {
-  double t_s = 0.0;           // simulated time
+  double t_s = 0.0;  // simulated time
   double x_m = 0.0;
   double y_m = 0.0;
   double heading_rad = 0.0;
-  double rpm_left = 0.0;      // true wheel speeds
+  double rpm_left = 0.0;  // true wheel speeds
   double rpm_right = 0.0;
-  double clearance_m = 0.0;   // body to the nearest box now (0: touching or overlapping)
+  double clearance_m = 0.0;      // body to the nearest box now (0: touching or overlapping)
   double min_clearance_m = 0.0;  // smallest clearance so far
-  double collisions = 0.0;    // collision episodes so far (the body entering a box)
-  double deadman = 0.0;       // 1 while the deadman holds the motors
-  double powered_left = 1.0;  // 0 while that driver has no power
+  double collisions = 0.0;       // collision episodes so far (the body entering a box)
+  double deadman = 0.0;          // 1 while the deadman holds the motors
+  double powered_left = 1.0;     // 0 while that driver has no power
   double powered_right = 1.0;
-  std::uint64_t steps = 0;    // simulation steps so far
+  std::uint64_t steps = 0;  // simulation steps so far
 };
 
 /// The shared-memory path for a simulation named `name` ("robot" -> /dev/shm/keel-robot-<pid>

@@ -12,8 +12,8 @@ namespace keel::robot {
 namespace {
 
 void put(Image& image, int x, int y, const Rgb& c) {
-  const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.w) +
-                             static_cast<std::size_t>(x));
+  const std::size_t i = 3 *
+                        (static_cast<std::size_t>(y) * static_cast<std::size_t>(image.w) + static_cast<std::size_t>(x));
   image.rgb[i] = c.r;
   image.rgb[i + 1] = c.g;
   image.rgb[i + 2] = c.b;
@@ -29,8 +29,7 @@ Rgb wallShade(double d_m) {
 
 Rgb Image::at(int x, int y) const {
   assert(x >= 0 && x < w && y >= 0 && y < h);
-  const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) +
-                             static_cast<std::size_t>(x));
+  const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
   return Rgb{rgb[i], rgb[i + 1], rgb[i + 2]};
 }
 
@@ -48,8 +47,7 @@ Image Camera::render(const World& world, const Pose& pose) {
   const double focal = focalPx();
   for (int column = 0; column < config_.width; ++column) {
     const double offset = std::atan((config_.width / 2.0 - (column + 0.5)) / focal);
-    const RayHits hits =
-        world.castRay(pose.x_m, pose.y_m, pose.heading_rad + offset, config_.max_range_m);
+    const RayHits hits = world.castRay(pose.x_m, pose.y_m, pose.heading_rad + offset, config_.max_range_m);
     drawColumn(image, column, hits, std::cos(offset), world.target().colour);
   }
   if (config_.noise_sigma > 0.0) addNoise(image);

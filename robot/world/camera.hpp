@@ -28,10 +28,10 @@ struct CameraConfig {
   int height = 60;
   double fov_rad = 1.0471975511965976;  // 60° horizontal
   double camera_height_m = 0.15;
-  double wall_height_m = 0.5;           // every box
+  double wall_height_m = 0.5;  // every box
   double target_height_m = 0.3;
   double max_range_m = 10.0;
-  double noise_sigma = 0.0;             // per channel, in 0..255 units; 0 = none
+  double noise_sigma = 0.0;  // per channel, in 0..255 units; 0 = none
   std::uint64_t seed = 1;
   Rgb floor{90, 90, 80};
   Rgb ceiling{170, 170, 175};
@@ -48,8 +48,7 @@ class Camera {
 
  private:
   [[nodiscard]] double focalPx() const;  // the pinhole's focal length in pixels
-  void drawColumn(Image& image, int column, const RayHits& hits, double cos_offset,
-                  const Rgb& target_colour) const;
+  void drawColumn(Image& image, int column, const RayHits& hits, double cos_offset, const Rgb& target_colour) const;
   void addNoise(Image& image);
 
   CameraConfig config_;

@@ -95,13 +95,12 @@ double distance(const Body& body, const Box& b) {
   for (const Vec& c : body.corners()) {
     best = std::min(best, pointToRect(c, b.min_x, b.min_y, b.max_x, b.max_y));
   }
-  const std::array<Vec, 4> box_corners{Vec{b.min_x, b.min_y}, Vec{b.max_x, b.min_y},
-                                       Vec{b.max_x, b.max_y}, Vec{b.min_x, b.max_y}};
+  const std::array<Vec, 4> box_corners{Vec{b.min_x, b.min_y}, Vec{b.max_x, b.min_y}, Vec{b.max_x, b.max_y},
+                                       Vec{b.min_x, b.max_y}};
   for (const Vec& c : box_corners) {  // in the body's frame the body is axis-aligned
     const Vec rel{c.x - body.centre.x, c.y - body.centre.y};
     const Vec local{rel.x * body.u.x + rel.y * body.u.y, rel.x * body.v.x + rel.y * body.v.y};
-    best = std::min(best, pointToRect(local, -body.half_length, -body.half_width,
-                                      body.half_length, body.half_width));
+    best = std::min(best, pointToRect(local, -body.half_length, -body.half_width, body.half_length, body.half_width));
   }
   return best;
 }
@@ -114,13 +113,13 @@ World::World(std::vector<Box> boxes, Target target, Pose start)
 World World::paperArena() {
   constexpr double kWall = 0.1;  // walls lie outside the 4 × 3 m interior
   std::vector<Box> boxes{
-      {-kWall, -kWall, 4.0 + kWall, 0.0},  // south
+      {-kWall, -kWall, 4.0 + kWall, 0.0},       // south
       {-kWall, 3.0, 4.0 + kWall, 3.0 + kWall},  // north
-      {-kWall, 0.0, 0.0, 3.0},  // west
-      {4.0, 0.0, 4.0 + kWall, 3.0},  // east
-      {1.4, 1.55, 1.7, 2.1},  // A: clips the straight drive's left side, target still visible
-      {2.4, 0.3, 2.7, 0.8},   // B: well below the line of sight
-      {2.6, 2.3, 2.9, 2.8},   // C: well above it, near the target
+      {-kWall, 0.0, 0.0, 3.0},                  // west
+      {4.0, 0.0, 4.0 + kWall, 3.0},             // east
+      {1.4, 1.55, 1.7, 2.1},                    // A: clips the straight drive's left side, target still visible
+      {2.4, 0.3, 2.7, 0.8},                     // B: well below the line of sight
+      {2.6, 2.3, 2.9, 2.8},                     // C: well above it, near the target
   };
   return World(std::move(boxes), Target{3.5, 1.5, 0.12, Rgb{220, 30, 30}}, Pose{0.4, 1.5, 0.0});
 }

@@ -60,11 +60,11 @@ class World {
   [[nodiscard]] RayHits castRay(double x_m, double y_m, double heading_rad, double max_m) const;
 
   /// Whether a body centred at (x, y), its length along heading, overlaps any box.
-  [[nodiscard]] bool collides(double x_m, double y_m, double heading_rad,
-                              double length_m = kBodyLengthM, double width_m = kBodyWidthM) const;
+  [[nodiscard]] bool collides(double x_m, double y_m, double heading_rad, double length_m = kBodyLengthM,
+                              double width_m = kBodyWidthM) const;
   /// Smallest distance from that body to any box; 0 when it overlaps one.
-  [[nodiscard]] double clearance(double x_m, double y_m, double heading_rad,
-                                 double length_m = kBodyLengthM, double width_m = kBodyWidthM) const;
+  [[nodiscard]] double clearance(double x_m, double y_m, double heading_rad, double length_m = kBodyLengthM,
+                                 double width_m = kBodyWidthM) const;
 
   [[nodiscard]] const std::vector<Box>& boxes() const { return boxes_; }
   [[nodiscard]] const Target& target() const { return target_; }

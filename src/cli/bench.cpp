@@ -12,10 +12,11 @@
 namespace keel::cli {
 
 void addBenchCommand(CLI::App& app, std::function<int()>& run) {
-  auto* sub = app.add_subcommand("bench", "recovery and detection latency under load beside peers, and scale "
-                                          "(keel bench --help)");
-  sub->prefix_command();    // everything after `bench` belongs to keel-bench
-  sub->set_help_flag();     // --help too
+  auto* sub = app.add_subcommand("bench",
+                                 "recovery and detection latency under load beside peers, and scale "
+                                 "(keel bench --help)");
+  sub->prefix_command();  // everything after `bench` belongs to keel-bench
+  sub->set_help_flag();   // --help too
   sub->allow_extras();
   sub->callback([sub, &run] {
     auto args = sub->remaining();

@@ -14,8 +14,8 @@
 
 #include "cli/commands.hpp"
 #include "fault/dependency_graph.hpp"
-#include "profile/loader.hpp"
 #include "plan/plan.hpp"
+#include "profile/loader.hpp"
 
 namespace keel::cli {
 namespace {
@@ -72,8 +72,8 @@ std::string node(const std::string& name, bool loose, const Marks& marks, const 
 }
 
 /// The executors (dashed clusters) running `names`, then the passive ones among them.
-std::string components(const plan::Plan& plan, const std::vector<std::string>& names, int& cluster,
-                       const Marks& marks, const std::string& indent) {
+std::string components(const plan::Plan& plan, const std::vector<std::string>& names, int& cluster, const Marks& marks,
+                       const std::string& indent) {
   std::string out;
   std::set<std::string> placed;
   for (const auto& ex : plan.executors) {
@@ -81,8 +81,7 @@ std::string components(const plan::Plan& plan, const std::vector<std::string>& n
     for (const auto& m : ex.members)
       if (std::find(names.begin(), names.end(), m) != names.end()) here.push_back(m);
     if (here.empty()) continue;
-    const std::string label =
-        ex.periodic ? fmt::format("{} ({} ms)", ex.name, ex.period_ms) : ex.name + " (aperiodic)";
+    const std::string label = ex.periodic ? fmt::format("{} ({} ms)", ex.name, ex.period_ms) : ex.name + " (aperiodic)";
     out += fmt::format("{}subgraph cluster_{} {{\n{}  label={}; style=dashed;\n", indent, cluster++, indent,
                        quote(label));
     for (const auto& m : here) out += node(m, false, marks, indent + "  ");
@@ -122,8 +121,8 @@ std::string applications(const plan::Plan& plan, const profile::SystemProfile& s
     out += fmt::format("  subgraph cluster_{} {{\n    label={};{}\n", cluster++,
                        quote(stopped ? app.name + " (stopped)" : app.name),
                        stopped ? " style=filled; fillcolor=gray90;" : "");
-    out += fmt::format("    {} [shape=folder, label={}{}];\n", quote("app:" + app.name),
-                       appLabel(app), stopped ? std::string(", style=filled, ") + kStoppedStyle : "");
+    out += fmt::format("    {} [shape=folder, label={}{}];\n", quote("app:" + app.name), appLabel(app),
+                       stopped ? std::string(", style=filled, ") + kStoppedStyle : "");
     out += components(plan, names, cluster, marks, "    ");
     out += "  }\n";
   }
@@ -146,19 +145,22 @@ std::string dot(const plan::Plan& plan, const profile::ProfileSet& set, const Ma
   if (set.system) out += applications(plan, *set.system, cluster, marks);
   out += components(plan, outside, cluster, marks, "  ");
   for (const auto& c : plan.connections) {
-    const char* style = c.type == profile::PortType::Data ? "solid" : c.type == profile::PortType::Event ? "dashed" : "bold";
+    const char* style = c.type == profile::PortType::Data    ? "solid"
+                        : c.type == profile::PortType::Event ? "dashed"
+                                                             : "bold";
     out += fmt::format("  {} -> {} [label={}, style={}];\n", quote(c.source.component), quote(c.target.component),
                        quote(c.source.port + " → " + c.target.port), style);
   }
   for (const auto& d : plan.depends)
-    out += fmt::format("  {} -> {} [label=\"depends\", style=dotted, color=gray40];\n", quote(d.source), quote(d.target));
+    out += fmt::format("  {} -> {} [label=\"depends\", style=dotted, color=gray40];\n", quote(d.source),
+                       quote(d.target));
   return out + "}\n";
 }
 
 /// Fills `marks` with the blast radius of a fault stop of each of `o.fail`; returns the summary
 /// line, or nothing after printing why the blast radius cannot be drawn.
-std::optional<std::string> blastRadius(const Options& o, const plan::Plan& plan,
-                                       const profile::ProfileSet& set, Marks& marks) {
+std::optional<std::string> blastRadius(const Options& o, const plan::Plan& plan, const profile::ProfileSet& set,
+                                       Marks& marks) {
   auto graph = fault::DependencyGraph::build(plan, set);
   if (!graph) {
     std::cerr << "keel graph: " << graph.error().message << '\n';

@@ -28,8 +28,7 @@ std::string direction(const detail::PortBase& p) {
 }
 
 /// Component profiles in `dirs` whose class is `name` (best effort: unreadable files skipped).
-std::vector<profile::ComponentProfile> profilesFor(const std::string& name,
-                                                   const std::vector<std::string>& dirs) {
+std::vector<profile::ComponentProfile> profilesFor(const std::string& name, const std::vector<std::string>& dirs) {
   std::vector<profile::ComponentProfile> out;
   for (const auto& d : dirs) {
     std::error_code ec;
@@ -45,11 +44,13 @@ std::vector<profile::ComponentProfile> profilesFor(const std::string& name,
 }
 
 std::string showValue(const PropertyValue& v) {
-  return std::visit([](const auto& x) -> std::string {
-    using T = std::decay_t<decltype(x)>;
-    if constexpr (std::is_same_v<T, std::vector<double>>) return fmt::format("{}", fmt::join(x, " "));
-    else return fmt::format("{}", x);
-  }, v);
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>) return fmt::format("{}", fmt::join(x, " "));
+        else return fmt::format("{}", x);
+      },
+      v);
 }
 
 int inspect(const InspectOptions& o) {
@@ -77,8 +78,7 @@ int inspect(const InspectOptions& o) {
     }
     fmt::print("  ports:\n");
     for (const detail::PortBase* p : runtime::coreOf(**c).ports)
-      fmt::print("    {:<20} {:<7} {:<8} {}\n", p->name(), toString(p->kind()), direction(*p),
-                 p->typeName());
+      fmt::print("    {:<20} {:<7} {:<8} {}\n", p->name(), toString(p->kind()), direction(*p), p->typeName());
     for (const auto& cp : profilesFor(name, dirs)) {
       fmt::print("  profile {}:\n", cp.file);
       const auto& e = cp.execution;

@@ -25,11 +25,11 @@
 
 #include "cli/commands.hpp"
 #include "cli/summary.hpp"
-#include "fault/scenario.hpp"
-#include "profile/loader.hpp"
 #include "engine/engine.hpp"
 #include "fault/log_schema.hpp"
+#include "fault/scenario.hpp"
 #include "plan/property_settings.hpp"
+#include "profile/loader.hpp"
 
 namespace keel::cli {
 namespace {
@@ -100,8 +100,8 @@ int pendingSignal(const sigset_t& set) {
 int waitForEnd(const sigset_t& set, double duration_s, const engine::Engine& engine) {
   using Clock = std::chrono::steady_clock;
   const auto end = duration_s > 0
-                       ? Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                            std::chrono::duration<double>(duration_s))
+                       ? Clock::now() +
+                             std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(duration_s))
                        : Clock::time_point::max();
   for (;;) {
     if (int sig = pendingSignal(set)) return sig;
@@ -120,7 +120,7 @@ std::string stopReason(int why, const engine::Engine& engine) {
 /// The --set options, parsed and checked against the plan of `set`; nothing after printing
 /// every problem, a line each.
 std::optional<std::vector<plan::PropertySetting>> propertySettings(const RunOptions& o,
-                                                                      const profile::ProfileSet& set) {
+                                                                   const profile::ProfileSet& set) {
   std::vector<plan::PropertySetting> settings;
   std::string errors;
   for (const auto& text : o.sets) {
@@ -181,7 +181,7 @@ int runProfile(const RunOptions& o) {
   (*engine)->log().write(std::move(stopping));
   (*engine)->faultManager().drain();       // every handling logged and counted
   printSummary(std::cout, **engine, ran);  // counters, before instances are destroyed
-  (*engine)->shutdown();  // a component may still end the run from its onStop
+  (*engine)->shutdown();                   // a component may still end the run from its onStop
   if (auto end = (*engine)->runEnd()) std::cout << "ended by " << end->component << ": " << end->summary << '\n';
   return 0;
 }

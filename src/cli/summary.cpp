@@ -10,15 +10,16 @@ namespace keel::cli {
 
 void printSummary(std::ostream& out, const engine::Engine& engine, double ran_s) {
   fmt::print(out, "keel: '{}' ran {:.2f} s\n\n", engine.plan().name, ran_s);
-  fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", "component", "state", "executions",
-             "faults", "overruns", "executor");
+  fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", "component", "state", "executions", "faults", "overruns",
+             "executor");
   for (const auto& inst : engine.instances()) {
     const Component& c = *inst.active();
     const auto& core = runtime::coreOf(c);
     const auto& first = runtime::coreOf(*inst.component);  // counts of the one it replaced too
     std::string name = inst.plan->name;
     if (&c != inst.component.get()) name += " (now " + core.class_name + ")";
-    const std::uint64_t executions = core.executions.load() + (&c != inst.component.get() ? first.executions.load() : 0);
+    const std::uint64_t executions = core.executions.load() +
+                                     (&c != inst.component.get() ? first.executions.load() : 0);
     const std::uint64_t faults = core.faults.load() + (&c != inst.component.get() ? first.faults.load() : 0);
     fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", name, toString(c.state()), executions, faults,
                core.deadline_overruns.load(), core.executor.load() ? core.executor.load()->config().name : "passive");
@@ -27,9 +28,8 @@ void printSummary(std::ostream& out, const engine::Engine& engine, double ran_s)
   for (const auto& ex : engine.executors()) {
     const auto& c = ex->config();
     auto s = ex->stats();
-    std::string period = c.kind == runtime::ExecutorKind::Periodic
-                             ? fmt::format("{:.3f}", c.period.count() / 1e6)
-                             : "aperiodic";
+    std::string period = c.kind == runtime::ExecutorKind::Periodic ? fmt::format("{:.3f}", c.period.count() / 1e6)
+                                                                   : "aperiodic";
     fmt::print(out, "{:<28} {:>10} {:>10} {:>9}\n", c.name, period, s.cycles, s.overruns);
   }
   auto faults = engine.faultCounts();
@@ -38,8 +38,7 @@ void printSummary(std::ostream& out, const engine::Engine& engine, double ran_s)
     return;
   }
   fmt::print(out, "\nfaults:\n");
-  for (const auto& f : faults)
-    fmt::print(out, "  {:<24} {:<10} x{:<5} {}\n", f.component, f.kind, f.count, f.detail);
+  for (const auto& f : faults) fmt::print(out, "  {:<24} {:<10} x{:<5} {}\n", f.component, f.kind, f.count, f.detail);
   printHandling(out, engine.faultManager());
 }
 

@@ -4,8 +4,8 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
-#include "profile/loader.hpp"
 #include "engine/engine.hpp"
+#include "profile/loader.hpp"
 
 namespace keel::cli {
 namespace {
@@ -24,8 +24,7 @@ int validateFiles(const ValidateOptions& o) {
       problems += static_cast<int>(set.error().size());
       continue;
     }
-    bool runnable = set->root_kind == profile::RootKind::Package ||
-                    set->root_kind == profile::RootKind::System;
+    bool runnable = set->root_kind == profile::RootKind::Package || set->root_kind == profile::RootKind::System;
     if (o.load && runnable) {
       engine::EngineOptions eo;
       auto engine = engine::Engine::create(std::move(*set), eo);

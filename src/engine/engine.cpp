@@ -16,8 +16,7 @@
 namespace keel::engine {
 
 Engine::Engine(EngineOptions options)
-    : options_(std::move(options)),
-      loader_(options_.search_path),
+    : options_(std::move(options)), loader_(options_.search_path),
       fault_manager_(log_, [this](std::string_view name) { return find(name); }) {}
 
 Engine::~Engine() { shutdown(); }
@@ -92,8 +91,8 @@ Result<void> Engine::start() {
   for (auto& inst : instances_) {
     if (runtime::transition(*inst.component, Transition::Initialize)) continue;
     const auto& w = inst.plan->where;
-    return fail(fmt::format("{}:{}: component '{}' failed to initialize (see the log for the fault)",
-                            w.file, w.line, inst.plan->name));
+    return fail(fmt::format("{}:{}: component '{}' failed to initialize (see the log for the fault)", w.file, w.line,
+                            inst.plan->name));
   }
   if (auto r = connect(); !r) return r;
   if (auto r = preloadAlternatives(); !r) return r;
@@ -147,7 +146,7 @@ void Engine::shutdown() {
   shut_down_ = true;
   if (injector_) injector_->stop();
   if (watchdog_) watchdog_->stop();
-  fault_manager_.stop();  // handles and logs what is queued; adds no executor after this
+  fault_manager_.stop();           // handles and logs what is queued; adds no executor after this
   for (auto& inst : instances_) {  // injected hangs, of replaced components too
     runtime::coreOf(*inst.component).injection.release_hang.store(true);
     runtime::coreOf(*inst.active()).injection.release_hang.store(true);
@@ -159,8 +158,8 @@ void Engine::shutdown() {
     if (ex->abandoned() && ex->join(std::chrono::milliseconds(50))) continue;  // it came back meanwhile
     abandoned.push_back(ex.get());
     if (!ex->abandoned())
-      warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components",
-                       ex->config().name, options_.stop_timeout.count()));
+      warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components", ex->config().name,
+                       options_.stop_timeout.count()));
   }
   // A component whose executor is abandoned may still be in use by its stuck thread.
   auto stuck = [&abandoned](const Component& c) {

@@ -7,8 +7,8 @@
 
 #include <atomic>
 #include <chrono>
-#include <deque>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -18,23 +18,23 @@
 #include <unordered_map>
 #include <vector>
 
-#include "fault/fault_log.hpp"
+#include "engine/run_end.hpp"
 #include "fault/dependency_graph.hpp"
+#include "fault/fault_log.hpp"
 #include "fault/fault_manager.hpp"
 #include "fault/injector.hpp"
 #include "fault/scenario.hpp"
 #include "fault/watchdog.hpp"
 #include "keel/component.hpp"
 #include "keel/result.hpp"
+#include "plan/plan.hpp"
+#include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/cpu_latency.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/warning.hpp"
-#include "plan/plan.hpp"
-#include "plan/property_settings.hpp"
-#include "engine/run_end.hpp"
 
 namespace keel::engine {
 
@@ -44,7 +44,7 @@ struct EngineOptions {
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   runtime::Warn warn;
   std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
-  std::optional<fault::Scenario> scenario;        // faults to inject (keel run --inject)
+  std::optional<fault::Scenario> scenario;       // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.
   std::vector<plan::PropertySetting> property_settings;
   /// Hold the CPUs' wake-up latency at this many µs while running (keel run --cpu-dma-latency;
@@ -55,8 +55,8 @@ struct EngineOptions {
 /// One running instance and what the plan says of it.
 struct Instance {
   const plan::PlannedInstance* plan = nullptr;
-  std::unique_ptr<Component> component;  // as created from the plan
-  runtime::Executor* executor = nullptr;          // null: passive
+  std::unique_ptr<Component> component;   // as created from the plan
+  runtime::Executor* executor = nullptr;  // null: passive
   /// The component in service under this name: `component`, or the alternative that replaced it.
   std::unique_ptr<std::atomic<Component*>> current = std::make_unique<std::atomic<Component*>>(nullptr);
   std::unique_ptr<fault::ComponentHandling> handling;  // its compiled rules (src/fault/rules.hpp)
@@ -126,7 +126,7 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   explicit Engine(EngineOptions options);
   Result<void> instantiate();
   Result<Instance> makeInstance(const plan::PlannedInstance& pi);  // created, named, ports checked
-  void setUpHandling();       // rules and checkpoints per instance, the dependency graph
+  void setUpHandling();  // rules and checkpoints per instance, the dependency graph
   Result<void> preloadAlternatives();
   /// Re-points the input connections and provided services of `failed` to `alternative`.
   void redirectInputs(Component& failed, Component& alternative);
@@ -149,9 +149,9 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;
-  std::mutex create_mutex_;                  // one alternative created at a time (any thread)
-  std::mutex alternatives_mutex_;                  // guards the two below
-  std::deque<plan::PlannedInstance> alternative_plans_;  // the alternatives' plans (stable addresses)
+  std::mutex create_mutex_;                               // one alternative created at a time (any thread)
+  std::mutex alternatives_mutex_;                         // guards the two below
+  std::deque<plan::PlannedInstance> alternative_plans_;   // the alternatives' plans (stable addresses)
   std::vector<std::unique_ptr<Component>> alternatives_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_

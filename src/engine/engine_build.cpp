@@ -31,8 +31,8 @@ std::vector<ExpectedPort> expectedPorts(const profile::ComponentProfile& p) {
   for (const auto& e : p.event_ports) out.push_back({e.name, PortKind::Event, dir(e.usage), e.data_type, e.where});
   for (const auto& s : p.service_ports)
     out.push_back({s.name, PortKind::Service,
-                   s.usage == profile::ServiceUsage::Provided ? PortDirection::Input : PortDirection::Output,
-                   "", s.where});
+                   s.usage == profile::ServiceUsage::Provided ? PortDirection::Input : PortDirection::Output, "",
+                   s.where});
   return out;
 }
 
@@ -95,7 +95,8 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
     return fail(fmt::format("{}: component '{}' ({}): {}\n", at(cp.where), pi.name, cp.name, lib.error().message));
   auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
     return runtime::Registry::instance().find(cp.name, "")->factory();
-  }() : loader_.create(cp.name, library);
+  }()
+      : loader_.create(cp.name, library);
   if (!created) return fail(fmt::format("{}: component '{}': {}\n", at(cp.where), pi.name, created.error().message));
   Instance inst;
   inst.plan = &pi;
@@ -125,13 +126,13 @@ Result<void> Engine::configurePorts(Instance& inst) {
       static_cast<detail::InputPortBase*>(port)->configureQueue(queuePolicy(d.queue_policy), d.queue_size);
     if (!d.validity) continue;
     if (!port->numeric()) {
-      errors += fmt::format("{}: component '{}': <validity> on port '{}' of type '{}': only numbers and "
-                            "arrays of numbers can be range-checked\n",
-                            at(d.validity->where), inst.plan->name, d.name, port->typeName());
+      errors += fmt::format(
+          "{}: component '{}': <validity> on port '{}' of type '{}': only numbers and "
+          "arrays of numbers can be range-checked\n",
+          at(d.validity->where), inst.plan->name, d.name, port->typeName());
       continue;
     }
-    rules_.push_back(std::make_unique<detail::ValidityRule>(
-        detail::ValidityRule{d.validity->min, d.validity->max}));
+    rules_.push_back(std::make_unique<detail::ValidityRule>(detail::ValidityRule{d.validity->min, d.validity->max}));
     port->setValidity(rules_.back().get());
   }
   for (const auto& e : cp.event_ports) {
@@ -171,8 +172,8 @@ Result<void> Engine::checkPorts(const Instance& inst) const {
     for (const auto& e : expected) declared |= e.name == p->name();
     if (!declared)
       errors += fmt::format("{}: component '{}': class '{}' has {} '{}' ({}) that the profile does not declare\n",
-                            at(cp.where), inst.plan->name, cp.name, describe(p->kind(), p->direction()),
-                            p->name(), p->typeName());
+                            at(cp.where), inst.plan->name, cp.name, describe(p->kind(), p->direction()), p->name(),
+                            p->typeName());
   }
   if (!errors.empty()) return fail(errors);
   return {};
@@ -188,8 +189,8 @@ Result<void> Engine::connect() {
     detail::PortBase* src = port(pc.source);
     detail::PortBase* dst = port(pc.target);
     if (!src || !dst) {
-      errors += fmt::format("{}: port_connection {}.{} -> {}.{}: no such port\n", at(pc.where),
-                            pc.source.component, pc.source.port, pc.target.component, pc.target.port);
+      errors += fmt::format("{}: port_connection {}.{} -> {}.{}: no such port\n", at(pc.where), pc.source.component,
+                            pc.source.port, pc.target.component, pc.target.port);
       continue;
     }
     bool ok = false;
@@ -206,10 +207,9 @@ Result<void> Engine::connect() {
       }
     }
     if (!ok)
-      errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n",
-                            at(pc.where), pc.source.component, pc.source.port, toString(src->kind()),
-                            src->typeName(), pc.target.component, pc.target.port, toString(dst->kind()),
-                            dst->typeName());
+      errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n", at(pc.where),
+                            pc.source.component, pc.source.port, toString(src->kind()), src->typeName(),
+                            pc.target.component, pc.target.port, toString(dst->kind()), dst->typeName());
   }
   if (!errors.empty()) {
     errors.pop_back();

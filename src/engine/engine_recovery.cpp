@@ -7,10 +7,10 @@
 
 #include <algorithm>
 
+#include "engine/engine.hpp"
 #include "fault/fault_manager_component.hpp"
 #include "fault/rules.hpp"
 #include "runtime/checkpoint.hpp"
-#include "engine/engine.hpp"
 #include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
 
@@ -44,7 +44,8 @@ Result<void> Engine::preloadAlternatives() {
 
 Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Component& failed) {
   std::lock_guard creating(create_mutex_);  // executors may load alternatives concurrently
-  auto it = std::find_if(instances_.begin(), instances_.end(), [&](const Instance& i) { return i.plan->name == h.name; });
+  auto it = std::find_if(instances_.begin(), instances_.end(),
+                         [&](const Instance& i) { return i.plan->name == h.name; });
   if (it == instances_.end() || h.rules.alternative == nullptr) return fail("no alternative for '" + h.name + "'");
   const profile::ComponentProfile& cp = *h.rules.alternative;
   const plan::PlannedInstance* plan = nullptr;
@@ -102,7 +103,8 @@ void Engine::redirectInputs(Component& failed, Component& alternative) {
 void Engine::switchTo(Component& failed, Component& alternative) {
   // The executor first: a value that reaches the alternative through a re-pointed connection
   // wakes the alternative's executor.
-  if (runtime::Executor* ex = runtime::coreOf(failed).executor.load(std::memory_order_acquire)) ex->replaceMember(failed, alternative);
+  if (runtime::Executor* ex = runtime::coreOf(failed).executor.load(std::memory_order_acquire))
+    ex->replaceMember(failed, alternative);
   redirectInputs(failed, alternative);
   for (auto& inst : instances_)
     if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
@@ -136,7 +138,8 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
   if (alternative) {  // started here: its new executor does not run yet
     runtime::GuardOutcome out = runtime::invokeRecovery(*alternative, runtime::Callback::Start);
     runtime::setState(*alternative, out.ok() ? State::Active : State::Error);  // the manager's thread: logged now
-    if (out.ok() && !runtime::coreOf(*alternative).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alternative), runtime::steadyNs());
+    if (out.ok() && !runtime::coreOf(*alternative).critical.empty())
+      runtime::takeCheckpoint(runtime::coreOf(*alternative), runtime::steadyNs());
   }
   fresh->start(/*adopt=*/true);
   std::string name = cfg.name;

@@ -86,7 +86,8 @@ Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
   rec[schema::field::kApplications] = applications;
   if (hung) rec[schema::field::kDetail] = "the hung callback did not return when interrupted";
   log.write(std::move(rec));
-  for (const auto& a : applications) log.write(schema::applicationState(a, "running", "stopped", r.id, log.sinceStart(t)));
+  for (const auto& a : applications)
+    log.write(schema::applicationState(a, "running", "stopped", r.id, log.sinceStart(t)));
   if (!hung || host_ == nullptr) return Outcome::Done;
   // Its executor cannot come back: the others move to a new thread.
   auto moved = host_->abandonExecutor(*faulty, nullptr);

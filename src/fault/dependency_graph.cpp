@@ -36,8 +36,8 @@ Result<void> DependencyGraph::indexComponents(const plan::Plan& plan) {
     for (const auto& m : ex.members) {
       auto it = index_.find(m);
       if (it == index_.end())
-        return fail(fmt::format("dependency graph of '{}': executor '{}' runs unknown component '{}'",
-                                plan.name, ex.name, m));
+        return fail(
+            fmt::format("dependency graph of '{}': executor '{}' runs unknown component '{}'", plan.name, ex.name, m));
       members.push_back(it->second);
       executor_of_[it->second] = executors_.size() - 1;
     }
@@ -71,11 +71,10 @@ Result<void> DependencyGraph::indexDepends(const plan::Plan& plan) {
   return {};
 }
 
-Result<void> DependencyGraph::addGroup(Id app, const std::vector<std::vector<Id>>& entries,
-                                       std::size_t min_healthy) {
+Result<void> DependencyGraph::addGroup(Id app, const std::vector<std::vector<Id>>& entries, std::size_t min_healthy) {
   if (min_healthy > entries.size())
-    return fail(fmt::format("application '{}' needs {} healthy of {} components", apps_[app].name,
-                            min_healthy, entries.size()));
+    return fail(fmt::format("application '{}' needs {} healthy of {} components", apps_[app].name, min_healthy,
+                            entries.size()));
   groups_.push_back({app, min_healthy, entries.size()});
   for (const auto& entry : entries) {
     for (Id c : entry) uses_[c].push_back({groups_.size() - 1, entries_});
@@ -129,8 +128,8 @@ Result<void> DependencyGraph::indexApplications(const plan::Plan& plan, const pr
       for (const auto& c : req.components) {
         entries.push_back(resolve(a.name + "." + c));
         if (entries.back().empty())
-          return fail(fmt::format("{}application '{}' requires '{}', which is not in the plan",
-                                  at(req.where), a.name, c));
+          return fail(
+              fmt::format("{}application '{}' requires '{}', which is not in the plan", at(req.where), a.name, c));
       }
       if (auto r = addGroup(id, entries, static_cast<std::size_t>(req.min_healthy)); !r) return r;
     }

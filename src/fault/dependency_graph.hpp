@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "keel/result.hpp"
+#include "plan/plan.hpp"
 #include "profile/loader.hpp"
 #include "profile/model.hpp"
-#include "plan/plan.hpp"
 
 namespace keel::fault {
 
@@ -32,8 +32,7 @@ class DependencyGraph {
   /// one implicit application named after it, running while any component runs). Fails on names that do
   /// not resolve (the loader rejects those first; this only guards against a plan and set
   /// that do not belong together). Dependency cycles are tolerated: they stop together.
-  [[nodiscard]] static Result<DependencyGraph> build(const plan::Plan& plan,
-                                                     const profile::ProfileSet& set);
+  [[nodiscard]] static Result<DependencyGraph> build(const plan::Plan& plan, const profile::ProfileSet& set);
 
   /// Everything that stops when the components in `failed` stop: an application stops when a
   /// requirement group has fewer than `min_healthy` healthy entries, or when an application it
@@ -88,11 +87,11 @@ class DependencyGraph {
 
   std::vector<std::string> names_;
   std::map<std::string, Id, std::less<>> index_;
-  std::vector<profile::Scope> policy_scope_;   // per component
-  std::vector<Id> executor_of_;                // per component; kNone: passive, no executor
-  std::vector<std::vector<Id>> executors_;     // members of each executor
-  std::vector<std::vector<Id>> dependants_;    // per component: who depends on it
-  std::vector<std::vector<Use>> uses_;         // per component: the entries it counts in
+  std::vector<profile::Scope> policy_scope_;  // per component
+  std::vector<Id> executor_of_;               // per component; kNone: passive, no executor
+  std::vector<std::vector<Id>> executors_;    // members of each executor
+  std::vector<std::vector<Id>> dependants_;   // per component: who depends on it
+  std::vector<std::vector<Use>> uses_;        // per component: the entries it counts in
   std::vector<Group> groups_;
   std::size_t entries_ = 0;
   std::vector<App> apps_;

@@ -43,7 +43,8 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
   r.event.t_ns = detected;
   // The records name the accused: the reporter itself, or when the component the event names
   // is unknown, the reporter too (it reported a fault of nothing that runs).
-  if (fault.component[0] == '\0' || accused == &reporter) FaultEvent::copyInto(r.event.component, accused->instanceName());
+  if (fault.component[0] == '\0' || accused == &reporter)
+    FaultEvent::copyInto(r.event.component, accused->instanceName());
   FaultEvent::copyInto(r.detector, detector.empty() ? std::string_view(reporter.instanceName()) : detector);
   r.accused = accused;
   attributeInjection(r, core, ids);

@@ -73,8 +73,7 @@ Decision decide(Step step, Outcome outcome, const RoleFacts& role) {
   return {Step::Done, false, {}};
 }
 
-RestartWindow::RestartWindow(int intensity, std::int64_t period_ns)
-    : intensity_(intensity), period_ns_(period_ns) {
+RestartWindow::RestartWindow(int intensity, std::int64_t period_ns) : intensity_(intensity), period_ns_(period_ns) {
   times_.reserve(static_cast<std::size_t>(std::max(intensity, 0)));
 }
 

@@ -28,10 +28,10 @@ std::string_view toString(Outcome o);
 
 /// What the decision needs to know of the component's role and of this fault so far.
 struct RoleFacts {
-  bool has_alternative = false;  // the rules name an alternative
-  bool replaced = false;         // the alternative already took the role (a role is replaced once)
+  bool has_alternative = false;    // the rules name an alternative
+  bool replaced = false;           // the alternative already took the role (a role is replaced once)
   bool alternative_ready = false;  // (Hung) an alternative was created and can take over
-  bool emergency_done = false;   // this fault already ran an emergency stop
+  bool emergency_done = false;     // this fault already ran an emergency stop
 };
 
 struct Decision {

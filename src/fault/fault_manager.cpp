@@ -23,9 +23,7 @@ ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandli
 }  // namespace
 
 FaultManager::FaultManager(FaultLog& log, std::function<Component*(std::string_view)> find)
-    : find_(std::move(find)),
-      records_(log),
-      containment_(records_, [this](std::string_view n) { return find_(n); }),
+    : find_(std::move(find)), records_(log), containment_(records_, [this](std::string_view n) { return find_(n); }),
       queue_([this](HandlingItem& item) { process(item); }) {}
 
 FaultManager::~FaultManager() { stop(); }
@@ -86,9 +84,7 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
               h && h->rules.has_policy ? "severity ignore: logged only" : "no fault_policy: logged only");
         r.next = Step::Done;
         break;
-      case Step::Done:
-        finish(r, where);
-        return;
+      case Step::Done: finish(r, where); return;
       case Step::Reset: {
         if (!(where & kLocal)) return handOverLocal(r, where);
         if (recovery_.intensityAt(*h, steadyNs()) == Outcome::IntensityExceeded) {

@@ -21,8 +21,7 @@ void FaultRecords::logDetection(const FaultReport& r) {
   const std::string who(r.event.componentName());
   const std::string kind(toString(r.event.kind));
   if (r.injected_ns != 0) log_.write(schema::injected(r.id, who, log_.sinceStart(r.injected_ns)));
-  log_.write(schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(),
-                              log_.sinceStart(r.event.t_ns)));
+  log_.write(schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(), log_.sinceStart(r.event.t_ns)));
   writeChanges(r, FaultReport::kWithDetection);
   log_.write(schema::diagnosed(r.id, who, toString(r.severity),
                                r.has_policy ? "fault_policy" : "none (contained, not recovered)", toString(r.scope),
@@ -33,8 +32,8 @@ void FaultRecords::logDetection(const FaultReport& r) {
                          [&](const FaultCount& c) { return c.component == who && c.kind == kind; });
   if (fc != counts_.end()) ++fc->count;
   else counts_.push_back({who, kind, std::string(r.event.detailText()), 1});
-  handlings_.push_back({r.id, who, r.event.kind, std::string(toString(r.severity)), {}, false, r.event.t_ns,
-                        r.injected_ns, 0});
+  handlings_.push_back(
+      {r.id, who, r.event.kind, std::string(toString(r.severity)), {}, false, r.event.t_ns, r.injected_ns, 0});
 }
 
 void FaultRecords::logReport(FaultReport& r) {

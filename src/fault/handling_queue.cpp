@@ -12,8 +12,7 @@ namespace keel::fault {
 
 using namespace std::chrono_literals;
 
-HandlingQueue::HandlingQueue(Process process, std::size_t capacity)
-    : process_(std::move(process)), ring_(capacity) {}
+HandlingQueue::HandlingQueue(Process process, std::size_t capacity) : process_(std::move(process)), ring_(capacity) {}
 
 HandlingQueue::~HandlingQueue() { stop(); }
 

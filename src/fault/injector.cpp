@@ -32,15 +32,15 @@ Result<void> Injector::check(const Warn& warn, const std::function<bool(std::str
     const auto& core = runtime::coreOf(*c);
     using runtime::InjectKind;
     if (f.kind == InjectKind::OutOfRange && !runtime::corruptiblePort(*c, f.port)) {
-      errors += fmt::format("{}: fault: component '{}' has no numeric output data port{}\n", at,
-                            f.component, f.port.empty() ? "" : fmt::format(" '{}'", f.port));
+      errors += fmt::format("{}: fault: component '{}' has no numeric output data port{}\n", at, f.component,
+                            f.port.empty() ? "" : fmt::format(" '{}'", f.port));
     }
     if ((f.kind == InjectKind::Hang || f.kind == InjectKind::StallHeartbeat) && core.watch.heartbeat_ns == 0)
-      warn(fmt::format("{}: fault: '{}' has no <heartbeat> in its fault_policy: this {} will not be detected",
-                       at, f.component, f.kind_name));
-    if (passive(f.component) && f.kind != InjectKind::OutOfRange)
-      warn(fmt::format("{}: fault: '{}' is passive (never executed): this {} will not fire", at,
+      warn(fmt::format("{}: fault: '{}' has no <heartbeat> in its fault_policy: this {} will not be detected", at,
                        f.component, f.kind_name));
+    if (passive(f.component) && f.kind != InjectKind::OutOfRange)
+      warn(fmt::format("{}: fault: '{}' is passive (never executed): this {} will not fire", at, f.component,
+                       f.kind_name));
   }
   if (!errors.empty()) {
     errors.pop_back();
@@ -82,8 +82,7 @@ void Injector::run(std::int64_t t0_ns) {
       injectHardware(*c, *s.fault, id);
       continue;
     }
-    runtime::InjectArgs args{s.fault->port, s.fault->value,
-                             static_cast<std::int64_t>(s.fault->duration_ms * 1e6)};
+    runtime::InjectArgs args{s.fault->port, s.fault->value, static_cast<std::int64_t>(s.fault->duration_ms * 1e6)};
     log_.write({{schema::field::kEvent, schema::event::kArmed},
                 {schema::field::kFaultId, id},
                 {schema::field::kComponent, s.fault->component},

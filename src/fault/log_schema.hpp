@@ -16,16 +16,16 @@ namespace keel::fault::schema {
 
 /// The `event` of a record.
 namespace event {
-inline constexpr char kInjected[] = "injected";    // keel injected a fault (its manifestation time)
-inline constexpr char kArmed[] = "armed";          // an injection waits for its moment in the component
-inline constexpr char kDetected[] = "detected";    // a detector found a fault
-inline constexpr char kDiagnosed[] = "diagnosed";  // the rules chose the handling
-inline constexpr char kAction[] = "action";        // one step of the handling, with its outcome
-inline constexpr char kRecovered[] = "recovered";  // the component (or its replacement) runs normally again
-inline constexpr char kState[] = "state";          // a component's or an application's state changed
-inline constexpr char kEmergency[] = "emergency";  // the emergency latch was set or cleared
-inline constexpr char kEngine[] = "engine";        // the run's phases: load, started, stopping, stopped
-inline constexpr char kWarning[] = "warning";      // something the run goes on without
+inline constexpr char kInjected[] = "injected";           // keel injected a fault (its manifestation time)
+inline constexpr char kArmed[] = "armed";                 // an injection waits for its moment in the component
+inline constexpr char kDetected[] = "detected";           // a detector found a fault
+inline constexpr char kDiagnosed[] = "diagnosed";         // the rules chose the handling
+inline constexpr char kAction[] = "action";               // one step of the handling, with its outcome
+inline constexpr char kRecovered[] = "recovered";         // the component (or its replacement) runs normally again
+inline constexpr char kState[] = "state";                 // a component's or an application's state changed
+inline constexpr char kEmergency[] = "emergency";         // the emergency latch was set or cleared
+inline constexpr char kEngine[] = "engine";               // the run's phases: load, started, stopping, stopped
+inline constexpr char kWarning[] = "warning";             // something the run goes on without
 inline constexpr char kEndRequested[] = "end_requested";  // a component asked to end the run
 }  // namespace event
 
@@ -68,44 +68,50 @@ inline constexpr char kFailed[] = "failed";
 // ---- builders: one per record shape --------------------------------------------------------
 
 inline nlohmann::json injected(std::uint64_t id, std::string_view component, std::int64_t t) {
-  return {{field::kEvent, event::kInjected}, {field::kFaultId, id}, {field::kComponent, component},
-          {field::kTime, t}};
+  return {{field::kEvent, event::kInjected}, {field::kFaultId, id}, {field::kComponent, component}, {field::kTime, t}};
 }
 
 inline nlohmann::json detected(std::uint64_t id, std::string_view component, std::string_view kind,
                                std::string_view detail, std::string_view detector, std::int64_t t) {
-  return {{field::kEvent, event::kDetected}, {field::kFaultId, id},     {field::kComponent, component},
-          {field::kKind, kind},              {field::kDetail, detail},  {field::kDetector, detector},
+  return {{field::kEvent, event::kDetected},
+          {field::kFaultId, id},
+          {field::kComponent, component},
+          {field::kKind, kind},
+          {field::kDetail, detail},
+          {field::kDetector, detector},
           {field::kTime, t}};
 }
 
 inline nlohmann::json diagnosed(std::uint64_t id, std::string_view component, std::string_view severity,
                                 std::string_view rules, std::string_view scope, std::string_view handling,
                                 std::int64_t t) {
-  return {{field::kEvent, event::kDiagnosed}, {field::kFaultId, id},         {field::kComponent, component},
-          {field::kSeverity, severity},       {field::kRules, rules},        {field::kScope, scope},
+  return {{field::kEvent, event::kDiagnosed}, {field::kFaultId, id},  {field::kComponent, component},
+          {field::kSeverity, severity},       {field::kRules, rules}, {field::kScope, scope},
           {field::kHandling, handling},       {field::kTime, t}};
 }
 
 /// An `action` record; `id` 0 for an action no fault caused (an operator's emergency stop).
 inline nlohmann::json action(std::uint64_t id, std::string_view component, std::string_view action, bool ok,
                              std::int64_t t) {
-  nlohmann::json r = {{field::kEvent, event::kAction}, {field::kAction, action},
-                      {field::kOutcome, ok ? kOk : kFailed}, {field::kTime, t}};
+  nlohmann::json r = {{field::kEvent, event::kAction},
+                      {field::kAction, action},
+                      {field::kOutcome, ok ? kOk : kFailed},
+                      {field::kTime, t}};
   if (id != 0) r[field::kFaultId] = id;
   if (!component.empty()) r[field::kComponent] = component;
   return r;
 }
 
 inline nlohmann::json recovered(std::uint64_t id, std::string_view component, std::int64_t t) {
-  return {{field::kEvent, event::kRecovered}, {field::kFaultId, id}, {field::kComponent, component},
-          {field::kTime, t}};
+  return {{field::kEvent, event::kRecovered}, {field::kFaultId, id}, {field::kComponent, component}, {field::kTime, t}};
 }
 
 /// A component's lifecycle change; `id` 0 when no fault caused it.
 inline nlohmann::json componentState(std::string_view component, std::string_view from, std::string_view to,
                                      std::uint64_t id, std::int64_t t) {
-  nlohmann::json r = {{field::kEvent, event::kState}, {field::kComponent, component}, {field::kFrom, from},
+  nlohmann::json r = {{field::kEvent, event::kState},
+                      {field::kComponent, component},
+                      {field::kFrom, from},
                       {field::kTo, to}};
   if (id != 0) r[field::kFaultId] = id;
   r[field::kTime] = t;
@@ -114,8 +120,9 @@ inline nlohmann::json componentState(std::string_view component, std::string_vie
 
 inline nlohmann::json applicationState(std::string_view application, std::string_view from, std::string_view to,
                                        std::uint64_t id, std::int64_t t) {
-  return {{field::kEvent, event::kState}, {field::kApplication, application}, {field::kFrom, from},
-          {field::kTo, to},               {field::kFaultId, id},              {field::kTime, t}};
+  return {{field::kEvent, event::kState}, {field::kApplication, application},
+          {field::kFrom, from},           {field::kTo, to},
+          {field::kFaultId, id},          {field::kTime, t}};
 }
 
 /// The emergency latch: `phase` latched or cleared.

@@ -51,8 +51,7 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
     if (checkpoint_t != 0)
       r.add(ActionKind::Restore, true, t, "critical memory restored from the checkpoint of {:.3f} ms before",
             (r.event.t_ns - checkpoint_t) / 1e6);
-    else
-      r.add(ActionKind::Restore, false, t, "no checkpoint yet: critical memory left as it was");
+    else r.add(ActionKind::Restore, false, t, "no checkpoint yet: critical memory left as it was");
   }
   noteRecovery(h, t);
   markRecovering(r, c);

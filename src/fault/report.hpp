@@ -19,8 +19,8 @@
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
 #include "runtime/component_core.hpp"
-#include "runtime/invoke.hpp"
 #include "runtime/fault_detail.hpp"
+#include "runtime/invoke.hpp"
 
 namespace keel::fault {
 
@@ -31,25 +31,25 @@ std::string_view toString(ActionKind a);
 struct Action {
   ActionKind kind = ActionKind::Ignore;
   bool ok = true;
-  std::int64_t t_ns = 0;             // steady clock, when it ended
-  std::array<char, 120> detail{};    // outcome detail, e.g. "reset → replace: restart intensity..."
+  std::int64_t t_ns = 0;           // steady clock, when it ended
+  std::array<char, 120> detail{};  // outcome detail, e.g. "reset → replace: restart intensity..."
 };
 
 struct FaultReport {
-  FaultEvent event;                  // kind and detail; component = the accused; t_ns = detected
+  FaultEvent event;  // kind and detail; component = the accused; t_ns = detected
   std::array<char, 48> detector{};
   std::uint64_t id = 0;
-  std::int64_t injected_ns = 0;      // 0: not injected
-  std::int64_t diagnosed_ns = 0;     // when the rules had chosen the handling
+  std::int64_t injected_ns = 0;   // 0: not injected
+  std::int64_t diagnosed_ns = 0;  // when the rules had chosen the handling
   Component* accused = nullptr;
   Component* alternative = nullptr;  // set when the alternative took the role over
   profile::Severity severity = profile::Severity::Ignore;
   profile::Scope scope = profile::Scope::Component;  // the rules' containment scope
-  bool has_policy = false;           // the component has a <fault_policy>
-  Step first = Step::Done;           // the handling the rules chose
-  Step next = Step::Done;            // what is left to do
+  bool has_policy = false;                           // the component has a <fault_policy>
+  Step first = Step::Done;                           // the handling the rules chose
+  Step next = Step::Done;                            // what is left to do
   bool detection_logged = false;
-  bool emergency_done = false;       // a stop that fails escalates to emergency only once
+  bool emergency_done = false;  // a stop that fails escalates to emergency only once
   std::uint8_t n_actions = 0;
   std::uint8_t logged_actions = 0;
   std::array<Action, 10> actions{};
@@ -92,12 +92,12 @@ struct ComponentHandling : runtime::FaultSlot {
   std::string name;  // instance name
 
   std::mutex mutex;
-  RestartWindow window;      // the role's recent recoveries
-  bool busy = false;         // a fault of this component is being handled
-  bool replaced = false;     // the alternative took its place: no further replacement
-  bool stopped = false;      // fault-stopped: further faults are only logged
+  RestartWindow window;                    // the role's recent recoveries
+  bool busy = false;                       // a fault of this component is being handled
+  bool replaced = false;                   // the alternative took its place: no further replacement
+  bool stopped = false;                    // fault-stopped: further faults are only logged
   Component* ready_alternative = nullptr;  // created and initialized, not started
-  FaultReport pending;           // handed to the component's own thread (core.fault.pending)
+  FaultReport pending;                     // handed to the component's own thread (core.fault.pending)
 
   /// The facts the escalation decision needs (call with `mutex` held).
   RoleFacts facts() const { return {rules.alternative != nullptr, replaced, ready_alternative != nullptr, false}; }

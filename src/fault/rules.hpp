@@ -5,10 +5,10 @@
 
 #include <array>
 #include <cstdint>
-#include <optional>
-#include <string_view>
 #include <map>
+#include <optional>
 #include <string>
+#include <string_view>
 
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
@@ -25,8 +25,7 @@ using profile::toString;  // Severity, Scope
 
 /// Kinds after which a component cannot simply go on (its callback did not finish).
 constexpr bool stopsTheComponent(FaultKind k) {
-  return k == FaultKind::Signal || k == FaultKind::Exception || k == FaultKind::ErrorCode ||
-         k == FaultKind::Heartbeat;
+  return k == FaultKind::Signal || k == FaultKind::Exception || k == FaultKind::ErrorCode || k == FaultKind::Heartbeat;
 }
 
 struct Rules {

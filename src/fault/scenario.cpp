@@ -18,8 +18,8 @@ using profile::Diagnostics;
 constexpr const char* kKinds =
     "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range; "
     "hardware: sensor_unplugged, sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise";
-constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck", "sensor_ok",
-                                               "motor_power_off", "motor_power_on", "noise"};
+constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck",   "sensor_ok",
+                                               "motor_power_off",  "motor_power_on", "noise"};
 
 class FaultReader {
  public:
@@ -40,8 +40,10 @@ class FaultReader {
       else if (name == "repeat") f.repeat = static_cast<int>(number(n, a, 1));
       else if (name == "every") f.every_ms = number(n, a, 0);
       else if (name == "args") f.args = profile::detail::trim(a.value());
-      else error(n, fmt::format("<fault>: unknown attribute '{}' (known: at, component, kind, port, value, "
-                                "duration, repeat, every, args)", name));
+      else
+        error(n, fmt::format("<fault>: unknown attribute '{}' (known: at, component, kind, port, value, "
+                             "duration, repeat, every, args)",
+                             name));
     }
     if (n.attribute("at").empty()) error(n, "<fault>: attribute 'at' (ms) is required");
     if (f.component.empty()) error(n, "<fault>: attribute 'component' is required");
@@ -52,7 +54,9 @@ class FaultReader {
     return f;
   }
 
-  void error(pugi::xml_node n, std::string message) { diags_.push_back(Diagnostic{file_.where(n), std::move(message)}); }
+  void error(pugi::xml_node n, std::string message) {
+    diags_.push_back(Diagnostic{file_.where(n), std::move(message)});
+  }
 
  private:
   /// The kind, and the attributes that go with it: `args` with the hardware kinds only; `port`,
@@ -62,8 +66,7 @@ class FaultReader {
     if (f.hardware) {
       for (const char* a : {"port", "value", "duration"}) {
         if (n.attribute(a).empty()) continue;
-        error(n, fmt::format("<fault>: attribute '{}' is not for hardware kind '{}' (it takes args)", a,
-                             f.kind_name));
+        error(n, fmt::format("<fault>: attribute '{}' is not for hardware kind '{}' (it takes args)", a, f.kind_name));
       }
       return;
     }
@@ -116,7 +119,8 @@ Result<Scenario, Diagnostics> loadScenario(const std::string& path) {
   }
   pugi::xml_node root = file->root();
   if (std::string_view(root.name()) != "fault_scenario") {
-    diags.push_back(Diagnostic{file->where(root), fmt::format("root element must be <fault_scenario>, got <{}>", root.name())});
+    diags.push_back(
+        Diagnostic{file->where(root), fmt::format("root element must be <fault_scenario>, got <{}>", root.name())});
     return diags;
   }
   Scenario s;
@@ -132,8 +136,7 @@ Result<Scenario, Diagnostics> loadScenario(const std::string& path) {
     if (auto f = reader.read(n)) s.faults.push_back(std::move(*f));
   }
   if (!diags.empty()) return diags;
-  std::stable_sort(s.faults.begin(), s.faults.end(),
-                   [](const auto& a, const auto& b) { return a.at_ms < b.at_ms; });
+  std::stable_sort(s.faults.begin(), s.faults.end(), [](const auto& a, const auto& b) { return a.at_ms < b.at_ms; });
   return s;
 }
 

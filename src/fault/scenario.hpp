@@ -21,13 +21,13 @@ namespace keel::fault {
 struct ScheduledFault {
   double at_ms = 0;
   std::string component;
-  std::string kind_name;   // as written, for the log
+  std::string kind_name;                                 // as written, for the log
   runtime::InjectKind kind = runtime::InjectKind::None;  // None for a hardware fault
-  bool hardware = false;   // a hardware fault: sent to the component's onHardwareFault
-  std::string args;        // hardware: its arguments ("left", "1 250")
-  std::string port;        // out_of_range: the output port ("" = the first numeric one)
-  double value = 0;        // out_of_range: the value pushed instead (default NaN)
-  double duration_ms = 0;  // stall_heartbeat: 0 = for ever
+  bool hardware = false;                                 // a hardware fault: sent to the component's onHardwareFault
+  std::string args;                                      // hardware: its arguments ("left", "1 250")
+  std::string port;                                      // out_of_range: the output port ("" = the first numeric one)
+  double value = 0;                                      // out_of_range: the value pushed instead (default NaN)
+  double duration_ms = 0;                                // stall_heartbeat: 0 = for ever
   int repeat = 1;
   double every_ms = 0;
   profile::Where where;

@@ -75,8 +75,7 @@ void Watchdog::run() {
   sp.sched_priority = sched_get_priority_max(SCHED_FIFO);
   if (!realtime_) {
   } else if (int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); err != 0 && warn_)
-    warn_(fmt::format("watchdog: SCHED_FIFO refused ({}); hang detection runs at normal priority",
-                      std::strerror(err)));
+    warn_(fmt::format("watchdog: SCHED_FIFO refused ({}); hang detection runs at normal priority", std::strerror(err)));
   while (!stop_.load(std::memory_order_acquire)) {
     const std::int64_t now = runtime::steadyNs();
     std::int64_t next = now + poll_ns_;

@@ -31,8 +31,7 @@ class Planner {
   /// Connections whose endpoints are `prefix` + a name added before (a system's: prefix "").
   void addConnections(const std::string& prefix, const std::vector<profile::Connection>& connections) {
     for (const auto& c : connections) {
-      plan_.connections.push_back(
-          {c.port_type, resolve(prefix, c.source), resolve(prefix, c.target), c.where});
+      plan_.connections.push_back({c.port_type, resolve(prefix, c.source), resolve(prefix, c.target), c.where});
     }
   }
 
@@ -58,8 +57,8 @@ class Planner {
     for (const auto& inst : plan_.instances) {
       const auto& e = inst.profile->execution;
       if (in_task_.count(inst.name) || e.type == profile::ExecutionType::Passive) continue;
-      plan_.executors.push_back({inst.name, e.type == profile::ExecutionType::Periodic, e.period_ms,
-                                 e.priority, e.policy, {inst.name}});
+      plan_.executors.push_back(
+          {inst.name, e.type == profile::ExecutionType::Periodic, e.period_ms, e.priority, e.policy, {inst.name}});
     }
     plan_.name = std::move(name);
     return std::move(plan_);
@@ -88,8 +87,7 @@ class Planner {
   }
 
  private:
-  Result<void> addSubcomponent(const std::string& prefix, const std::string& app,
-                               const profile::Subcomponent& sub) {
+  Result<void> addSubcomponent(const std::string& prefix, const std::string& app, const profile::Subcomponent& sub) {
     const std::string name = prefix + sub.name;
     if (auto it = set_.components.find(sub.reference); it != set_.components.end()) {
       PlannedInstance inst;
@@ -106,8 +104,8 @@ class Planner {
     }
     auto cit = set_.composites.find(sub.reference);
     if (cit == set_.composites.end())
-      return fail(fmt::format("{}:{}: subcomponent '{}': '{}' is not a loaded component or composite",
-                              sub.where.file, sub.where.line, sub.name, sub.reference));
+      return fail(fmt::format("{}:{}: subcomponent '{}': '{}' is not a loaded component or composite", sub.where.file,
+                              sub.where.line, sub.name, sub.reference));
     const profile::CompositeProfile& comp = cit->second;
     std::size_t first = plan_.instances.size();
     if (auto r = addPackage(name + ".", app, comp.subcomponents, comp.connections); !r) return r;
@@ -117,8 +115,7 @@ class Planner {
       inner.push_back(plan_.instances[i].name);
     }
     members_[name] = inner;
-    for (const auto& e : comp.exported_ports)
-      exports_[{name, e.name}] = resolve(name + ".", e.inner);
+    for (const auto& e : comp.exported_ports) exports_[{name, e.name}] = resolve(name + ".", e.inner);
     return {};
   }
 
@@ -165,8 +162,7 @@ Result<Plan> makePlan(const ProfileSet& set) {
       for (const auto& app : set.system->applications) {
         const auto& pkg = set.packages.at(app.reference);
         const std::string prefix = app.name + ".";
-        if (auto r = planner.addPackage(prefix, app.name, pkg.subcomponents, pkg.connections); !r)
-          return r.error();
+        if (auto r = planner.addPackage(prefix, app.name, pkg.subcomponents, pkg.connections); !r) return r.error();
         planner.addTasks(prefix, pkg.tasks);
         planner.addDepends(prefix, pkg.depends);
       }
@@ -180,8 +176,7 @@ Result<Plan> makePlan(const ProfileSet& set) {
     }
     case profile::RootKind::Composite: {
       const auto& comp = set.composites.at(set.root);
-      if (auto r = planner.addPackage("", "", comp.subcomponents, comp.connections); !r)
-        return r.error();
+      if (auto r = planner.addPackage("", "", comp.subcomponents, comp.connections); !r) return r.error();
       return planner.finish(comp.name);
     }
   }

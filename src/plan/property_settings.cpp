@@ -29,15 +29,15 @@ Result<PropertyValue> typeSetting(const Plan& plan, const PropertySetting& s) {
     if (p.name == s.property) decl = &p;
   }
   if (decl == nullptr) {
-    return fail(fmt::format("--set '{}': component '{}' of instance '{}' has no property '{}' (properties: {})",
-                            s.text, inst->profile->name, s.instance, s.property, list(names)));
+    return fail(fmt::format("--set '{}': component '{}' of instance '{}' has no property '{}' (properties: {})", s.text,
+                            inst->profile->name, s.instance, s.property, list(names)));
   }
   auto value = profile::detail::parsePropertyValue(decl->type, s.value);
   if (!value) {
-    return fail(fmt::format("--set '{}': property '{}' of instance '{}' is of type {}: the value must be {}, "
-                            "got '{}'",
-                            s.text, s.property, s.instance, decl->type, profile::detail::describeType(decl->type),
-                            s.value));
+    return fail(
+        fmt::format("--set '{}': property '{}' of instance '{}' is of type {}: the value must be {}, "
+                    "got '{}'",
+                    s.text, s.property, s.instance, decl->type, profile::detail::describeType(decl->type), s.value));
   }
   return std::move(*value);
 }

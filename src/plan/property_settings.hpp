@@ -19,7 +19,7 @@ struct PropertySetting {
   std::string text;      // as given, for messages and the log
   std::string instance;  // a planned instance name: "actuator", "navigation.planner"
   std::string property;
-  std::string value;     // typed when applied
+  std::string value;  // typed when applied
 };
 
 /// Splits "INSTANCE.PROPERTY=VALUE" at the first '=' and, before it, at the last '.' (instance

@@ -16,9 +16,7 @@ namespace {
 void readExportPort(Ctx& ctx, pugi::xml_node node, std::vector<ExportedPort>& out) {
   ExportedPort e;
   e.where = ctx.where(node);
-  auto text = [&](std::string& into) {
-    return [&ctx, &into](pugi::xml_node n) { into = leafText(ctx, n); };
-  };
+  auto text = [&](std::string& into) { return [&ctx, &into](pugi::xml_node n) { into = leafText(ctx, n); }; };
   readChildren(ctx, node,
                {{"export_port_name", text(e.name)},
                 {"component_name", text(e.inner.component)},
@@ -28,11 +26,11 @@ void readExportPort(Ctx& ctx, pugi::xml_node node, std::vector<ExportedPort>& ou
                 {"export_portview", {}}},
                {"name", "component", "port"});
   const bool attributes = node.attribute("name") || node.attribute("component") || node.attribute("port");
-  const bool children = node.child("export_port_name") || node.child("component_name") ||
-                        node.child("port_name");
+  const bool children = node.child("export_port_name") || node.child("component_name") || node.child("port_name");
   if (attributes && children) {
-    ctx.error(node, "<export_port> mixes attributes (name, component, port) and child elements "
-                    "(export_port_name, component_name, port_name)");
+    ctx.error(node,
+              "<export_port> mixes attributes (name, component, port) and child elements "
+              "(export_port_name, component_name, port_name)");
     return;
   }
   if (!children) {
@@ -53,8 +51,7 @@ void readExportPort(Ctx& ctx, pugi::xml_node node, std::vector<ExportedPort>& ou
   }
   for (const ExportedPort& other : out) {
     if (other.name == e.name) {
-      ctx.error(node, fmt::format("duplicate export_port '{}' (first at line {})", e.name,
-                                  other.where.line));
+      ctx.error(node, fmt::format("duplicate export_port '{}' (first at line {})", e.name, other.where.line));
       return;
     }
   }
@@ -65,24 +62,22 @@ void readExportPort(Ctx& ctx, pugi::xml_node node, std::vector<ExportedPort>& ou
 
 void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out) {
   out.where = ctx.where(root);
-  readChildren(
-      ctx, root,
-      {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
-       {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
-       {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
-       {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
-       {"export_ports",
-        [&](pugi::xml_node n) {
-          readChildren(ctx, n,
-                       {{"export_port",
-                         [&](pugi::xml_node p) { readExportPort(ctx, p, out.exported_ports); },
-                         true}});
-        }},
-       {"id", {}},
-       {"version", {}},
-       {"copyright", {}},
-       {"execution_environment", {}},
-       {"layout", {}}});
+  readChildren(ctx, root,
+               {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
+                {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
+                {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
+                {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
+                {"export_ports",
+                 [&](pugi::xml_node n) {
+                   readChildren(ctx, n,
+                                {{"export_port", [&](pugi::xml_node p) { readExportPort(ctx, p, out.exported_ports); },
+                                  true}});
+                 }},
+                {"id", {}},
+                {"version", {}},
+                {"copyright", {}},
+                {"execution_environment", {}},
+                {"layout", {}}});
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

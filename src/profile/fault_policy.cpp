@@ -56,8 +56,7 @@ struct PolicyReader {
     }
     const auto ref = requiredAttribute(ctx, n, "reference");
     if (!ref) return;
-    alt.reference = ctx.reference(n, trim(*ref), "<alternative> of " + who,
-                                  {RootKind::Component});
+    alt.reference = ctx.reference(n, trim(*ref), "<alternative> of " + who, {RootKind::Component});
     if (!alt.reference.empty()) out.alternative = std::move(alt);
   }
 
@@ -92,14 +91,12 @@ FaultPolicy parseFaultPolicy(Ctx& ctx, pugi::xml_node node, const std::string& o
             policy.dependency = *v;
           }
         }},
-       {"heartbeat",
-        [&](pugi::xml_node n) { policy.heartbeat_timeout_ms = r.positiveAttribute(n, "timeout"); }},
+       {"heartbeat", [&](pugi::xml_node n) { policy.heartbeat_timeout_ms = r.positiveAttribute(n, "timeout"); }},
        {"deadline",
         [&](pugi::xml_node n) {
           policy.deadline_ms = readPositive(ctx, n, leafText(ctx, n), "<deadline> of " + r.owner);
         }},
-       {"checkpoint",
-        [&](pugi::xml_node n) { policy.checkpoint_period_ms = r.positiveAttribute(n, "period"); }},
+       {"checkpoint", [&](pugi::xml_node n) { policy.checkpoint_period_ms = r.positiveAttribute(n, "period"); }},
        {"alternative", [&](pugi::xml_node n) { r.alternative(n); }},
        {"restart", [&](pugi::xml_node n) { r.restart(n); }}});
   return policy;

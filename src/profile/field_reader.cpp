@@ -3,8 +3,7 @@
 
 namespace keel::profile::detail {
 
-std::optional<double> readPositive(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                                   std::string_view what) {
+std::optional<double> readPositive(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what) {
   const auto value = parseDouble(text);
   if (!value || *value <= 0.0) {
     ctx.error(at, fmt::format("{} must be a positive number, got '{}'", what, text));
@@ -13,8 +12,7 @@ std::optional<double> readPositive(Ctx& ctx, pugi::xml_node at, std::string_view
   return value;
 }
 
-std::optional<std::size_t> readCount(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                                     std::string_view what) {
+std::optional<std::size_t> readCount(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what) {
   const auto value = parseInt(text);
   if (!value || *value < 1) {
     ctx.error(at, fmt::format("{} must be a positive integer, got '{}'", what, text));
@@ -23,8 +21,8 @@ std::optional<std::size_t> readCount(Ctx& ctx, pugi::xml_node at, std::string_vi
   return static_cast<std::size_t>(*value);
 }
 
-std::optional<int> readIntIn(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                             std::string_view what, int lo, int hi) {
+std::optional<int> readIntIn(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what, int lo,
+                             int hi) {
   const auto value = parseInt(text);
   if (!value || *value < lo || *value > hi) {
     ctx.error(at, fmt::format("{} must be an integer from {} to {}, got '{}'", what, lo, hi, text));
@@ -33,58 +31,52 @@ std::optional<int> readIntIn(Ctx& ctx, pugi::xml_node at, std::string_view text,
   return static_cast<int>(*value);
 }
 
-void checkRealtimePriority(Ctx& ctx, pugi::xml_node at, SchedPolicy policy, int priority,
-                           bool given, std::string_view what, std::string_view owner) {
+void checkRealtimePriority(Ctx& ctx, pugi::xml_node at, SchedPolicy policy, int priority, bool given,
+                           std::string_view what, std::string_view owner) {
   if (policy == SchedPolicy::Other || priority >= 1) return;
   if (given) {
-    ctx.error(at, fmt::format("{} must be from 1 to 99 with policy {}, got '{}'", what,
-                              name(policy), priority));
+    ctx.error(at, fmt::format("{} must be from 1 to 99 with policy {}, got '{}'", what, name(policy), priority));
   } else {
     ctx.error(at, fmt::format("policy {} of {} needs a priority from 1 to 99", name(policy), owner));
   }
 }
 
-std::optional<bool> readBool(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                             std::string_view what) {
+std::optional<bool> readBool(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what) {
   const auto value = parseBool(text);
   if (!value) ctx.error(at, fmt::format("{} must be true or false, got '{}'", what, text));
   return value;
 }
 
 const std::vector<std::pair<std::string_view, ExecutionType>>& executionTypes() {
-  static const std::vector<std::pair<std::string_view, ExecutionType>> t = {
-      {"periodic", ExecutionType::Periodic},
-      {"aperiodic", ExecutionType::Aperiodic},
-      {"passive", ExecutionType::Passive}};
+  static const std::vector<std::pair<std::string_view, ExecutionType>> t = {{"periodic", ExecutionType::Periodic},
+                                                                            {"aperiodic", ExecutionType::Aperiodic},
+                                                                            {"passive", ExecutionType::Passive}};
   return t;
 }
 
 const std::vector<std::pair<std::string_view, SchedPolicy>>& schedPolicies() {
   static const std::vector<std::pair<std::string_view, SchedPolicy>> t = {
-      {"other", SchedPolicy::Other},       {"fifo", SchedPolicy::Fifo},
-      {"rr", SchedPolicy::RoundRobin},     {"sched_other", SchedPolicy::Other},
-      {"sched_fifo", SchedPolicy::Fifo},   {"sched_rr", SchedPolicy::RoundRobin}};
+      {"other", SchedPolicy::Other},       {"fifo", SchedPolicy::Fifo},       {"rr", SchedPolicy::RoundRobin},
+      {"sched_other", SchedPolicy::Other}, {"sched_fifo", SchedPolicy::Fifo}, {"sched_rr", SchedPolicy::RoundRobin}};
   return t;
 }
 
 const std::vector<std::pair<std::string_view, Usage>>& usages() {
-  static const std::vector<std::pair<std::string_view, Usage>> t = {{"input", Usage::Input},
-                                                                    {"output", Usage::Output}};
+  static const std::vector<std::pair<std::string_view, Usage>> t = {{"input", Usage::Input}, {"output", Usage::Output}};
   return t;
 }
 
 const std::vector<std::pair<std::string_view, ServiceUsage>>& serviceUsages() {
-  static const std::vector<std::pair<std::string_view, ServiceUsage>> t = {
-      {"provided", ServiceUsage::Provided}, {"required", ServiceUsage::Required}};
+  static const std::vector<std::pair<std::string_view, ServiceUsage>> t = {{"provided", ServiceUsage::Provided},
+                                                                           {"required", ServiceUsage::Required}};
   return t;
 }
 
 const std::vector<std::pair<std::string_view, QueuePolicy>>& queuePolicies() {
-  static const std::vector<std::pair<std::string_view, QueuePolicy>> t = {
-      {"FIFO", QueuePolicy::Fifo},
-      {"UFIFO", QueuePolicy::UFifo},
-      {"LIFO", QueuePolicy::Lifo},
-      {"LAST", QueuePolicy::Last}};
+  static const std::vector<std::pair<std::string_view, QueuePolicy>> t = {{"FIFO", QueuePolicy::Fifo},
+                                                                          {"UFIFO", QueuePolicy::UFifo},
+                                                                          {"LIFO", QueuePolicy::Lifo},
+                                                                          {"LAST", QueuePolicy::Last}};
   return t;
 }
 
@@ -98,26 +90,25 @@ const std::vector<std::pair<std::string_view, PortType>>& portTypes() {
 }
 
 const std::vector<std::pair<std::string_view, Severity>>& severities() {
-  static const std::vector<std::pair<std::string_view, Severity>> t = {
-      {"ignore", Severity::Ignore},
-      {"reset", Severity::Reset},
-      {"stop", Severity::Stop},
-      {"emergency", Severity::Emergency}};
+  static const std::vector<std::pair<std::string_view, Severity>> t = {{"ignore", Severity::Ignore},
+                                                                       {"reset", Severity::Reset},
+                                                                       {"stop", Severity::Stop},
+                                                                       {"emergency", Severity::Emergency}};
   return t;
 }
 
 const std::vector<std::pair<std::string_view, Scope>>& scopes() {
-  static const std::vector<std::pair<std::string_view, Scope>> t = {
-      {"component", Scope::Component}, {"executor", Scope::Executor}, {"system", Scope::System}};
+  static const std::vector<std::pair<std::string_view, Scope>> t = {{"component", Scope::Component},
+                                                                    {"executor", Scope::Executor},
+                                                                    {"system", Scope::System}};
   return t;
 }
 
 const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds() {
   static const std::vector<std::pair<std::string_view, std::string_view>> t = {
-      {"signal", "signal"}, {"exception", "exception"}, {"error_code", "error_code"},
-      {"range", "range"},   {"model", "model"},         {"heartbeat", "heartbeat"},
-      {"deadline", "deadline"}, {"vote", "vote"},       {"user", "user"},
-      {"remote", "remote"}};
+      {"signal", "signal"}, {"exception", "exception"}, {"error_code", "error_code"}, {"range", "range"},
+      {"model", "model"},   {"heartbeat", "heartbeat"}, {"deadline", "deadline"},     {"vote", "vote"},
+      {"user", "user"},     {"remote", "remote"}};
   return t;
 }
 
@@ -132,9 +123,7 @@ std::string_view name(PortType t) {
 
 std::string_view name(Usage u) { return u == Usage::Input ? "input" : "output"; }
 
-std::string_view name(ServiceUsage u) {
-  return u == ServiceUsage::Provided ? "provided" : "required";
-}
+std::string_view name(ServiceUsage u) { return u == ServiceUsage::Provided ? "provided" : "required"; }
 
 std::string_view name(SchedPolicy p) {
   switch (p) {

@@ -19,30 +19,25 @@
 namespace keel::profile::detail {
 
 /// A finite number > 0 (periods, timeouts in ms).
-std::optional<double> readPositive(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                                   std::string_view what);
+std::optional<double> readPositive(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what);
 
 /// An integer >= 1 (queue sizes).
-std::optional<std::size_t> readCount(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                                     std::string_view what);
+std::optional<std::size_t> readCount(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what);
 
 /// An integer in [lo, hi].
-std::optional<int> readIntIn(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                             std::string_view what, int lo, int hi);
+std::optional<int> readIntIn(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what, int lo, int hi);
 
 /// fifo and rr need a real-time priority (1..99); other takes 0 ("do not change") or more.
 /// `what` names the priority ("<priority> of component 'x'"), `owner` its owner.
-void checkRealtimePriority(Ctx& ctx, pugi::xml_node at, SchedPolicy policy, int priority,
-                           bool given, std::string_view what, std::string_view owner);
+void checkRealtimePriority(Ctx& ctx, pugi::xml_node at, SchedPolicy policy, int priority, bool given,
+                           std::string_view what, std::string_view owner);
 
 /// true/false/1/0.
-std::optional<bool> readBool(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                             std::string_view what);
+std::optional<bool> readBool(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what);
 
 /// One of the words of `table`, case-insensitive.
 template <class E>
-std::optional<E> readWord(Ctx& ctx, pugi::xml_node at, std::string_view text,
-                          std::string_view what,
+std::optional<E> readWord(Ctx& ctx, pugi::xml_node at, std::string_view text, std::string_view what,
                           const std::vector<std::pair<std::string_view, E>>& table) {
   auto value = parseWord(text, table);
   if (!value) {

@@ -62,8 +62,7 @@ class Loader {
   Result<ProfileSet, Diagnostics> run(const std::string& path);
 
  private:
-  std::optional<RootKind> loadFile(const std::string& abs, const std::string& display,
-                                   const Reference* from);
+  std::optional<RootKind> loadFile(const std::string& abs, const std::string& display, const Reference* from);
   std::optional<RootKind> parseRoot(Ctx& ctx, pugi::xml_node root, const std::string& abs);
   void follow(const Reference& ref);
   std::string cycleText(const std::string& abs) const;
@@ -71,8 +70,8 @@ class Loader {
 
   ProfileSet set_;
   Diagnostics diags_;
-  std::map<std::string, std::optional<RootKind>> kinds_;  // nullopt: could not be read
-  std::map<std::string, std::size_t> file_order_;          // display path -> load order
+  std::map<std::string, std::optional<RootKind>> kinds_;    // nullopt: could not be read
+  std::map<std::string, std::size_t> file_order_;           // display path -> load order
   std::vector<std::pair<std::string, std::string>> stack_;  // (abs, display) being loaded
   bool cycle_ = false;
 };
@@ -90,8 +89,7 @@ Result<ProfileSet, Diagnostics> Loader::run(const std::string& path) {
   return std::move(set_);
 }
 
-std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::string& display,
-                                         const Reference* from) {
+std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::string& display, const Reference* from) {
   if (const auto it = kinds_.find(abs); it != kinds_.end()) return it->second;
   kinds_[abs] = std::nullopt;
   std::string open_error;
@@ -101,8 +99,8 @@ std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::stri
     if (from == nullptr) {
       diags_.push_back(Diagnostic{Where{display, 0}, "cannot open: " + open_error});
     } else {
-      diags_.push_back(Diagnostic{
-          from->where, fmt::format("{}: cannot open '{}': {}", from->who, from->written, open_error)});
+      diags_.push_back(
+          Diagnostic{from->where, fmt::format("{}: cannot open '{}': {}", from->who, from->written, open_error)});
     }
     return std::nullopt;
   }
@@ -129,9 +127,9 @@ std::optional<RootKind> Loader::parseRoot(Ctx& ctx, pugi::xml_node root, const s
   }
   const auto kind = rootKindOf(root.name());
   if (!kind) {
-    ctx.error(root, fmt::format("unknown root element {} (expected {})", tag(root),
-                                kindList({RootKind::Component, RootKind::Composite,
-                                          RootKind::Package, RootKind::System})));
+    ctx.error(root,
+              fmt::format("unknown root element {} (expected {})", tag(root),
+                          kindList({RootKind::Component, RootKind::Composite, RootKind::Package, RootKind::System})));
     return std::nullopt;
   }
   switch (*kind) {
@@ -169,21 +167,17 @@ void Loader::follow(const Reference& ref) {
                                        [&](const auto& e) { return e.first == ref.path; });
   const auto kind = in_progress ? kinds_[ref.path] : loadFile(ref.path, ref.display, &ref);
   if (!kind) return;
-  const bool accepted =
-      std::find(ref.accepted.begin(), ref.accepted.end(), *kind) != ref.accepted.end();
+  const bool accepted = std::find(ref.accepted.begin(), ref.accepted.end(), *kind) != ref.accepted.end();
   if (!accepted) {
-    diags_.push_back(Diagnostic{ref.where, fmt::format("{}: '{}' is a <{}>, expected {}", ref.who,
-                                                       ref.written, name(*kind),
-                                                       kindList(ref.accepted))});
+    diags_.push_back(Diagnostic{ref.where, fmt::format("{}: '{}' is a <{}>, expected {}", ref.who, ref.written,
+                                                       name(*kind), kindList(ref.accepted))});
   } else if (in_progress) {
     cycle_ = true;
-    diags_.push_back(Diagnostic{
-        ref.where, fmt::format("{}: circular reference: {}", ref.who, cycleText(ref.path))});
+    diags_.push_back(Diagnostic{ref.where, fmt::format("{}: circular reference: {}", ref.who, cycleText(ref.path))});
   } else if (ref.declared && *ref.declared != *kind) {
-    diags_.push_back(Diagnostic{
-        ref.where, fmt::format("{} has <type> {} but '{}' is a <{}>", ref.who,
-                               *ref.declared == RootKind::Component ? "atomic" : "composite",
-                               ref.written, name(*kind))});
+    diags_.push_back(Diagnostic{ref.where, fmt::format("{} has <type> {} but '{}' is a <{}>", ref.who,
+                                                       *ref.declared == RootKind::Component ? "atomic" : "composite",
+                                                       ref.written, name(*kind))});
   }
 }
 

@@ -25,10 +25,10 @@ struct Where {
 
 enum class ExecutionType { Periodic, Aperiodic, Passive };
 enum class SchedPolicy { Other, Fifo, RoundRobin };
-enum class Usage { Input, Output };               // data and event ports
-enum class ServiceUsage { Provided, Required };   // service ports
+enum class Usage { Input, Output };              // data and event ports
+enum class ServiceUsage { Provided, Required };  // service ports
 enum class QueuePolicy { Fifo, UFifo, Lifo, Last };
-enum class PortType { Data, Event, Service };     // port_connection@port_type
+enum class PortType { Data, Event, Service };  // port_connection@port_type
 
 /// Severity of a fault policy (paper §5.2).
 enum class Severity { Ignore, Reset, Stop, Emergency };
@@ -164,8 +164,8 @@ struct Connection {
 struct CompositeProfile;
 
 struct Subcomponent {
-  std::string name;       // instance name, unique within its package/composite
-  std::string reference;  // resolved absolute path of the referenced profile
+  std::string name;                                    // instance name, unique within its package/composite
+  std::string reference;                               // resolved absolute path of the referenced profile
   std::map<std::string, Property> property_overrides;  // typed against the component profile
   std::optional<FaultPolicy> fault_policy;
   Where where;
@@ -225,7 +225,7 @@ struct Requirement {
 
 struct Application {
   std::string name;
-  std::string reference;  // resolved absolute path of a package profile
+  std::string reference;                // resolved absolute path of a package profile
   std::vector<std::string> depends_on;  // other application names
   std::vector<Requirement> requires_;   // empty: every component of the package is needed
   Where where;

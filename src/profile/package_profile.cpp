@@ -38,15 +38,13 @@ void readTask(Ctx& ctx, pugi::xml_node node, std::vector<Task>& out) {
     if (auto v = readPositive(ctx, node, *period, "period of " + owner)) t.period_ms = *v;
   }
   const auto priority = attribute(node, "priority");
-  const auto p = priority ? readIntIn(ctx, node, *priority, "priority of " + owner, 0, 99)
-                          : std::optional<int>(0);
+  const auto p = priority ? readIntIn(ctx, node, *priority, "priority of " + owner, 0, 99) : std::optional<int>(0);
   t.priority = p.value_or(0);
   if (auto policy = attribute(node, "policy")) {
     t.policy = readWord(ctx, node, *policy, "policy of " + owner, schedPolicies()).value_or(t.policy);
   }
   if (p) {
-    checkRealtimePriority(ctx, node, t.policy, t.priority, priority.has_value(),
-                          "priority of " + owner, owner);
+    checkRealtimePriority(ctx, node, t.policy, t.priority, priority.has_value(), "priority of " + owner, owner);
   }
   if (t.members.empty() && !node.child("member")) {
     ctx.error(node, fmt::format("{} has no <member>", owner));
@@ -78,17 +76,16 @@ std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node) {
 
 void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
   out.where = ctx.where(root);
-  readChildren(
-      ctx, root,
-      {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
-       {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
-       {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
-       {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
-       {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
-       {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
-       {"id", {}},
-       {"version", {}},
-       {"copyright", {}}});
+  readChildren(ctx, root,
+               {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
+                {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
+                {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
+                {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
+                {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
+                {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
+                {"id", {}},
+                {"version", {}},
+                {"copyright", {}}});
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

@@ -35,7 +35,6 @@ std::vector<Connection> parseConnections(Ctx& ctx, pugi::xml_node node);
 FaultPolicy parseFaultPolicy(Ctx& ctx, pugi::xml_node node, const std::string& owner);
 
 /// The text of a required child that was not given: "missing <name> in <data_port>".
-void reportMissing(Ctx& ctx, pugi::xml_node parent, std::string_view child,
-                   const std::string& owner = {});
+void reportMissing(Ctx& ctx, pugi::xml_node parent, std::string_view child, const std::string& owner = {});
 
 }  // namespace keel::profile::detail

@@ -12,8 +12,8 @@ namespace {
 void checkBounds(Ctx& ctx, pugi::xml_node at, const Validity& v, const std::string& owner) {
   if (v.min.empty() || v.max.empty()) return;
   if (v.min.size() != v.max.size() && v.min.size() != 1 && v.max.size() != 1) {
-    ctx.error(at, fmt::format("<validity> of {}: <min> has {} values but <max> has {}", owner,
-                              v.min.size(), v.max.size()));
+    ctx.error(at,
+              fmt::format("<validity> of {}: <min> has {} values but <max> has {}", owner, v.min.size(), v.max.size()));
     return;
   }
   const std::size_t n = std::max(v.min.size(), v.max.size());
@@ -22,8 +22,7 @@ void checkBounds(Ctx& ctx, pugi::xml_node at, const Validity& v, const std::stri
     const double hi = v.max[v.max.size() == 1 ? 0 : i];
     if (lo <= hi) continue;
     const std::string index = n == 1 ? "" : fmt::format("[{}]", i);
-    ctx.error(at, fmt::format("<validity> of {}: min{} {} is greater than max{} {}", owner, index,
-                              lo, index, hi));
+    ctx.error(at, fmt::format("<validity> of {}: min{} {} is greater than max{} {}", owner, index, lo, index, hi));
   }
 }
 
@@ -35,8 +34,7 @@ Validity readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
       const std::string text = leafText(ctx, n);
       auto list = parseDoubleList(text, true);
       if (!list || list->empty()) {
-        ctx.error(n, fmt::format("<{}> of {} must be a number or a list of numbers, got '{}'",
-                                 n.name(), owner, text));
+        ctx.error(n, fmt::format("<{}> of {} must be a number or a list of numbers, got '{}'", n.name(), owner, text));
         return;
       }
       into = std::move(*list);
@@ -48,9 +46,7 @@ Validity readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
 }
 
 /// The port's name read ahead, so that messages about earlier children can name the port.
-std::string portName(pugi::xml_node node) {
-  return std::string(trim(node.child("name").child_value()));
-}
+std::string portName(pugi::xml_node node) { return std::string(trim(node.child("name").child_value())); }
 
 void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   DataPort p;
@@ -69,25 +65,24 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
       p.queue_policy = *v;
     }
   };
-  readChildren(
-      ctx, node,
-      {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
-       {"usage",
-        [&](pugi::xml_node n) {
-          usage = true;
-          if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
-        }},
-       {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
-       {"queueing_policy", queue_policy},
-       {"queuing_policy", queue_policy},
-       {"queue_size",
-        [&](pugi::xml_node n) {
-          if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
-        }},
-       {"validity", [&](pugi::xml_node n) { p.validity = readValidity(ctx, n, owner); }},
-       {"description", {}},
-       {"reference", {}},
-       {"layout", {}}});
+  readChildren(ctx, node,
+               {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
+                {"usage",
+                 [&](pugi::xml_node n) {
+                   usage = true;
+                   if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
+                 }},
+                {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
+                {"queueing_policy", queue_policy},
+                {"queuing_policy", queue_policy},
+                {"queue_size",
+                 [&](pugi::xml_node n) {
+                   if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
+                 }},
+                {"validity", [&](pugi::xml_node n) { p.validity = readValidity(ctx, n, owner); }},
+                {"description", {}},
+                {"reference", {}},
+                {"layout", {}}});
   if (p.name.empty()) return reportMissing(ctx, node, "name");
   if (!usage) reportMissing(ctx, node, "usage", owner);
   if (p.data_type.empty()) reportMissing(ctx, node, "data_type", owner);
@@ -101,22 +96,21 @@ void readEventPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   const std::string owner = fmt::format("event port '{}'", p.name);
   bool usage = false;
   auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
-  readChildren(
-      ctx, node,
-      {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
-       {"usage",
-        [&](pugi::xml_node n) {
-          usage = true;
-          if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
-        }},
-       {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
-       {"queue_size",
-        [&](pugi::xml_node n) {
-          if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
-        }},
-       {"description", {}},
-       {"reference", {}},
-       {"layout", {}}});
+  readChildren(ctx, node,
+               {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
+                {"usage",
+                 [&](pugi::xml_node n) {
+                   usage = true;
+                   if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
+                 }},
+                {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
+                {"queue_size",
+                 [&](pugi::xml_node n) {
+                   if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
+                 }},
+                {"description", {}},
+                {"reference", {}},
+                {"layout", {}}});
   if (p.name.empty()) return reportMissing(ctx, node, "name");
   if (!usage) reportMissing(ctx, node, "usage", owner);
   out.event_ports.push_back(std::move(p));
@@ -129,22 +123,21 @@ void readServicePort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   const std::string owner = fmt::format("service port '{}'", p.name);
   bool usage = false;
   auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
-  readChildren(
-      ctx, node,
-      {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
-       {"type", [&](pugi::xml_node n) { p.type = text(n); }},
-       {"usage",
-        [&](pugi::xml_node n) {
-          usage = true;
-          if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, serviceUsages())) p.usage = *v;
-        }},
-       {"timeout",
-        [&](pugi::xml_node n) {
-          if (auto v = readPositive(ctx, n, text(n), "<timeout> of " + owner)) p.timeout_ms = *v;
-        }},
-       {"description", {}},
-       {"reference", {}},
-       {"layout", {}}});
+  readChildren(ctx, node,
+               {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
+                {"type", [&](pugi::xml_node n) { p.type = text(n); }},
+                {"usage",
+                 [&](pugi::xml_node n) {
+                   usage = true;
+                   if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, serviceUsages())) p.usage = *v;
+                 }},
+                {"timeout",
+                 [&](pugi::xml_node n) {
+                   if (auto v = readPositive(ctx, n, text(n), "<timeout> of " + owner)) p.timeout_ms = *v;
+                 }},
+                {"description", {}},
+                {"reference", {}},
+                {"layout", {}}});
   if (p.name.empty()) return reportMissing(ctx, node, "name");
   if (!usage) reportMissing(ctx, node, "usage", owner);
   if (p.type.empty()) reportMissing(ctx, node, "type", owner);
@@ -157,8 +150,7 @@ void checkUniqueNames(Ctx& ctx, const ComponentProfile& c) {
   auto add = [&](const std::string& port, const Where& w) {
     for (const auto& [name, first] : seen) {
       if (name == port) {
-        ctx.error(w, fmt::format("duplicate port '{}' in component '{}' (first at line {})", port,
-                                 c.name, first.line));
+        ctx.error(w, fmt::format("duplicate port '{}' in component '{}' (first at line {})", port, c.name, first.line));
         return;
       }
     }

@@ -10,41 +10,39 @@ namespace keel::profile::detail {
 namespace {
 
 const std::vector<std::pair<std::string_view, RootKind>>& subcomponentTypes() {
-  static const std::vector<std::pair<std::string_view, RootKind>> t = {
-      {"atomic", RootKind::Component}, {"composite", RootKind::Composite}};
+  static const std::vector<std::pair<std::string_view, RootKind>> t = {{"atomic", RootKind::Component},
+                                                                       {"composite", RootKind::Composite}};
   return t;
 }
 
-std::map<std::string, Property> readOverrides(Ctx& ctx, pugi::xml_node node,
-                                              const std::string& owner) {
+std::map<std::string, Property> readOverrides(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
   std::map<std::string, Property> out;
-  readChildren(
-      ctx, node,
-      {{"property",
-        [&](pugi::xml_node n) {
-          Property p;
-          p.where = ctx.where(n);
-          const std::string text = leafText(ctx, n, {"name", "type", "description"});
-          const auto prop = requiredAttribute(ctx, n, "name");
-          if (!prop) return;
-          p.name = *prop;
-          if (auto written = attribute(n, "type")) {
-            auto type = normalisePropertyType(*written);
-            if (!type) {
-              ctx.error(n, fmt::format("property '{}' of {} has unknown type '{}' (types: {})",
-                                       p.name, owner, *written, kPropertyTypes));
-              return;
-            }
-            p.type = *type;
-          }
-          p.value = text;  // typed by validation
-          const auto [it, inserted] = out.emplace(p.name, p);
-          if (!inserted) {
-            ctx.error(n, fmt::format("duplicate property '{}' in {} (first at line {})", p.name,
-                                     owner, it->second.where.line));
-          }
-        },
-        true}});
+  readChildren(ctx, node,
+               {{"property",
+                 [&](pugi::xml_node n) {
+                   Property p;
+                   p.where = ctx.where(n);
+                   const std::string text = leafText(ctx, n, {"name", "type", "description"});
+                   const auto prop = requiredAttribute(ctx, n, "name");
+                   if (!prop) return;
+                   p.name = *prop;
+                   if (auto written = attribute(n, "type")) {
+                     auto type = normalisePropertyType(*written);
+                     if (!type) {
+                       ctx.error(n, fmt::format("property '{}' of {} has unknown type '{}' (types: {})", p.name, owner,
+                                                *written, kPropertyTypes));
+                       return;
+                     }
+                     p.type = *type;
+                   }
+                   p.value = text;  // typed by validation
+                   const auto [it, inserted] = out.emplace(p.name, p);
+                   if (!inserted) {
+                     ctx.error(n, fmt::format("duplicate property '{}' in {} (first at line {})", p.name, owner,
+                                              it->second.where.line));
+                   }
+                 },
+                 true}});
   return out;
 }
 
@@ -55,24 +53,23 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
   const std::string owner = fmt::format("subcomponent '{}'", s.name);
   pugi::xml_node reference;
   std::optional<RootKind> declared;
-  readChildren(
-      ctx, node,
-      {{"name", [&](pugi::xml_node n) { s.name = leafText(ctx, n); }},
-       {"reference", [&](pugi::xml_node n) { reference = n; }},
-       {"type",
-        [&](pugi::xml_node n) {
-          declared = readWord(ctx, n, leafText(ctx, n), "<type> of " + owner, subcomponentTypes());
-        }},
-       {"properties", [&](pugi::xml_node n) { s.property_overrides = readOverrides(ctx, n, owner); }},
-       {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
-       {"id", {}},
-       {"version", {}},
-       {"node_id", {}},
-       {"layout", {}}});
+  readChildren(ctx, node,
+               {{"name", [&](pugi::xml_node n) { s.name = leafText(ctx, n); }},
+                {"reference", [&](pugi::xml_node n) { reference = n; }},
+                {"type",
+                 [&](pugi::xml_node n) {
+                   declared = readWord(ctx, n, leafText(ctx, n), "<type> of " + owner, subcomponentTypes());
+                 }},
+                {"properties", [&](pugi::xml_node n) { s.property_overrides = readOverrides(ctx, n, owner); }},
+                {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
+                {"id", {}},
+                {"version", {}},
+                {"node_id", {}},
+                {"layout", {}}});
   if (s.name.empty()) return reportMissing(ctx, node, "name");
   if (!reference) return reportMissing(ctx, node, "reference", owner);
-  s.reference = ctx.reference(reference, leafText(ctx, reference), owner,
-                              {RootKind::Component, RootKind::Composite}, declared);
+  s.reference = ctx.reference(reference, leafText(ctx, reference), owner, {RootKind::Component, RootKind::Composite},
+                              declared);
   out.push_back(std::move(s));
 }
 
@@ -113,15 +110,13 @@ void readConnection(Ctx& ctx, pugi::xml_node node, std::vector<Connection>& out)
 
 std::vector<Subcomponent> parseSubcomponents(Ctx& ctx, pugi::xml_node node) {
   std::vector<Subcomponent> out;
-  readChildren(ctx, node,
-               {{"subcomponent", [&](pugi::xml_node n) { readSubcomponent(ctx, n, out); }, true}});
+  readChildren(ctx, node, {{"subcomponent", [&](pugi::xml_node n) { readSubcomponent(ctx, n, out); }, true}});
   return out;
 }
 
 std::vector<Connection> parseConnections(Ctx& ctx, pugi::xml_node node) {
   std::vector<Connection> out;
-  readChildren(ctx, node,
-               {{"port_connection", [&](pugi::xml_node n) { readConnection(ctx, n, out); }, true}});
+  readChildren(ctx, node, {{"port_connection", [&](pugi::xml_node n) { readConnection(ctx, n, out); }, true}});
   return out;
 }
 

@@ -23,8 +23,7 @@ void readRequires(Ctx& ctx, pugi::xml_node node, Application& app, const std::st
                    if (c.empty()) return ctx.error(n, fmt::format("empty <component> in {}", owner));
                    for (const std::string& seen : r.components) {
                      if (seen == c) {
-                       return ctx.error(n, fmt::format("{} lists component '{}' twice in <requires>",
-                                                       owner, c));
+                       return ctx.error(n, fmt::format("{} lists component '{}' twice in <requires>", owner, c));
                      }
                    }
                    r.components.push_back(std::move(c));
@@ -74,21 +73,19 @@ void readApplication(Ctx& ctx, pugi::xml_node node, std::vector<Application>& ou
 
 void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out) {
   out.where = ctx.where(root);
-  readChildren(
-      ctx, root,
-      {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
-       {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
-       {"applications",
-        [&](pugi::xml_node n) {
-          readChildren(ctx, n,
-                       {{"application",
-                         [&](pugi::xml_node a) { readApplication(ctx, a, out.applications); },
-                         true}});
-        }},
-       {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
-       {"id", {}},
-       {"version", {}},
-       {"copyright", {}}});
+  readChildren(ctx, root,
+               {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
+                {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
+                {"applications",
+                 [&](pugi::xml_node n) {
+                   readChildren(ctx, n,
+                                {{"application", [&](pugi::xml_node a) { readApplication(ctx, a, out.applications); },
+                                  true}});
+                 }},
+                {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
+                {"id", {}},
+                {"version", {}},
+                {"copyright", {}}});
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

@@ -36,14 +36,12 @@ PortSig sigOf(const EventPort& p) {
   return {p.name, PortType::Event, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type};
 }
 PortSig sigOf(const ServicePort& p) {
-  return {p.name, PortType::Service, p.usage == ServiceUsage::Required,
-          std::string(name(p.usage)), p.type};
+  return {p.name, PortType::Service, p.usage == ServiceUsage::Required, std::string(name(p.usage)), p.type};
 }
 
 }  // namespace
 
-std::optional<std::vector<PortSig>> portsOf(const ProfileSet& set, const std::string& path,
-                                            int depth) {
+std::optional<std::vector<PortSig>> portsOf(const ProfileSet& set, const std::string& path, int depth) {
   if (const auto c = set.components.find(path); c != set.components.end()) {
     std::vector<PortSig> out;
     for (const auto& p : c->second.data_ports) out.push_back(sigOf(p));

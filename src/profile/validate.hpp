@@ -27,8 +27,7 @@ void checkDepends(const PackageProfile& pkg, Diagnostics& diags);
 void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& subs,
                       std::vector<Connection>& connections, Diagnostics& diags);
 void checkExports(const ProfileSet& set, const CompositeProfile& composite, Diagnostics& diags);
-void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs,
-                       Diagnostics& diags);
+void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs, Diagnostics& diags);
 
 // validate_system.cpp (connections between applications typed in place, as a package's).
 void checkSystem(const ProfileSet& set, SystemProfile& system, Diagnostics& diags);
@@ -50,8 +49,7 @@ struct PortSig {
 
 /// The ports offered by the profile at `path`: an atomic component's ports or a composite's
 /// exported ports; nullopt if `path` was not loaded as either.
-std::optional<std::vector<PortSig>> portsOf(const ProfileSet& set, const std::string& path,
-                                            int depth = 0);
+std::optional<std::vector<PortSig>> portsOf(const ProfileSet& set, const std::string& path, int depth = 0);
 
 /// "data port 'range' (input, data_type 'double')"-style description of a port.
 std::string describe(const PortSig& p);

@@ -13,8 +13,7 @@ void error(Diagnostics& diags, const Where& where, std::string message) {
 }
 
 /// Types the override `o` of subcomponent `sub` against the declaration in `component`.
-void typeOverride(const ComponentProfile& component, const Subcomponent& sub, Property& o,
-                  Diagnostics& diags) {
+void typeOverride(const ComponentProfile& component, const Subcomponent& sub, Property& o, Diagnostics& diags) {
   const Property* decl = nullptr;
   std::vector<std::string> names;
   for (const Property& p : component.properties) {
@@ -23,8 +22,8 @@ void typeOverride(const ComponentProfile& component, const Subcomponent& sub, Pr
   }
   if (decl == nullptr) {
     return error(diags, o.where,
-                 fmt::format("subcomponent '{}': component '{}' has no property '{}' (properties: {})",
-                             sub.name, component.name, o.name, nameList(names)));
+                 fmt::format("subcomponent '{}': component '{}' has no property '{}' (properties: {})", sub.name,
+                             component.name, o.name, nameList(names)));
   }
   if (decl->type.empty()) return;  // its declaration is broken and already reported
   if (!o.type.empty() && o.type != decl->type) {
@@ -38,8 +37,8 @@ void typeOverride(const ComponentProfile& component, const Subcomponent& sub, Pr
   auto value = parsePropertyValue(decl->type, *text);
   if (!value) {
     return error(diags, o.where,
-                 fmt::format("property '{}' of subcomponent '{}' must be {}, got '{}'", o.name,
-                             sub.name, describeType(decl->type), *text));
+                 fmt::format("property '{}' of subcomponent '{}' must be {}, got '{}'", o.name, sub.name,
+                             describeType(decl->type), *text));
   }
   o.type = decl->type;
   o.value = std::move(*value);
@@ -54,14 +53,13 @@ void checkOverrides(const ProfileSet& set, Subcomponent& sub, Diagnostics& diags
   if (const auto c = set.composites.find(sub.reference); c != set.composites.end()) {
     for (const auto& [name, o] : sub.property_overrides) {
       error(diags, o.where,
-            fmt::format("subcomponent '{}': composite '{}' has no property '{}' (properties: none)",
-                        sub.name, c->second.name, name));
+            fmt::format("subcomponent '{}': composite '{}' has no property '{}' (properties: none)", sub.name,
+                        c->second.name, name));
     }
   }
 }
 
-const ComponentProfile* componentOf(const ProfileSet& set, const PackageProfile& pkg,
-                                    const std::string& member) {
+const ComponentProfile* componentOf(const ProfileSet& set, const PackageProfile& pkg, const std::string& member) {
   const Subcomponent* sub = findSubcomponent(pkg.subcomponents, member);
   if (sub == nullptr) return nullptr;
   const auto c = set.components.find(sub->reference);
@@ -73,12 +71,14 @@ const ComponentProfile* componentOf(const ProfileSet& set, const PackageProfile&
 void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagnostics& diags) {
   for (std::size_t i = 0; i < subs.size(); ++i) {
     if (subs[i].name == kFaultManager)
-      error(diags, subs[i].where, fmt::format("subcomponent name '{}' is reserved for keel's fault "
-                                              "manager", subs[i].name));
+      error(diags, subs[i].where,
+            fmt::format("subcomponent name '{}' is reserved for keel's fault "
+                        "manager",
+                        subs[i].name));
     for (std::size_t j = 0; j < i; ++j) {
       if (subs[j].name == subs[i].name) {
-        error(diags, subs[i].where, fmt::format("duplicate subcomponent '{}' (first at line {})",
-                                                subs[i].name, subs[j].where.line));
+        error(diags, subs[i].where,
+              fmt::format("duplicate subcomponent '{}' (first at line {})", subs[i].name, subs[j].where.line));
         break;
       }
     }
@@ -92,23 +92,22 @@ void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& d
     const Task& t = pkg.tasks[i];
     for (std::size_t j = 0; j < i; ++j) {
       if (pkg.tasks[j].name == t.name) {
-        error(diags, t.where, fmt::format("duplicate task '{}' (first at line {})", t.name,
-                                          pkg.tasks[j].where.line));
+        error(diags, t.where, fmt::format("duplicate task '{}' (first at line {})", t.name, pkg.tasks[j].where.line));
       }
     }
     for (const std::string& m : t.members) {
       if (findSubcomponent(pkg.subcomponents, m) == nullptr) {
-        error(diags, t.where, fmt::format("task '{}': no subcomponent '{}' (subcomponents: {})",
-                                          t.name, m, subcomponentNames(pkg.subcomponents)));
+        error(diags, t.where,
+              fmt::format("task '{}': no subcomponent '{}' (subcomponents: {})", t.name, m,
+                          subcomponentNames(pkg.subcomponents)));
         continue;
       }
       const auto [it, inserted] = task_of.emplace(m, &t);
       if (!inserted) {
         error(diags, t.where,
-              it->second == &t
-                  ? fmt::format("task '{}' lists member '{}' twice", t.name, m)
-                  : fmt::format("task '{}': subcomponent '{}' is already in task '{}' (line {})",
-                                t.name, m, it->second->name, it->second->where.line));
+              it->second == &t ? fmt::format("task '{}' lists member '{}' twice", t.name, m)
+                               : fmt::format("task '{}': subcomponent '{}' is already in task '{}' (line {})", t.name,
+                                             m, it->second->name, it->second->where.line));
         continue;
       }
       const ComponentProfile* c = componentOf(set, pkg, m);
@@ -131,8 +130,9 @@ void checkDepends(const PackageProfile& pkg, Diagnostics& diags) {
     for (const std::string* end : {&d.source, &d.target}) {
       if (findSubcomponent(pkg.subcomponents, *end) != nullptr) continue;
       ok = false;
-      error(diags, d.where, fmt::format("depends: no subcomponent '{}' (subcomponents: {})", *end,
-                                        subcomponentNames(pkg.subcomponents)));
+      error(diags, d.where,
+            fmt::format("depends: no subcomponent '{}' (subcomponents: {})", *end,
+                        subcomponentNames(pkg.subcomponents)));
     }
     if (ok && d.source == d.target) {
       ok = false;
@@ -142,8 +142,8 @@ void checkDepends(const PackageProfile& pkg, Diagnostics& diags) {
       const Depends& e = pkg.depends[j];
       if (e.source == d.source && e.target == d.target) {
         ok = false;
-        error(diags, d.where, fmt::format("duplicate depends '{}' -> '{}' (first at line {})",
-                                          d.source, d.target, e.where.line));
+        error(diags, d.where,
+              fmt::format("duplicate depends '{}' -> '{}' (first at line {})", d.source, d.target, e.where.line));
       }
     }
     if (!ok) continue;

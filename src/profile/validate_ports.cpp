@@ -16,20 +16,20 @@ void error(Diagnostics& diags, const Where& where, std::string message) {
 }
 
 /// The port `ep` names, or nullopt (reported, unless its profile failed to load).
-std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcomponent>& subs,
-                               const Endpoint& ep, const Where& where, std::string_view what,
-                               Diagnostics& diags) {
+std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcomponent>& subs, const Endpoint& ep,
+                               const Where& where, std::string_view what, Diagnostics& diags) {
   const Subcomponent* sub = findSubcomponent(subs, ep.component);
   if (sub == nullptr && ep.component == kFaultManager) {  // keel's system component (paper §3.2)
     if (ep.port == kFaultManagerPort)
       return PortSig{std::string(kFaultManagerPort), PortType::Event, false, "input", "keel::FaultEvent"};
-    error(diags, where, fmt::format("{}: component '{}' has no port '{}' (ports: {})", what,
-                                    ep.component, ep.port, kFaultManagerPort));
+    error(diags, where,
+          fmt::format("{}: component '{}' has no port '{}' (ports: {})", what, ep.component, ep.port,
+                      kFaultManagerPort));
     return std::nullopt;
   }
   if (sub == nullptr) {
-    error(diags, where, fmt::format("{}: no subcomponent '{}' (subcomponents: {})", what,
-                                    ep.component, subcomponentNames(subs)));
+    error(diags, where,
+          fmt::format("{}: no subcomponent '{}' (subcomponents: {})", what, ep.component, subcomponentNames(subs)));
     return std::nullopt;
   }
   const auto ports = portsOf(set, sub->reference);
@@ -39,24 +39,22 @@ std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcompo
     if (p.name == ep.port) return p;
     names.push_back(p.name);
   }
-  error(diags, where, fmt::format("{}: component '{}' has no port '{}' (ports: {})", what,
-                                  ep.component, ep.port, nameList(names)));
+  error(diags, where,
+        fmt::format("{}: component '{}' has no port '{}' (ports: {})", what, ep.component, ep.port, nameList(names)));
   return std::nullopt;
 }
 
 std::string dotted(const Endpoint& e) { return e.component + "." + e.port; }
 
-std::string aPort(PortType kind) {
-  return fmt::format("{} {} port", kind == PortType::Event ? "an" : "a", name(kind));
-}
+std::string aPort(PortType kind) { return fmt::format("{} {} port", kind == PortType::Event ? "an" : "a", name(kind)); }
 
 /// Kind, direction and type of one connection whose two ends exist.
 void checkEnds(Connection& c, const PortSig& src, const PortSig& dst, Diagnostics& diags) {
   if (!c.port_type_given) {
     if (src.kind != dst.kind) {
       return error(diags, c.where,
-                   fmt::format("port_connection: '{}' is {} but '{}' is {}", dotted(c.source),
-                               aPort(src.kind), dotted(c.target), aPort(dst.kind)));
+                   fmt::format("port_connection: '{}' is {} but '{}' is {}", dotted(c.source), aPort(src.kind),
+                               dotted(c.target), aPort(dst.kind)));
     }
     c.port_type = src.kind;
   }
@@ -64,33 +62,33 @@ void checkEnds(Connection& c, const PortSig& src, const PortSig& dst, Diagnostic
   for (const auto& [ep, p] : {std::pair{&c.source, &src}, std::pair{&c.target, &dst}}) {
     if (p->kind == c.port_type) continue;
     ok = false;
-    error(diags, c.where, fmt::format("port_connection: port '{}' is {}, but port_type is {}",
-                                      dotted(*ep), aPort(p->kind), name(c.port_type)));
+    error(diags, c.where,
+          fmt::format("port_connection: port '{}' is {}, but port_type is {}", dotted(*ep), aPort(p->kind),
+                      name(c.port_type)));
   }
   if (!ok) return;
   const bool service = c.port_type == PortType::Service;
   if (!src.source_side) {
     ok = false;
-    error(diags, c.where, fmt::format("port_connection: source '{}' is {}; a source must be {}",
-                                      dotted(c.source), describe(src),
-                                      service ? "a required service port" : "an output port"));
+    error(diags, c.where,
+          fmt::format("port_connection: source '{}' is {}; a source must be {}", dotted(c.source), describe(src),
+                      service ? "a required service port" : "an output port"));
   }
   if (dst.source_side) {
     ok = false;
-    error(diags, c.where, fmt::format("port_connection: target '{}' is {}; a target must be {}",
-                                      dotted(c.target), describe(dst),
-                                      service ? "a provided service port" : "an input port"));
+    error(diags, c.where,
+          fmt::format("port_connection: target '{}' is {}; a target must be {}", dotted(c.target), describe(dst),
+                      service ? "a provided service port" : "an input port"));
   }
   if (ok && src.type != dst.type) {
-    error(diags, c.where, fmt::format("port_connection: {} differ: '{}' is '{}', '{}' is '{}'",
-                                      service ? "service types" : "data types", dotted(c.source),
-                                      src.type, dotted(c.target), dst.type));
+    error(diags, c.where,
+          fmt::format("port_connection: {} differ: '{}' is '{}', '{}' is '{}'",
+                      service ? "service types" : "data types", dotted(c.source), src.type, dotted(c.target),
+                      dst.type));
   }
 }
 
-bool sameEnd(const Endpoint& a, const Endpoint& b) {
-  return a.component == b.component && a.port == b.port;
-}
+bool sameEnd(const Endpoint& a, const Endpoint& b) { return a.component == b.component && a.port == b.port; }
 
 /// A connection listed twice, or a required service port bound to two providers.
 void checkMultiplicity(const std::vector<Connection>& cs, std::size_t i, Diagnostics& diags) {
@@ -98,12 +96,12 @@ void checkMultiplicity(const std::vector<Connection>& cs, std::size_t i, Diagnos
   for (std::size_t j = 0; j < i; ++j) {
     const Connection& d = cs[j];
     if (sameEnd(c.source, d.source) && sameEnd(c.target, d.target)) {
-      return error(diags, c.where, fmt::format("duplicate port_connection '{}' -> '{}' (first at "
-                                               "line {})",
-                                               dotted(c.source), dotted(c.target), d.where.line));
+      return error(diags, c.where,
+                   fmt::format("duplicate port_connection '{}' -> '{}' (first at "
+                               "line {})",
+                               dotted(c.source), dotted(c.target), d.where.line));
     }
-    if (c.port_type == PortType::Service && d.port_type == PortType::Service &&
-        sameEnd(c.source, d.source)) {
+    if (c.port_type == PortType::Service && d.port_type == PortType::Service && sameEnd(c.source, d.source)) {
       return error(diags, c.where,
                    fmt::format("port_connection: required service port '{}' is already connected "
                                "to '{}' (line {})",
@@ -127,39 +125,35 @@ void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& su
 
 void checkExports(const ProfileSet& set, const CompositeProfile& composite, Diagnostics& diags) {
   for (const ExportedPort& e : composite.exported_ports) {
-    (void)resolve(set, composite.subcomponents, e.inner, e.where,
-                  fmt::format("export_port '{}'", e.name), diags);
+    (void)resolve(set, composite.subcomponents, e.inner, e.where, fmt::format("export_port '{}'", e.name), diags);
   }
 }
 
-void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs,
-                       Diagnostics& diags) {
+void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs, Diagnostics& diags) {
   for (const Subcomponent& s : subs) {
     if (!s.fault_policy || !s.fault_policy->alternative) continue;
     const Alternative& alt = *s.fault_policy->alternative;
     const auto mine = portsOf(set, s.reference);
     const auto theirs = portsOf(set, alt.reference);
     if (!mine || !theirs || !set.components.count(alt.reference)) continue;
-    const std::string who = fmt::format("subcomponent '{}': alternative '{}'", s.name,
-                                        profileName(set, alt.reference));
+    const std::string who = fmt::format("subcomponent '{}': alternative '{}'", s.name, profileName(set, alt.reference));
     const std::string original = profileName(set, s.reference);
     for (const PortSig& p : *mine) {
-      const auto q = std::find_if(theirs->begin(), theirs->end(),
-                                  [&](const PortSig& x) { return x.name == p.name; });
+      const auto q = std::find_if(theirs->begin(), theirs->end(), [&](const PortSig& x) { return x.name == p.name; });
       if (q == theirs->end()) {
-        error(diags, alt.where, fmt::format("{} has no port '{}' ({} of component '{}')", who,
-                                            p.name, describe(p), original));
+        error(diags, alt.where,
+              fmt::format("{} has no port '{}' ({} of component '{}')", who, p.name, describe(p), original));
       } else if (q->kind != p.kind || q->usage != p.usage || q->type != p.type) {
-        error(diags, alt.where, fmt::format("{}: port '{}' is {}, but in component '{}' it is {}",
-                                            who, p.name, describe(*q), original, describe(p)));
+        error(diags, alt.where,
+              fmt::format("{}: port '{}' is {}, but in component '{}' it is {}", who, p.name, describe(*q), original,
+                          describe(p)));
       }
     }
     for (const PortSig& q : *theirs) {
-      const bool known = std::any_of(mine->begin(), mine->end(),
-                                     [&](const PortSig& p) { return p.name == q.name; });
+      const bool known = std::any_of(mine->begin(), mine->end(), [&](const PortSig& p) { return p.name == q.name; });
       if (!known) {
-        error(diags, alt.where, fmt::format("{} has port '{}' that component '{}' does not have",
-                                            who, q.name, original));
+        error(diags, alt.where,
+              fmt::format("{} has port '{}' that component '{}' does not have", who, q.name, original));
       }
     }
   }

@@ -30,8 +30,7 @@ std::string applicationNames(const SystemProfile& system) {
 }
 
 /// Checks the depends_on of `app`; returns the edges to keep for the cycle search.
-std::vector<Edge> checkDependsOn(const SystemProfile& system, const Application& app,
-                                 Diagnostics& diags) {
+std::vector<Edge> checkDependsOn(const SystemProfile& system, const Application& app, Diagnostics& diags) {
   std::vector<Edge> edges;
   for (std::size_t i = 0; i < app.depends_on.size(); ++i) {
     const std::string& dep = app.depends_on[i];
@@ -42,10 +41,9 @@ std::vector<Edge> checkDependsOn(const SystemProfile& system, const Application&
             fmt::format("application '{}': depends_on '{}' is not an application (applications: "
                         "{})",
                         app.name, dep, applicationNames(system)));
-    } else if (std::find(app.depends_on.begin(), app.depends_on.begin() + static_cast<long>(i),
-                         dep) != app.depends_on.begin() + static_cast<long>(i)) {
-      error(diags, app.where,
-            fmt::format("application '{}' lists depends_on '{}' twice", app.name, dep));
+    } else if (std::find(app.depends_on.begin(), app.depends_on.begin() + static_cast<long>(i), dep) !=
+               app.depends_on.begin() + static_cast<long>(i)) {
+      error(diags, app.where, fmt::format("application '{}' lists depends_on '{}' twice", app.name, dep));
     } else {
       edges.push_back(Edge{dep, app.where});
     }
@@ -115,8 +113,8 @@ void checkSystem(const ProfileSet& set, SystemProfile& system, Diagnostics& diag
   for (std::size_t i = 0; i < apps.size(); ++i) {
     for (std::size_t j = 0; j < i; ++j) {
       if (apps[j].name == apps[i].name) {
-        error(diags, apps[i].where, fmt::format("duplicate application '{}' (first at line {})",
-                                                apps[i].name, apps[j].where.line));
+        error(diags, apps[i].where,
+              fmt::format("duplicate application '{}' (first at line {})", apps[i].name, apps[j].where.line));
         break;
       }
     }

@@ -87,9 +87,7 @@ std::string lower(std::string_view text) {
   return out;
 }
 
-bool equalsNoCase(std::string_view a, std::string_view b) {
-  return a.size() == b.size() && lower(a) == lower(b);
-}
+bool equalsNoCase(std::string_view a, std::string_view b) { return a.size() == b.size() && lower(a) == lower(b); }
 
 std::optional<double> parseDouble(std::string_view text, bool allow_inf) {
   text = trim(text);
@@ -149,8 +147,7 @@ std::optional<std::string> normalisePropertyType(std::string_view written) {
 
 bool isUnsignedType(std::string_view written) {
   const std::string key = squeezeType(written);
-  return key.rfind("unsigned", 0) == 0 || key.rfind("uint", 0) == 0 ||
-         key == "size_t" || key == "std::size_t";
+  return key.rfind("unsigned", 0) == 0 || key.rfind("uint", 0) == 0 || key == "size_t" || key == "std::size_t";
 }
 
 std::optional<PropertyValue> parsePropertyValue(const std::string& type, std::string_view text) {

@@ -38,8 +38,7 @@ std::optional<std::vector<double>> parseDoubleList(std::string_view text, bool a
 
 /// A word looked up case-insensitively in `table`.
 template <class E>
-std::optional<E> parseWord(std::string_view text,
-                           const std::vector<std::pair<std::string_view, E>>& table) {
+std::optional<E> parseWord(std::string_view text, const std::vector<std::pair<std::string_view, E>>& table) {
   const std::string_view word = trim(text);
   for (const auto& [name, value] : table) {
     if (equalsNoCase(word, name)) return value;

@@ -52,14 +52,12 @@ std::optional<std::string> slurp(const std::string& path, std::string& why) {
   return data;
 }
 
-bool isNamespaceAttribute(std::string_view name) {
-  return name == "xmlns" || name.find(':') != std::string_view::npos;
-}
+bool isNamespaceAttribute(std::string_view name) { return name == "xmlns" || name.find(':') != std::string_view::npos; }
 
 }  // namespace
 
-std::unique_ptr<XmlFile> XmlFile::read(const std::string& path, std::string display,
-                                       std::string& open_error, Diagnostic& syntax_error) {
+std::unique_ptr<XmlFile> XmlFile::read(const std::string& path, std::string display, std::string& open_error,
+                                       Diagnostic& syntax_error) {
   auto data = slurp(path, open_error);
   if (!data) return nullptr;
   auto file = std::make_unique<XmlFile>();
@@ -68,8 +66,8 @@ std::unique_ptr<XmlFile> XmlFile::read(const std::string& path, std::string disp
   for (std::size_t i = 0; i < data->size(); ++i) {
     if ((*data)[i] == '\n') file->line_starts_.push_back(i + 1);
   }
-  const pugi::xml_parse_result res =
-      file->doc_.load_buffer(data->data(), data->size(), pugi::parse_default, pugi::encoding_auto);
+  const pugi::xml_parse_result res = file->doc_.load_buffer(data->data(), data->size(), pugi::parse_default,
+                                                            pugi::encoding_auto);
   if (!res) {
     syntax_error.where = Where{file->display_, file->lineOf(res.offset)};
     syntax_error.message = fmt::format("XML syntax error: {}", res.description());
@@ -80,8 +78,7 @@ std::unique_ptr<XmlFile> XmlFile::read(const std::string& path, std::string disp
 
 int XmlFile::lineOf(std::ptrdiff_t offset) const {
   if (offset < 0) return 0;
-  const auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(),
-                                   static_cast<std::size_t>(offset));
+  const auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), static_cast<std::size_t>(offset));
   return static_cast<int>(it - line_starts_.begin());
 }
 
@@ -95,12 +92,10 @@ Ctx::Ctx(const XmlFile& file, Diagnostics& diags)
 
 void Ctx::error(pugi::xml_node at, std::string message) { error(where(at), std::move(message)); }
 
-void Ctx::error(const Where& at, std::string message) {
-  diags_.push_back(Diagnostic{at, std::move(message)});
-}
+void Ctx::error(const Where& at, std::string message) { diags_.push_back(Diagnostic{at, std::move(message)}); }
 
-std::string Ctx::reference(pugi::xml_node at, std::string_view written, std::string who,
-                           std::vector<RootKind> accepted, std::optional<RootKind> declared) {
+std::string Ctx::reference(pugi::xml_node at, std::string_view written, std::string who, std::vector<RootKind> accepted,
+                           std::optional<RootKind> declared) {
   if (written.empty()) {
     error(at, fmt::format("{}: empty reference", who));
     return {};
@@ -139,8 +134,7 @@ void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> 
     }
     if (node.type() != pugi::node_element) continue;
     const std::string_view name = node.name();
-    const auto rule = std::find_if(children.begin(), children.end(),
-                                   [&](const Child& c) { return c.name == name; });
+    const auto rule = std::find_if(children.begin(), children.end(), [&](const Child& c) { return c.name == name; });
     if (rule == children.end()) {
       ctx.error(node, fmt::format("unknown element {} in {}", tag(node), tag(parent)));
       continue;
@@ -149,8 +143,7 @@ void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> 
     if (!rule->repeat) {
       const auto [it, inserted] = first_line.emplace(rule->name, line);
       if (!inserted) {
-        ctx.error(node, fmt::format("duplicate {} in {} (first at line {})", tag(node),
-                                    tag(parent), it->second));
+        ctx.error(node, fmt::format("duplicate {} in {} (first at line {})", tag(node), tag(parent), it->second));
         continue;
       }
     }
@@ -167,8 +160,7 @@ void checkAttributes(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::s
   }
 }
 
-std::string leafText(Ctx& ctx, pugi::xml_node node,
-                     std::initializer_list<std::string_view> allowed_attributes) {
+std::string leafText(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::string_view> allowed_attributes) {
   checkAttributes(ctx, node, allowed_attributes);
   std::string text;
   for (pugi::xml_node child : node.children()) {

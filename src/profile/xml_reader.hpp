@@ -31,8 +31,8 @@ class XmlFile {
   /// Reads and parses `path`; `display` is the name used in messages. On failure returns
   /// null and either `open_error` (why the file cannot be read, e.g. "No such file or
   /// directory") or, for malformed XML, `syntax_error` (file:line: XML syntax error: ...).
-  static std::unique_ptr<XmlFile> read(const std::string& path, std::string display,
-                                       std::string& open_error, Diagnostic& syntax_error);
+  static std::unique_ptr<XmlFile> read(const std::string& path, std::string display, std::string& open_error,
+                                       Diagnostic& syntax_error);
 
   pugi::xml_node root() const { return doc_.document_element(); }
   const pugi::xml_document& document() const { return doc_; }
@@ -48,11 +48,11 @@ class XmlFile {
 
 /// A reference from one profile to another, found while parsing, followed by the loader.
 struct Reference {
-  std::string written;   // as in the file
-  std::string path;      // absolute, normalised
-  std::string display;   // for messages: the referencing file's display directory + written
-  Where where;           // the element that holds the reference
-  std::string who;       // "subcomponent 'sonar'", for messages
+  std::string written;  // as in the file
+  std::string path;     // absolute, normalised
+  std::string display;  // for messages: the referencing file's display directory + written
+  Where where;          // the element that holds the reference
+  std::string who;      // "subcomponent 'sonar'", for messages
   std::vector<RootKind> accepted;
   std::optional<RootKind> declared;  // a subcomponent's <type>, when given
 };
@@ -72,8 +72,7 @@ class Ctx {
 
   /// Resolves `written` against this file's directory and records the reference.
   /// Returns the absolute path, or an empty string (after reporting) if `written` is empty.
-  std::string reference(pugi::xml_node at, std::string_view written, std::string who,
-                        std::vector<RootKind> accepted,
+  std::string reference(pugi::xml_node at, std::string_view written, std::string who, std::vector<RootKind> accepted,
                         std::optional<RootKind> declared = std::nullopt);
   std::vector<Reference>& references() { return refs_; }
 
@@ -105,8 +104,7 @@ void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> 
 void checkAttributes(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::string_view> allowed);
 
 /// The text content of a leaf element, trimmed. Child elements and attributes are reported.
-std::string leafText(Ctx& ctx, pugi::xml_node node,
-                     std::initializer_list<std::string_view> allowed_attributes = {});
+std::string leafText(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::string_view> allowed_attributes = {});
 
 /// The attribute's value, or nullopt if absent.
 std::optional<std::string> attribute(pugi::xml_node node, const char* name);

@@ -57,9 +57,7 @@ void Component::endRun(std::string_view summary, std::string_view event, std::st
 
 namespace keel::detail {
 
-void registerPort(Component* owner, PortBase* port) {
-  ComponentAccess::core(*owner).ports.push_back(port);
-}
+void registerPort(Component* owner, PortBase* port) { ComponentAccess::core(*owner).ports.push_back(port); }
 
 void notifyInput(Component& owner, bool is_event) {
   ComponentCore& core = ComponentAccess::core(owner);
@@ -74,8 +72,7 @@ void throwPropertyError(std::string_view component, std::string_view name, std::
 
 std::string demangle(const char* mangled) {
   int status = 0;
-  std::unique_ptr<char, void (*)(void*)> out(abi::__cxa_demangle(mangled, nullptr, nullptr, &status),
-                                             std::free);
+  std::unique_ptr<char, void (*)(void*)> out(abi::__cxa_demangle(mangled, nullptr, nullptr, &status), std::free);
   return status == 0 && out ? std::string(out.get()) : std::string(mangled);
 }
 
@@ -95,13 +92,27 @@ std::string canonicalTypeName(std::string_view written) {
   if (s.rfind("vector<", 0) == 0) s = "std::" + s;
   if (s.rfind("array<", 0) == 0) s = "std::" + s;
   static const std::pair<std::string_view, std::string_view> kAliases[] = {
-      {"int32", "int"},        {"int32_t", "int"},         {"std::int32_t", "int"},
-      {"int64", "long"},       {"int64_t", "long"},        {"std::int64_t", "long"},
-      {"uint32", "unsigned"},  {"uint32_t", "unsigned"},   {"unsignedint", "unsigned"},
-      {"uint64", "unsigned long"}, {"uint64_t", "unsigned long"}, {"unsignedlong", "unsigned long"},
-      {"int8_t", "int8"},      {"uint8_t", "uint8"},       {"int16_t", "int16"},
-      {"uint16_t", "uint16"},  {"short", "int16"},         {"longlong", "long long"},
-      {"Event", "keel::Event"}, {"FaultEvent", "keel::FaultEvent"}, {"std::String", "string"},
+      {"int32", "int"},
+      {"int32_t", "int"},
+      {"std::int32_t", "int"},
+      {"int64", "long"},
+      {"int64_t", "long"},
+      {"std::int64_t", "long"},
+      {"uint32", "unsigned"},
+      {"uint32_t", "unsigned"},
+      {"unsignedint", "unsigned"},
+      {"uint64", "unsigned long"},
+      {"uint64_t", "unsigned long"},
+      {"unsignedlong", "unsigned long"},
+      {"int8_t", "int8"},
+      {"uint8_t", "uint8"},
+      {"int16_t", "int16"},
+      {"uint16_t", "uint16"},
+      {"short", "int16"},
+      {"longlong", "long long"},
+      {"Event", "keel::Event"},
+      {"FaultEvent", "keel::FaultEvent"},
+      {"std::String", "string"},
   };
   for (auto [from, to] : kAliases)
     if (s == from) return std::string(to);

@@ -52,12 +52,12 @@ class FaultSlot {
 
 /// Fault injection's cell (runtime/injection): armed by the injector, fired inside the guard.
 struct InjectionCell {
-  std::atomic<std::uint8_t> kind{0};             // runtime::InjectKind; 0: none armed
-  std::atomic<std::uint64_t> id{0};              // fault_id of the armed injection
-  std::atomic<std::uint64_t> injected_id{0};     // manifested and not yet detected
-  std::atomic<std::int64_t> injected_t_ns{0};    // steady ns of the manifestation
-  std::atomic<std::int64_t> stalled_until_ns{0}; // stall_heartbeat: not executed until then
-  std::atomic<bool> release_hang{false};         // ends an injected hang (at shutdown)
+  std::atomic<std::uint8_t> kind{0};              // runtime::InjectKind; 0: none armed
+  std::atomic<std::uint64_t> id{0};               // fault_id of the armed injection
+  std::atomic<std::uint64_t> injected_id{0};      // manifested and not yet detected
+  std::atomic<std::int64_t> injected_t_ns{0};     // steady ns of the manifestation
+  std::atomic<std::int64_t> stalled_until_ns{0};  // stall_heartbeat: not executed until then
+  std::atomic<bool> release_hang{false};          // ends an injected hang (at shutdown)
 };
 
 /// The watchdog's cell (fault/watchdog reads it): written by the executor when the component
@@ -71,11 +71,11 @@ struct WatchCell {
 /// Checkpoints of the critical() memory (runtime/checkpoint): taken on the component's own
 /// thread at cycle boundaries, read by recovery (same thread) or an alternative (any thread).
 struct CheckpointStore {
-  std::int64_t period_ns = 0;              // <checkpoint period>; 0: only at start
-  std::int64_t next_ns = 0;                // its executor's thread only
-  std::mutex mutex;                        // guards the three below
+  std::int64_t period_ns = 0;                  // <checkpoint period>; 0: only at start
+  std::int64_t next_ns = 0;                    // its executor's thread only
+  std::mutex mutex;                            // guards the three below
   std::vector<std::vector<std::byte>> copies;  // one copy per critical region
-  std::int64_t t_ns = 0;                   // when the copy was taken; 0: none yet
+  std::int64_t t_ns = 0;                       // when the copy was taken; 0: none yet
   std::uint64_t count = 0;
 };
 
@@ -101,9 +101,9 @@ class ComponentCore {
   std::string class_name;
   std::vector<PortBase*> ports;
   std::map<std::string, PropertyValue, std::less<>> properties;
-  std::vector<runtime::CriticalRegion> critical;   // registered in onInitialize
-  std::int64_t deadline_ns = 0;                    // <deadline> of its fault policy; 0: none
-  runtime::RuntimeHooks* hooks = nullptr;          // null: not yet managed by a runtime
+  std::vector<runtime::CriticalRegion> critical;  // registered in onInitialize
+  std::int64_t deadline_ns = 0;                   // <deadline> of its fault policy; 0: none
+  runtime::RuntimeHooks* hooks = nullptr;         // null: not yet managed by a runtime
 
   // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).
   std::atomic<State> state{State::Created};
@@ -145,7 +145,5 @@ struct ComponentAccess {
 
 namespace keel::runtime {
 inline detail::ComponentCore& coreOf(Component& c) { return detail::ComponentAccess::core(c); }
-inline const detail::ComponentCore& coreOf(const Component& c) {
-  return detail::ComponentAccess::core(c);
-}
+inline const detail::ComponentCore& coreOf(const Component& c) { return detail::ComponentAccess::core(c); }
 }  // namespace keel::runtime

@@ -27,8 +27,7 @@ CpuLatencyRequest& CpuLatencyRequest::operator=(CpuLatencyRequest&& other) noexc
 }
 
 Result<CpuLatencyRequest> CpuLatencyRequest::hold(std::int32_t us, const std::string& device) {
-  if (us < 0 || us > 2'000'000'000)
-    return fail(fmt::format("cpu_dma_latency must be 0..2000000000 µs, got {}", us));
+  if (us < 0 || us > 2'000'000'000) return fail(fmt::format("cpu_dma_latency must be 0..2000000000 µs, got {}", us));
   CpuLatencyRequest r;
   r.fd_ = ::open(device.c_str(), O_WRONLY | O_CLOEXEC);
   if (r.fd_ < 0)

@@ -38,8 +38,7 @@ void checkDeadline(Component& c, std::int64_t took_ns) {
 
 }  // namespace
 
-Executor::Executor(ExecutorConfig config, Warn warn)
-    : config_(std::move(config)), warn_(std::move(warn)) {}
+Executor::Executor(ExecutorConfig config, Warn warn) : config_(std::move(config)), warn_(std::move(warn)) {}
 
 Executor::~Executor() {
   if (thread_.joinable()) {
@@ -124,10 +123,14 @@ void Executor::setUpThread() {
                                                       : SCHED_OTHER;
   sp.sched_priority = policy == SCHED_OTHER ? 0 : config_.priority;
   if (int err = pthread_setschedparam(pthread_self(), policy, &sp); err != 0 && warn_) {
-    warn_(fmt::format("executor '{}': cannot set scheduling policy {} priority {}: {} "
-                      "(running with the default policy; needs CAP_SYS_NICE or an rtprio limit)",
-                      config_.name, policy == SCHED_FIFO ? "fifo" : policy == SCHED_RR ? "rr" : "other",
-                      config_.priority, std::strerror(err)));
+    warn_(
+        fmt::format("executor '{}': cannot set scheduling policy {} priority {}: {} "
+                    "(running with the default policy; needs CAP_SYS_NICE or an rtprio limit)",
+                    config_.name,
+                    policy == SCHED_FIFO ? "fifo"
+                    : policy == SCHED_RR ? "rr"
+                                         : "other",
+                    config_.priority, std::strerror(err)));
   }
 }
 
@@ -153,7 +156,8 @@ void Executor::threadMain() {
 void Executor::serviceBetweenCycles() {
   runMail();
   for (Component* c : members_) {
-    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;
+    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]]
+      return;
     dispatchEvents(*c);
   }
 }
@@ -181,7 +185,8 @@ void Executor::cycle() {
     if (core.injection.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
     core.input_pending.store(false, std::memory_order_relaxed);
     const bool ok = execute(*c);
-    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;  // back from a hang, too late
+    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]]
+      return;  // back from a hang, too late
     if (ok) continue;
     // Recovered at once on this thread (reset, or a preloaded replacement): the step this
     // cycle owes is run now, once — not at the next release.
@@ -193,7 +198,8 @@ void Executor::cycle() {
   for (Component* c : members_) {
     if (c->state() != State::Active) continue;
     invoke(*c, Callback::Updated);
-    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]] return;
+    if (abandoned_.load(std::memory_order_acquire)) [[unlikely]]
+      return;
     checkpointIfDue(coreOf(*c), now);  // the cycle boundary: no callback of c is running
   }
   cycles_.fetch_add(1, std::memory_order_relaxed);

@@ -11,11 +11,11 @@
 // Thread-safety: start/requestStop/join from the engine; wake/post from any thread.
 #pragma once
 
+#include <pthread.h>
 #include <atomic>
 #include <chrono>
 #include <cstdint>
 #include <functional>
-#include <pthread.h>
 #include <mutex>
 #include <string>
 #include <thread>
@@ -96,7 +96,7 @@ class Executor {
   void runPeriodic();
   void runAperiodic();
   void cycle();
-  bool execute(Component& c);  // one onExecute with its deadline check; true when it succeeded
+  bool execute(Component& c);   // one onExecute with its deadline check; true when it succeeded
   void serviceBetweenCycles();  // mail and events
   void runMail();
 

@@ -17,7 +17,6 @@ namespace {
 
 constexpr int kCaught[] = {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT};
 
-
 // initial-exec: libkeel is linked at start-up, and this is read inside a signal handler, where
 // a lazily allocated TLS block would not be safe.
 thread_local guard_detail::GuardFrame* t_frame __attribute__((tls_model("initial-exec"))) = nullptr;
@@ -59,8 +58,7 @@ void onSignal(int signo, siginfo_t* info, void*) {
 // callback returned by itself in the meantime.
 void onInterrupt(int signo, siginfo_t*, void*) {
   guard_detail::GuardFrame* frame = t_frame;
-  if (frame == nullptr || frame->interrupt == nullptr || !frame->interrupt->load(std::memory_order_acquire))
-    return;
+  if (frame == nullptr || frame->interrupt == nullptr || !frame->interrupt->load(std::memory_order_acquire)) return;
   frame->t_ns = steadyNs();
   frame->signo = signo;
   frame->addr = nullptr;
@@ -102,18 +100,12 @@ FaultKind GuardOutcome::faultKind() const {
 void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
   fault.kind = faultKind();
   switch (kind) {
-    case Kind::Signal:
-      formatDetail(fault, "{} in {} (address {})", signalName(signo), callback, addr);
-      break;
-    case Kind::Exception:
-      formatDetail(fault, "exception in {}: {}", callback, what.data());
-      break;
+    case Kind::Signal: formatDetail(fault, "{} in {} (address {})", signalName(signo), callback, addr); break;
+    case Kind::Exception: formatDetail(fault, "exception in {}: {}", callback, what.data()); break;
     case Kind::ErrorCode:
       formatDetail(fault, "{} returned {} ({})", callback, static_cast<int>(rc), toString(rc));
       break;
-    case Kind::Ok:
-      formatDetail(fault, "{} ok", callback);
-      break;
+    case Kind::Ok: formatDetail(fault, "{} ok", callback); break;
   }
 }
 

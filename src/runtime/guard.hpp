@@ -32,9 +32,9 @@ struct GuardOutcome {
   Kind kind = Kind::Ok;
   ReturnCode rc = ReturnCode::Ok;
   int signo = 0;
-  const void* addr = nullptr;        // faulting address for SIGSEGV/SIGBUS
-  std::int64_t t_ns = 0;             // Signal, Exception: steady-clock ns when caught
-  std::array<char, 120> what{};      // exception message (truncated)
+  const void* addr = nullptr;    // faulting address for SIGSEGV/SIGBUS
+  std::int64_t t_ns = 0;         // Signal, Exception: steady-clock ns when caught
+  std::array<char, 120> what{};  // exception message (truncated)
 
   bool ok() const { return kind == Kind::Ok; }
   FaultKind faultKind() const;
@@ -49,7 +49,7 @@ struct GuardFrame {
   const void* volatile addr = nullptr;
   volatile std::int64_t t_ns = 0;
   const std::atomic<bool>* interrupt = nullptr;  // set: interruptSignal() ends this call
-  Component* owner = nullptr;                     // whose callback this is (runningComponent)
+  Component* owner = nullptr;                    // whose callback this is (runningComponent)
   GuardFrame* prev = nullptr;
 };
 GuardFrame*& currentFrame() noexcept;  // this thread's innermost frame

@@ -13,10 +13,14 @@ namespace keel::runtime {
 namespace {
 
 constexpr std::pair<std::string_view, InjectKind> kNames[] = {
-    {"segfault", InjectKind::Segfault},     {"divide_by_zero", InjectKind::DivideByZero},
-    {"abort", InjectKind::Abort},           {"throw", InjectKind::Throw},
-    {"error_code", InjectKind::ErrorCode},  {"hang", InjectKind::Hang},
-    {"stall_heartbeat", InjectKind::StallHeartbeat}, {"out_of_range", InjectKind::OutOfRange},
+    {"segfault", InjectKind::Segfault},
+    {"divide_by_zero", InjectKind::DivideByZero},
+    {"abort", InjectKind::Abort},
+    {"throw", InjectKind::Throw},
+    {"error_code", InjectKind::ErrorCode},
+    {"hang", InjectKind::Hang},
+    {"stall_heartbeat", InjectKind::StallHeartbeat},
+    {"out_of_range", InjectKind::OutOfRange},
 };
 
 void markManifested(detail::ComponentCore& core) {
@@ -55,8 +59,8 @@ std::string_view toString(InjectKind k) {
 
 detail::OutputPortBase* corruptiblePort(Component& c, std::string_view port) {
   for (detail::PortBase* p : coreOf(c).ports) {
-    if (p->kind() == detail::PortKind::Data && p->direction() == detail::PortDirection::Output &&
-        p->numeric() && (port.empty() || p->name() == port))
+    if (p->kind() == detail::PortKind::Data && p->direction() == detail::PortDirection::Output && p->numeric() &&
+        (port.empty() || p->name() == port))
       return static_cast<detail::OutputPortBase*>(p);
   }
   return nullptr;
@@ -74,12 +78,10 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
     case InjectKind::StallHeartbeat:
       markManifested(core);
       core.injection.stalled_until_ns.store(args.duration_ns > 0 ? steadyNs() + args.duration_ns
-                                                       : std::numeric_limits<std::int64_t>::max(),
-                                  std::memory_order_release);
+                                                                 : std::numeric_limits<std::int64_t>::max(),
+                                            std::memory_order_release);
       return true;
-    default:
-      core.injection.kind.store(static_cast<std::uint8_t>(kind), std::memory_order_release);
-      return true;
+    default: core.injection.kind.store(static_cast<std::uint8_t>(kind), std::memory_order_release); return true;
   }
 }
 

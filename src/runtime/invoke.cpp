@@ -64,7 +64,8 @@ bool finishCall(Component& c, const GuardOutcome& out, Callback cb) {
   // A fault noticed inside the call (a range fault on push, raiseFault) is handled now; the
   // call then counts as failed, so that a recovered component's step is run again.
   const bool pending = core.fault.pending.load(std::memory_order_acquire);
-  if (pending && core.hooks) [[unlikely]] core.hooks->runPending(c);
+  if (pending && core.hooks) [[unlikely]]
+    core.hooks->runPending(c);
   return out.ok() && !pending;
 }
 
@@ -123,7 +124,8 @@ bool invoke(Component& c, Callback cb) {
       },
       &c, &core.fault.interrupt);
   if (watched) core.watch.callback_since_ns.store(0, std::memory_order_relaxed);
-  if (out.ok() && !core.fault.pending.load(std::memory_order_relaxed)) [[likely]] return true;
+  if (out.ok() && !core.fault.pending.load(std::memory_order_relaxed)) [[likely]]
+    return true;
   return finishCall(c, out, cb);
 }
 
@@ -152,8 +154,7 @@ void dispatchEvents(Component& c) {
   detail::ComponentCore& core = coreOf(c);
   if (!core.event_pending.exchange(false, std::memory_order_acq_rel)) return;
   for (detail::PortBase* p : core.ports) {
-    if (p->kind() != detail::PortKind::Event || p->direction() != detail::PortDirection::Input)
-      continue;
+    if (p->kind() != detail::PortKind::Event || p->direction() != detail::PortDirection::Input) continue;
     auto& port = static_cast<InputEventPortBase&>(*p);
     while (c.state() == State::Active && port.takeNext()) {
       GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); }, &c, &core.fault.interrupt);

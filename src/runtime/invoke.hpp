@@ -15,7 +15,17 @@
 namespace keel::runtime {
 
 enum class Callback : std::uint8_t {
-  Initialize, Start, Stop, Destroy, Execute, Updated, Event, Service, Error, Reset, Recover,
+  Initialize,
+  Start,
+  Stop,
+  Destroy,
+  Execute,
+  Updated,
+  Event,
+  Service,
+  Error,
+  Reset,
+  Recover,
   EmergencyStop
 };
 

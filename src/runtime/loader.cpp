@@ -55,8 +55,7 @@ std::vector<std::string> Loader::defaultSearchPath() {
   return out;
 }
 
-Result<std::string> Loader::resolve(const std::string& library_name,
-                                    const std::string& profile_dir) const {
+Result<std::string> Loader::resolve(const std::string& library_name, const std::string& profile_dir) const {
   const auto key = std::make_pair(library_name, profile_dir);
   {
     std::lock_guard lock(resolved_mutex_);
@@ -107,16 +106,15 @@ Result<const Library*> Loader::load(const std::string& path) {
   return libraries_.back().get();
 }
 
-Result<std::unique_ptr<Component>> Loader::create(const std::string& class_name,
-                                                  const std::string& library_path) {
+Result<std::unique_ptr<Component>> Loader::create(const std::string& class_name, const std::string& library_path) {
   auto lib = load(library_path);
   if (!lib) return lib.error();
   const Registration* r = Registry::instance().find(class_name, library_path);
   if (!r) {
     std::string have;
     for (const auto& n : (*lib)->components) have += (have.empty() ? "" : ", ") + n;
-    return fail(fmt::format("library '{}' registers no component '{}' (it has: {})", library_path,
-                            class_name, have.empty() ? "none" : have));
+    return fail(fmt::format("library '{}' registers no component '{}' (it has: {})", library_path, class_name,
+                            have.empty() ? "none" : have));
   }
   try {
     return r->factory();

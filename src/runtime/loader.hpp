@@ -42,8 +42,7 @@ class Loader {
   Result<const Library*> load(const std::string& path);
 
   /// A new instance of `class_name` from the library at `library_path` (loaded on demand).
-  Result<std::unique_ptr<Component>> create(const std::string& class_name,
-                                            const std::string& library_path);
+  Result<std::unique_ptr<Component>> create(const std::string& class_name, const std::string& library_path);
 
  private:
   Result<std::string> search(const std::string& library_name, const std::string& profile_dir) const;

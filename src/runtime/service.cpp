@@ -24,8 +24,8 @@ struct Completion {
 
 std::string runCall(Component& provider, const std::string& port, detail::ServiceCall& call) {
   if (provider.state() != State::Active)
-    return fmt::format("service '{}' of '{}': provider is {}, not Active", port,
-                       provider.instanceName(), toString(provider.state()));
+    return fmt::format("service '{}' of '{}': provider is {}, not Active", port, provider.instanceName(),
+                       toString(provider.state()));
   GuardOutcome out = guarded(
       [&call] {
         call.run();
@@ -36,16 +36,14 @@ std::string runCall(Component& provider, const std::string& port, detail::Servic
   if (out.ok()) return {};                       // ... but the call itself returned its result
   FaultEvent ev;
   out.describe(ev, "service call");
-  return fmt::format("service '{}' of '{}' faulted: {}", port, provider.instanceName(),
-                     ev.detailText());
+  return fmt::format("service '{}' of '{}' faulted: {}", port, provider.instanceName(), ev.detailText());
 }
 
 }  // namespace
 }  // namespace keel::runtime
 
 std::string keel::detail::invokeService(Component& provider, const std::string& port,
-                                        const std::shared_ptr<ServiceCall>& call,
-                                        std::chrono::nanoseconds timeout) {
+                                        const std::shared_ptr<ServiceCall>& call, std::chrono::nanoseconds timeout) {
   using namespace keel::runtime;
   auto& core = coreOf(provider);
   Executor* ex = core.executor.load(std::memory_order_acquire);
@@ -60,8 +58,8 @@ std::string keel::detail::invokeService(Component& provider, const std::string& 
     return runCall(provider, port, *call);
   }
   if (provider.state() != State::Active)
-    return fmt::format("service '{}' of '{}': provider is {}, not Active", port,
-                       provider.instanceName(), toString(provider.state()));
+    return fmt::format("service '{}' of '{}': provider is {}, not Active", port, provider.instanceName(),
+                       toString(provider.state()));
   auto done = std::make_shared<Completion>();
   ex->post([&provider, port, call, done] {
     std::string why = runCall(provider, port, *call);

@@ -21,10 +21,8 @@ class WakeSignal {
   using Clock = std::chrono::steady_clock;
 
   void notify() {
-    if (pending_.exchange(1, std::memory_order_seq_cst) == 0 &&
-        sleeping_.load(std::memory_order_seq_cst) != 0) {
-      syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&pending_), FUTEX_WAKE_PRIVATE, 1,
-              nullptr, nullptr, 0);
+    if (pending_.exchange(1, std::memory_order_seq_cst) == 0 && sleeping_.load(std::memory_order_seq_cst) != 0) {
+      syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&pending_), FUTEX_WAKE_PRIVATE, 1, nullptr, nullptr, 0);
     }
   }
 
@@ -49,9 +47,8 @@ class WakeSignal {
       sleeping_.store(1, std::memory_order_seq_cst);
       if (pending_.load(std::memory_order_seq_cst) == 0) {
         // Absolute CLOCK_MONOTONIC timeout (FUTEX_WAIT_BITSET without FUTEX_CLOCK_REALTIME).
-        syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&pending_),
-                FUTEX_WAIT_BITSET_PRIVATE, 0, deadline ? &ts : nullptr, nullptr,
-                FUTEX_BITSET_MATCH_ANY);
+        syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&pending_), FUTEX_WAIT_BITSET_PRIVATE, 0,
+                deadline ? &ts : nullptr, nullptr, FUTEX_BITSET_MATCH_ANY);
       }
       sleeping_.store(0, std::memory_order_relaxed);
     }

@@ -91,8 +91,8 @@ TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
     EXPECT_EQ(c["failed"], 0) << c.dump();
     beside_floor += c.contains("vs_floor");
   }
-  EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog",
-                                              "bare handler", "bare catch"}));
+  EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog", "bare handler",
+                                              "bare catch"}));
   EXPECT_EQ(beside_floor, 2 * 4) << "segfault, divide_by_zero, abort and throw, at each load";
   for (const auto& c : r.cells) {
     if (c.contains("vs_floor")) {

@@ -71,7 +71,8 @@ TEST(BenchReport, NotesAreJoinedOnceEach) {
 
 TEST(BenchReport, ACellAsJsonHasTheIssuesKeys) {
   const auto j = toJson(row(40, "reset", "fifo", 10, 20), false);
-  for (const char* k : {"load", "load_achieved", "load_source", "mechanism", "policy", "n", "p50_us", "p99_us", "max_us"})
+  for (const char* k :
+       {"load", "load_achieved", "load_source", "mechanism", "policy", "n", "p50_us", "p99_us", "max_us"})
     EXPECT_TRUE(j.contains(k)) << k;
   EXPECT_EQ(j["load"], 40);
   EXPECT_EQ(j["mechanism"], "reset");
@@ -83,11 +84,10 @@ TEST(BenchReport, ACellAsJsonHasTheIssuesKeys) {
 }
 
 TEST(BenchReport, KeelCellsGetTheirRatioToEachPeerOfTheSameLoadAndPolicy) {
-  nlohmann::json rows = nlohmann::json::array({toJson(row(10, "reset", "other", 10, 20), false),
-                                               toJson(row(10, "peer_erlang", "other", 40, 100), false),
-                                               toJson(row(80, "peer_erlang", "other", 1, 1), false),
-                                               toJson(row(10, "peer_respawn", "fifo", 1, 1), false),
-                                               toJson(row(10, "floor_wake", "other", 5, 50), false)});
+  nlohmann::json rows = nlohmann::json::array(
+      {toJson(row(10, "reset", "other", 10, 20), false), toJson(row(10, "peer_erlang", "other", 40, 100), false),
+       toJson(row(80, "peer_erlang", "other", 1, 1), false), toJson(row(10, "peer_respawn", "fifo", 1, 1), false),
+       toJson(row(10, "floor_wake", "other", 5, 50), false)});
   addPeerRatios(rows);
   ASSERT_TRUE(rows[0].contains("vs_peer_erlang"));
   EXPECT_DOUBLE_EQ(rows[0]["vs_peer_erlang"]["p50"].get<double>(), 0.25);
@@ -101,7 +101,8 @@ TEST(BenchReport, KeelCellsGetTheirRatioToEachPeerOfTheSameLoadAndPolicy) {
 // floor leaves the process's SIGSEGV action as it found it (keel's guard needs it back).
 TEST(BenchFloor, TheBareSignalAndThrowFloorsCatchEveryFaultAndRestoreTheSignalAction) {
   runtime::installSignalHandlers();  // what the detection cells measured before find in place
-  struct sigaction before {}, after {};
+  struct sigaction before {
+  }, after{};
   ::sigaction(SIGSEGV, nullptr, &before);
   const FloorResult sig = measureSignalFloor(15, false);
   ::sigaction(SIGSEGV, nullptr, &after);

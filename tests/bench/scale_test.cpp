@@ -9,8 +9,8 @@
 #include <set>
 #include <sstream>
 
-#include "profile/loader.hpp"
 #include "engine/engine.hpp"
+#include "profile/loader.hpp"
 #include "scale.hpp"
 
 namespace keel::bench {
@@ -127,8 +127,8 @@ TEST(Scale, EachRowPrintsAsATableLineAndAJsonObjectWithItsFields) {
   std::ostringstream table;
   printScale({r, r}, table);
 
-  for (const char* key : {"components", "applications", "graph_nodes", "startup_ms", "load_ms", "create_ms",
-                          "start_ms", "memory_kib", "memory_kib_per_component", "diagnosis_p50_us", "diagnosis_p99_us",
+  for (const char* key : {"components", "applications", "graph_nodes", "startup_ms", "load_ms", "create_ms", "start_ms",
+                          "memory_kib", "memory_kib_per_component", "diagnosis_p50_us", "diagnosis_p99_us",
                           "graph_walk_p50_us", "graph_walk_p99_us", "faults", "failed", "trials"})
     EXPECT_TRUE(j.contains(key)) << key;
   EXPECT_EQ(j["components"], 100);

@@ -19,8 +19,8 @@ class Cli : public ::testing::Test {
   // KEEL_COMPONENT_PATH.
   void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
   void TearDown() override { std::filesystem::remove(log_); }
-  std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_cli_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_ =
+      (std::filesystem::temp_directory_path() / ("keel_cli_test_" + std::to_string(::getpid()) + ".jsonl")).string();
 };
 
 TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
@@ -30,8 +30,7 @@ TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
   EXPECT_NE(r.out.find("summer"), std::string::npos);
   auto log = test::readLog(log_);
   ASSERT_FALSE(log.empty());
-  EXPECT_EQ(test::statesOf(log, "counter"),
-            (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "counter"), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
   for (const auto& rec : log) {
     EXPECT_TRUE(rec.contains("t_ns"));
     EXPECT_TRUE(rec.contains("event"));
@@ -83,8 +82,7 @@ TEST_F(Cli, RunReportsFaultsInItsSummary) {
 TEST_F(Cli, RunRejectsABadProfileWithFileAndLine) {
   auto r = test::runProcess({KEEL_CLI, "run", profile("wrong_type.xml"), "--duration", "0.1"});
   EXPECT_EQ(r.status, 1);
-  EXPECT_NE(r.err.find("CounterDouble.xml:9: component 'counter': port 'count' carries 'double'"),
-            std::string::npos)
+  EXPECT_NE(r.err.find("CounterDouble.xml:9: component 'counter': port 'count' carries 'double'"), std::string::npos)
       << r.err;
 }
 
@@ -119,27 +117,26 @@ TEST_F(Cli, GraphPrintsTheStructureAsDot) {
 }
 
 TEST_F(Cli, TheHelloExampleRunsAndDeliversEvents) {
-  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/01_hello_component/app.xml",
-                             "--duration", "0.6", "--log", log_});
+  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/01_hello_component/app.xml", "--duration",
+                             "0.6", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("[listener] milestone: 5"), std::string::npos) << r.out;
   EXPECT_TRUE(test::eventsOf(test::readLog(log_), "detected").empty());
 }
 
 TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
-  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml",
-                             "--duration", "2", "--log", log_});
+  auto r = test::runProcess(
+      {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "2", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   auto log = test::readLog(log_);
   auto detected = test::eventsOf(log, "detected");
   ASSERT_GE(detected.size(), 3u);
   EXPECT_EQ(detected[0]["component"], "sonar_left");
   EXPECT_EQ(detected[0]["kind"], "signal");
-  EXPECT_EQ(test::statesOf(log, "sonar_left"),
-            (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "sonar_left"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
   // its <fault_policy> has the default severity, reset: each fault it raises resets it
-  EXPECT_EQ(test::statesOf(log, "avoider"),
-            (std::vector<std::string>{"Ready", "Active", "Error", "Active", "Error", "Active", "Inactive", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "avoider"), (std::vector<std::string>{"Ready", "Active", "Error", "Active", "Error",
+                                                                      "Active", "Inactive", "Destroyed"}));
   EXPECT_EQ(test::eventsOf(log, "recovered").size(), 2u);
 }
 
@@ -158,7 +155,7 @@ TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
   EXPECT_LT(latched, status);
   EXPECT_LT(status, cleared);
   EXPECT_NE(r.out.find("keel: no emergency latched", cleared), std::string::npos) << r.out;  // second clear
-  EXPECT_EQ(r.out.find("EMERGENCY STOP LATCHED"), std::string::npos) << r.out;           // summary: cleared
+  EXPECT_EQ(r.out.find("EMERGENCY STOP LATCHED"), std::string::npos) << r.out;               // summary: cleared
 
   auto log = test::readLog(log_);
   auto phases = test::eventsOf(log, "emergency");
@@ -173,8 +170,8 @@ TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
 }
 
 TEST_F(Cli, TheSummaryShowsEachFaultsHandlingAndRecoveryLatency) {
-  auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml",
-                             "--duration", "2", "--log", log_});
+  auto r = test::runProcess(
+      {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "2", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   const auto at = r.out.find("handling:");
   ASSERT_NE(at, std::string::npos) << r.out;

@@ -32,8 +32,8 @@ class EngineTest : public ::testing::Test {
     EXPECT_TRUE(engine) << (engine ? "" : engine.error().message);
     return engine ? std::move(*engine) : nullptr;
   }
-  std::string log_path_ = (std::filesystem::temp_directory_path() /
-                           ("keel_engine_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_path_ =
+      (std::filesystem::temp_directory_path() / ("keel_engine_test_" + std::to_string(::getpid()) + ".jsonl")).string();
   void TearDown() override { std::filesystem::remove(log_path_); }
 };
 
@@ -47,9 +47,7 @@ TEST_F(EngineTest, RunsAPackageThroughTheWholeLifecycleInOrder) {
   engine->shutdown();
   auto log = test::readLog(log_path_);
   for (const char* c : {"counter", "summer", "events", "doubler", "caller"}) {
-    EXPECT_EQ(test::statesOf(log, c),
-              (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}))
-        << c;
+    EXPECT_EQ(test::statesOf(log, c), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"})) << c;
   }
   // The only faults of this package are the event logger's own (it raises one per milestone
   // from 30 values on, as many as a slow machine lets it see): nothing else faulted.
@@ -64,8 +62,8 @@ TEST_F(EngineTest, AppliesTypedPropertiesWithSubcomponentOverrides) {
   ASSERT_TRUE(engine);
   Component* counter = engine->find("counter");
   Component* summer = engine->find("summer");
-  EXPECT_EQ(counter->property<int>("step"), 2);          // overridden
-  EXPECT_EQ(summer->property<double>("gain"), 0.5);      // overridden
+  EXPECT_EQ(counter->property<int>("step"), 2);      // overridden
+  EXPECT_EQ(summer->property<double>("gain"), 0.5);  // overridden
   EXPECT_EQ(summer->property<std::string>("label"), "half");
   EXPECT_THROW(summer->property<int>("label"), PropertyError);
   EXPECT_THROW(summer->property<int>("missing"), PropertyError);
@@ -102,9 +100,7 @@ TEST_F(EngineTest, AFaultyComponentGoesToErrorWhileTheRestKeepsRunning) {
   Component* crasher = engine->find("crasher");
   Component* thrower = engine->find("thrower");
   Component* counter = engine->find("counter");
-  ASSERT_TRUE(test::eventually([&] {
-    return crasher->state() == State::Error && thrower->state() == State::Error;
-  }));
+  ASSERT_TRUE(test::eventually([&] { return crasher->state() == State::Error && thrower->state() == State::Error; }));
   auto before = runtime::coreOf(*counter).executions.load();
   ASSERT_TRUE(test::eventually([&] { return runtime::coreOf(*counter).executions.load() > before + 10; }));
   EXPECT_EQ(counter->state(), State::Active);
@@ -122,8 +118,7 @@ TEST_F(EngineTest, AFaultyComponentGoesToErrorWhileTheRestKeepsRunning) {
       EXPECT_EQ(d["detail"], "exception in onExecute: crasher gave up");
     }
   }
-  EXPECT_EQ(test::statesOf(log, "crasher"),
-            (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "crasher"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
 }
 
 TEST_F(EngineTest, FlattensCompositesAndConnectsThroughExportedPorts) {

@@ -14,9 +14,7 @@
 namespace keel {
 namespace {
 
-std::string hardware(const std::string& name) {
-  return std::string(KEEL_TEST_PROFILES) + "/hardware/" + name;
-}
+std::string hardware(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/hardware/" + name; }
 
 struct Received {
   std::string command;
@@ -37,11 +35,12 @@ class HardwareFaults : public ::testing::Test {
   void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
   void TearDown() override { std::filesystem::remove(log_); }
   test::Ran run(const std::string& scenario) {
-    return test::runProcess({KEEL_CLI, "run", hardware("robot.xml"), "--duration", "0.6", "--inject",
-                             hardware(scenario), "--log", log_});
+    return test::runProcess(
+        {KEEL_CLI, "run", hardware("robot.xml"), "--duration", "0.6", "--inject", hardware(scenario), "--log", log_});
   }
   std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_hardware_faults_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+                      ("keel_hardware_faults_test_" + std::to_string(::getpid()) + ".jsonl"))
+                         .string();
 };
 
 TEST_F(HardwareFaults, ReachTheDriverInOrderWithTheirArgsAtTheirTimes) {
@@ -92,15 +91,18 @@ TEST_F(HardwareFaults, NotTakenGiveAWarningAndTheOutcome) {
 
   ASSERT_EQ(r.status, 0) << r.err;
   const std::string at = hardware("not_taken.xml");
-  EXPECT_NE(r.err.find("keel: warning: " + at + ":3: hardware fault 'motor_power_off right' not taken by "
+  EXPECT_NE(r.err.find("keel: warning: " + at +
+                       ":3: hardware fault 'motor_power_off right' not taken by "
                        "'counter': unsupported\n"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("keel: warning: " + at + ":4: hardware fault 'noise 0.5' not taken by 'driver': bad "
+  EXPECT_NE(r.err.find("keel: warning: " + at +
+                       ":4: hardware fault 'noise 0.5' not taken by 'driver': bad "
                        "input\n"),
             std::string::npos)
       << r.err;
-  EXPECT_NE(r.err.find("keel: warning: " + at + ":5: hardware fault 'sensor_ok explode' not taken by "
+  EXPECT_NE(r.err.find("keel: warning: " + at +
+                       ":5: hardware fault 'sensor_ok explode' not taken by "
                        "'driver': exception: board unreachable\n"),
             std::string::npos)
       << r.err;

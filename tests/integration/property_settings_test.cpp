@@ -26,7 +26,8 @@ class SetOption : public ::testing::Test {
     return test::runProcess(argv);
   }
   std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_set_option_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+                      ("keel_set_option_test_" + std::to_string(::getpid()) + ".jsonl"))
+                         .string();
 };
 
 TEST_F(SetOption, TheValueReachesTheComponentAfterTheProfilesOverride) {
@@ -64,8 +65,9 @@ TEST_F(SetOption, RejectsAPropertyTheComponentDoesNotDeclareListingItsProperties
   auto r = run("finish/mission.xml", {"finisher.end_at=7"});
 
   EXPECT_EQ(r.status, 2);
-  EXPECT_EQ(r.err, "keel run: --set 'finisher.end_at=7': component 'Finisher' of instance 'finisher' has no "
-                   "property 'end_at' (properties: end_after, end_on_stop, event, fields)\n");
+  EXPECT_EQ(r.err,
+            "keel run: --set 'finisher.end_at=7': component 'Finisher' of instance 'finisher' has no "
+            "property 'end_at' (properties: end_after, end_on_stop, event, fields)\n");
 }
 
 TEST_F(SetOption, RejectsAValueNotOfThePropertysTypeNamingTheType) {

@@ -27,7 +27,8 @@ class RunEnd : public ::testing::Test {
   }
 
   std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_run_end_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+                      ("keel_run_end_test_" + std::to_string(::getpid()) + ".jsonl"))
+                         .string();
   double took_s_ = 0;
 };
 

@@ -4,8 +4,8 @@
 
 #include <filesystem>
 
-#include "runtime/component_core.hpp"
 #include "engine/engine.hpp"
+#include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
 #include "support/process.hpp"
 #include "support/recording_hooks.hpp"
@@ -19,7 +19,8 @@ class SystemConnections : public ::testing::Test {
  protected:
   void TearDown() override { std::filesystem::remove(log_); }
   std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_system_connections_" + std::to_string(::getpid()) + ".jsonl")).string();
+                      ("keel_system_connections_" + std::to_string(::getpid()) + ".jsonl"))
+                         .string();
 };
 
 TEST_F(SystemConnections, CarryDataFromOneApplicationsComponentToAnothers) {

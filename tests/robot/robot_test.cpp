@@ -55,13 +55,20 @@ struct RobotRun {
 
 class Robot : public ::testing::Test {
  protected:
-  RobotRun run(const std::string& profile, const std::string& scenario, int seed = 1,
-               const std::string& prefix = "", const std::vector<std::string>& extra = {}) {
+  RobotRun run(const std::string& profile, const std::string& scenario, int seed = 1, const std::string& prefix = "",
+               const std::vector<std::string>& extra = {}) {
     const std::string log = (dir_ / ("run_" + std::to_string(seed) + ".jsonl")).string();
-    std::vector<std::string> argv = {KEEL_CLI, "run", std::string(KEEL_ROBOT) + "/" + profile,
-                                     "--duration", "60", "--log", log,
-                                     "--set", prefix + "actuator.seed=" + std::to_string(seed),
-                                     "--set", prefix + "camera.seed=" + std::to_string(seed)};
+    std::vector<std::string> argv = {KEEL_CLI,
+                                     "run",
+                                     std::string(KEEL_ROBOT) + "/" + profile,
+                                     "--duration",
+                                     "60",
+                                     "--log",
+                                     log,
+                                     "--set",
+                                     prefix + "actuator.seed=" + std::to_string(seed),
+                                     "--set",
+                                     prefix + "camera.seed=" + std::to_string(seed)};
     argv.insert(argv.end(), extra.begin(), extra.end());
     if (!scenario.empty()) {
       argv.push_back("--inject");
@@ -92,9 +99,8 @@ class Robot : public ::testing::Test {
   }
 
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("keel_robot_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    dir_ = fs::temp_directory_path() / ("keel_robot_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override {

@@ -10,8 +10,8 @@
 #include <atomic>
 #include <thread>
 
-#include "runtime/component_core.hpp"
 #include "engine/engine.hpp"
+#include "runtime/component_core.hpp"
 #include "runtime/guard.hpp"
 #include "support/log_reader.hpp"
 

@@ -8,9 +8,9 @@
 #include <string>
 #include <thread>
 
+#include "engine/engine.hpp"
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
-#include "engine/engine.hpp"
 #include "support/log_reader.hpp"
 
 namespace keel {
@@ -48,8 +48,7 @@ class Detection : public ::testing::Test {
     if (!engine) return r;
     EXPECT_TRUE((*engine)->start());
     auto sample = [&](std::map<std::string, std::uint64_t>& into) {
-      for (Component* c : (*engine)->components())
-        into[c->instanceName()] = runtime::coreOf(*c).executions.load();
+      for (Component* c : (*engine)->components()) into[c->instanceName()] = runtime::coreOf(*c).executions.load();
     };
     auto end = std::chrono::steady_clock::now() + duration;
     while (std::chrono::steady_clock::now() < end) {
@@ -86,8 +85,8 @@ class Detection : public ::testing::Test {
   }
 
   void TearDown() override { std::filesystem::remove(log_); }
-  std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_detection_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_ =
+      (std::filesystem::temp_directory_path() / ("keel_detection_" + std::to_string(::getpid()) + ".jsonl")).string();
 };
 
 TEST_F(Detection, ASegfaultInsideOnExecuteIsASignalFaultAndTheTaskMateKeepsRunning) {

@@ -15,9 +15,9 @@
 #include <set>
 #include <thread>
 
+#include "engine/engine.hpp"
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
-#include "engine/engine.hpp"
 #include "support/log_reader.hpp"
 
 namespace keel {
@@ -86,9 +86,7 @@ class Handling : public ::testing::Test {
     if (probe_(instance.c_str(), key.c_str(), &v)) return v;
     return std::nullopt;
   }
-  long probeOr0(const std::string& instance, const std::string& key) const {
-    return probe(instance, key).value_or(0);
-  }
+  long probeOr0(const std::string& instance, const std::string& key) const { return probe(instance, key).value_or(0); }
 
   std::uint64_t executions(const std::string& name) const {
     Component* c = engine_->find(name);
@@ -126,8 +124,8 @@ class Handling : public ::testing::Test {
   }
 
   std::unique_ptr<engine::Engine> engine_;
-  std::string log_ = (std::filesystem::temp_directory_path() /
-                      ("keel_handling_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_ =
+      (std::filesystem::temp_directory_path() / ("keel_handling_" + std::to_string(::getpid()) + ".jsonl")).string();
 
  private:
   using ProbeFn = int (*)(const char*, const char*, long*);
@@ -161,7 +159,8 @@ json record(const std::vector<json>& log, std::uint64_t id, const std::string& e
 }
 
 /// The position of that record in the log (for ordering), or -1.
-long positionOf(const std::vector<json>& log, std::uint64_t id, const std::string& event, const std::string& action = "") {
+long positionOf(const std::vector<json>& log, std::uint64_t id, const std::string& event,
+                const std::string& action = "") {
   for (std::size_t i = 0; i < log.size(); ++i) {
     const json& r = log[i];
     if (r.contains("fault_id") && r["fault_id"] == id && r["event"] == event &&
@@ -203,9 +202,9 @@ void expectResetTrace(const std::vector<json>& log, const std::string& component
   json recovered = record(log, id, "recovered");
   ASSERT_FALSE(recovered.is_null()) << "no recovered record for fault " << id;
   EXPECT_EQ(recovered["component"], component);
-  const long p[] = {positionOf(log, id, "injected"), positionOf(log, id, "detected"), positionOf(log, id, "diagnosed"),
-                    positionOf(log, id, "action", "reset"), positionOf(log, id, "action", "restore"),
-                    positionOf(log, id, "recovered")};
+  const long p[] = {positionOf(log, id, "injected"),          positionOf(log, id, "detected"),
+                    positionOf(log, id, "diagnosed"),         positionOf(log, id, "action", "reset"),
+                    positionOf(log, id, "action", "restore"), positionOf(log, id, "recovered")};
   for (std::size_t i = 1; i < std::size(p); ++i) EXPECT_LT(p[i - 1], p[i]) << "records out of order at " << i;
   // Each step at its own time: the rules are applied after the detection, the reset after both.
   EXPECT_LE(record(log, id, "injected")["t_ns"].get<std::int64_t>(), detected["t_ns"].get<std::int64_t>());
@@ -276,7 +275,8 @@ TEST_F(Handling, ResetRestoresTheCounterFromItsCheckpoint) {
 TEST_F(Handling, AnAlternativeColdOrPreloadedTakesOverWithTheCheckpointedCount) {
   start("replace.xml", "replace_segfault.xml");
   ASSERT_TRUE(waitFor([&] { return recovered("cold") && recovered("warm"); })) << "not recovered";
-  ASSERT_TRUE(waitFor([&] { return probeOr0("cold", "backup.executions") > 20 && probeOr0("warm", "backup.executions") > 20; }));
+  ASSERT_TRUE(waitFor(
+      [&] { return probeOr0("cold", "backup.executions") > 20 && probeOr0("warm", "backup.executions") > 20; }));
   EXPECT_TRUE(keepsExecuting("bystander", 10));
   for (const std::string name : {"cold", "warm"}) {
     SCOPED_TRACE(name);
@@ -320,7 +320,8 @@ TEST_F(Handling, AnAlternativeColdOrPreloadedTakesOverWithTheCheckpointedCount) 
     EXPECT_LT(positionOf(log, id, "action", "replace"), positionOf(log, id, "recovered"));
     EXPECT_EQ(actionsOf(log, name), std::vector<std::string>{"replace"});
   }
-  EXPECT_NE(record(log, injectedId(log, "cold"), "action", "replace")["detail"].get<std::string>().find("loaded at fault time"),
+  EXPECT_NE(record(log, injectedId(log, "cold"), "action", "replace")["detail"].get<std::string>().find(
+                "loaded at fault time"),
             std::string::npos);
   EXPECT_NE(record(log, injectedId(log, "warm"), "action", "replace")["detail"].get<std::string>().find("(preloaded)"),
             std::string::npos);
@@ -347,7 +348,8 @@ class HandlingFaultStop : public Handling {
       EXPECT_TRUE(waitFor([&] {
         State s = engine_->find(name)->state();
         return s == State::Inactive || s == State::Error;
-      })) << name << " not stopped";
+      })) << name
+          << " not stopped";
     }
     const std::set<std::string> all_counters = {"A.b1", "A.b2", "A.b3", "B.b1", "B.b2"};
     std::map<std::string, std::uint64_t> before;
@@ -452,7 +454,8 @@ TEST_F(Handling, AnEmergencyFaultStopsTheActuatorInNeutralUntilTheEmergencyIsCle
   EXPECT_TRUE(engine.clearEmergency("test"));
   EXPECT_FALSE(engine.clearEmergency("test")) << "nothing left to clear";
   EXPECT_FALSE(actuator->emergencyLatched());
-  EXPECT_TRUE(waitFor([&] { return probeOr0("actuator", "cmd_milli") >= 1000 && probeOr0("motor", "last_milli") >= 1000; }));
+  EXPECT_TRUE(
+      waitFor([&] { return probeOr0("actuator", "cmd_milli") >= 1000 && probeOr0("motor", "last_milli") >= 1000; }));
   EXPECT_EQ(probeOr0("actuator", "overlaps"), 0) << "onEmergencyStop overlapped another callback";
   const std::set<std::string> stopped = engine.faultManager().stoppedComponents();
   const std::vector<json> log = finish();
@@ -516,12 +519,11 @@ TEST_F(Handling, PastTheRestartIntensityAResetEscalatesToTheAlternativeThenToSto
     return h.size() >= n && h.back().actions.size() >= 4 &&
            h.back().actions.compare(h.back().actions.size() - 4, 4, "stop") == 0;
   };
-  ASSERT_TRUE(waitFor([&] { return ended("flaky", 4) && ended("no_alt", 3); }, 3000ms))
-      << [&] {
-           std::string d;
-           for (const auto& h : fm.handlings()) d += h.component + ": " + h.actions + "\n";
-           return d;
-         }();
+  ASSERT_TRUE(waitFor([&] { return ended("flaky", 4) && ended("no_alt", 3); }, 3000ms)) << [&] {
+    std::string d;
+    for (const auto& h : fm.handlings()) d += h.component + ": " + h.actions + "\n";
+    return d;
+  }();
   // It never loops: nothing more happens once the component is stopped.
   EXPECT_TRUE(keepsExecuting("bystander", 20));
   EXPECT_EQ(handlingsOf("flaky").size(), 4u);

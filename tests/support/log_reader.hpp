@@ -21,8 +21,7 @@ inline std::vector<nlohmann::json> readLog(const std::string& path) {
 }
 
 /// The `to` states of `component`'s state records, in order.
-inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log,
-                                         const std::string& component) {
+inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log, const std::string& component) {
   std::vector<std::string> out;
   for (const auto& r : log)
     if (r.value(fault::schema::field::kEvent, "") == fault::schema::event::kState &&
@@ -31,8 +30,7 @@ inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log,
   return out;
 }
 
-inline std::vector<nlohmann::json> eventsOf(const std::vector<nlohmann::json>& log,
-                                            const std::string& event) {
+inline std::vector<nlohmann::json> eventsOf(const std::vector<nlohmann::json>& log, const std::string& event) {
   std::vector<nlohmann::json> out;
   for (const auto& r : log)
     if (r.value(fault::schema::field::kEvent, "") == event) out.push_back(r);

@@ -35,8 +35,8 @@ void registerPort(Component* owner, PortBase* port);
 
 class PortBase {
  public:
-  PortBase(Component* owner, std::string name, PortKind kind, PortDirection direction,
-           std::type_index type, std::string type_name)
+  PortBase(Component* owner, std::string name, PortKind kind, PortDirection direction, std::type_index type,
+           std::string type_name)
       : owner_(owner), name_(std::move(name)), kind_(kind), direction_(direction), type_(type),
         type_name_(std::move(type_name)) {
     registerPort(owner, this);

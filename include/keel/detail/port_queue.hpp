@@ -19,9 +19,7 @@ namespace keel::detail {
 template <class T>
 class PortQueue {
  public:
-  explicit PortQueue(std::size_t capacity = 16, QueuePolicy policy = QueuePolicy::Fifo) {
-    configure(policy, capacity);
-  }
+  explicit PortQueue(std::size_t capacity = 16, QueuePolicy policy = QueuePolicy::Fifo) { configure(policy, capacity); }
 
   void configure(QueuePolicy policy, std::size_t capacity) {
     std::lock_guard lock(mutex_);

@@ -54,7 +54,7 @@ struct Violation {
   double max = std::numeric_limits<double>::infinity();
   std::size_t size_expected = 0;  // nonzero: the array had the wrong number of elements
   std::size_t size_got = 0;
-  bool array = false;             // the value was an array (the index is meaningful)
+  bool array = false;  // the value was an array (the index is meaningful)
 };
 
 struct ValidityRule {

@@ -51,11 +51,10 @@ class ColorBlobDetector : public Component {
     const auto min_area = property<std::int64_t>("min_area", kDefaultMinArea);
     if (min_area < 1 || min_area > kMaxMinArea)
       rejectProperty("min_area", "must be between 1 and " + std::to_string(kMaxMinArea) + " (got " +
-                           std::to_string(min_area) + ")");
+                                     std::to_string(min_area) + ")");
     fov_deg_ = property<double>("fov_deg", kDefaultFovDeg);
     if (!std::isfinite(fov_deg_) || fov_deg_ <= 0.0 || fov_deg_ >= 180.0)
-      rejectProperty("fov_deg", "must be greater than 0 and less than 180 (got " +
-                          std::to_string(fov_deg_) + ")");
+      rejectProperty("fov_deg", "must be greater than 0 and less than 180 (got " + std::to_string(fov_deg_) + ")");
     segmenter_.emplace(c, static_cast<int>(min_area));
     return ReturnCode::Ok;
   }
@@ -90,17 +89,15 @@ class ColorBlobDetector : public Component {
  private:
   int channel(std::string_view name, int fallback) const {
     const auto value = property<std::int64_t>(name, fallback);
-    if (value < 0 || value > 255)
-      rejectProperty(name, "must be between 0 and 255 (got " + std::to_string(value) + ")");
+    if (value < 0 || value > 255) rejectProperty(name, "must be between 0 and 255 (got " + std::to_string(value) + ")");
     return static_cast<int>(value);
   }
 
   void ordered(const std::string& axis, int lo, int hi) const {
     if (lo > hi)
-      rejectProperty(axis + "_min", "must not exceed " + axis + "_max (got " + std::to_string(lo) +
-                              " > " + std::to_string(hi) + ")");
+      rejectProperty(axis + "_min",
+                     "must not exceed " + axis + "_max (got " + std::to_string(lo) + " > " + std::to_string(hi) + ")");
   }
-
 
   double fov_deg_ = kDefaultFovDeg;
   std::optional<ColorSegmenter> segmenter_;  // built by onInitialize

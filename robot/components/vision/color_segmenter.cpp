@@ -27,31 +27,23 @@ ColorSegmenter::ColorSegmenter(const YuvBox& colour, int min_area, int width, in
 
 void ColorSegmenter::prepare(int w, int h) {
   if (w < 0 || h < 0) throw std::invalid_argument("ColorSegmenter: negative image size");
-  const std::size_t max_runs =
-      static_cast<std::size_t>(h) * (static_cast<std::size_t>(w) + 1) / 2 + 1;
+  const std::size_t max_runs = static_cast<std::size_t>(h) * (static_cast<std::size_t>(w) + 1) / 2 + 1;
   if (runs_.size() < max_runs) {
     runs_.resize(max_runs);
     region_of_.resize(max_runs);
     accumulators_.resize(max_runs);
     regions_.resize(max_runs);
   }
-  if (row_mask_.size() < static_cast<std::size_t>(w) + 1)
-    row_mask_.resize(static_cast<std::size_t>(w) + 1);
-  if (row_start_.size() < static_cast<std::size_t>(h) + 1)
-    row_start_.resize(static_cast<std::size_t>(h) + 1);
+  if (row_mask_.size() < static_cast<std::size_t>(w) + 1) row_mask_.resize(static_cast<std::size_t>(w) + 1);
+  if (row_start_.size() < static_cast<std::size_t>(h) + 1) row_start_.resize(static_cast<std::size_t>(h) + 1);
 }
 
-std::span<const Region> ColorSegmenter::segment(const Image& image) {
-  return segment(image.w, image.h, image.rgb);
-}
+std::span<const Region> ColorSegmenter::segment(const Image& image) { return segment(image.w, image.h, image.rgb); }
 
 std::span<const Region> ColorSegmenter::segment(int w, int h, std::span<const std::uint8_t> rgb) {
-  if (w < 0 || h < 0 ||
-      rgb.size() != 3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
-    throw std::invalid_argument("ColorSegmenter: a " + std::to_string(w) + " x " +
-                                std::to_string(h) + " image needs " +
-                                std::to_string(3LL * w * h) + " bytes, got " +
-                                std::to_string(rgb.size()));
+  if (w < 0 || h < 0 || rgb.size() != 3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h))
+    throw std::invalid_argument("ColorSegmenter: a " + std::to_string(w) + " x " + std::to_string(h) + " image needs " +
+                                std::to_string(3LL * w * h) + " bytes, got " + std::to_string(rgb.size()));
   prepare(w, h);  // a no-op unless the image is larger than any before
   encodeRows(w, h, rgb.data());
   connectRows(h);
@@ -68,10 +60,10 @@ void ColorSegmenter::encodeRows(int w, int h, const std::uint8_t* rgb) {
     const std::uint8_t* px = rgb + 3 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
     for (int x = 0; x < w; ++x) {  // classify without a branch, then encode
       const Yuv p = toYuv(px[3 * x], px[3 * x + 1], px[3 * x + 2]);
-      mask[x] = (p.y >= c.y_min) & (p.y <= c.y_max) & (p.u >= c.u_min) & (p.u <= c.u_max) &
-                (p.v >= c.v_min) & (p.v <= c.v_max);
+      mask[x] = (p.y >= c.y_min) & (p.y <= c.y_max) & (p.u >= c.u_min) & (p.u <= c.u_max) & (p.v >= c.v_min) &
+                (p.v <= c.v_max);
     }
-    mask[w] = 0;  // closes a run that reaches the right edge
+    mask[w] = 0;     // closes a run that reaches the right edge
     int start = -1;  // first column of the open run, -1 if none
     for (int x = 0; x <= w; ++x) {
       if (mask[x] && start < 0) {
@@ -142,9 +134,13 @@ void ColorSegmenter::gatherRegions() {
     const Accumulator& a = accumulators_[i];
     if (a.area < min_area_) continue;
     const double area = static_cast<double>(a.area);
-    regions_[kept++] =
-        Region{static_cast<int>(a.area), static_cast<double>(a.sum_x) / area + 0.5,
-               static_cast<double>(a.sum_y) / area + 0.5, a.x_min, a.y_min, a.x_max, a.y_max};
+    regions_[kept++] = Region{static_cast<int>(a.area),
+                              static_cast<double>(a.sum_x) / area + 0.5,
+                              static_cast<double>(a.sum_y) / area + 0.5,
+                              a.x_min,
+                              a.y_min,
+                              a.x_max,
+                              a.y_max};
   }
   region_count_ = kept;
   std::sort(regions_.begin(), regions_.begin() + kept, [](const Region& a, const Region& b) {

@@ -29,8 +29,7 @@ struct Yuv {
 /// +127 rounding term every result lies in 0..255 without clamping (pure red: V = 255, not 256).
 /// >> floors (arithmetic shift of a negative value, C++20).
 [[nodiscard]] constexpr Yuv toYuv(std::uint8_t r, std::uint8_t g, std::uint8_t b) {
-  return Yuv{(77 * r + 150 * g + 29 * b + 127) >> 8,
-             ((-43 * r - 85 * g + 128 * b + 127) >> 8) + 128,
+  return Yuv{(77 * r + 150 * g + 29 * b + 127) >> 8, ((-43 * r - 85 * g + 128 * b + 127) >> 8) + 128,
              ((128 * r - 107 * g - 21 * b + 127) >> 8) + 128};
 }
 
@@ -43,8 +42,7 @@ struct YuvBox {
   int v_min = 0;
   int v_max = 255;
   [[nodiscard]] bool contains(const Yuv& p) const {
-    return p.y >= y_min && p.y <= y_max && p.u >= u_min && p.u <= u_max && p.v >= v_min &&
-           p.v <= v_max;
+    return p.y >= y_min && p.y <= y_max && p.u >= u_min && p.u <= u_max && p.v >= v_min && p.v <= v_max;
   }
   /// Every bound within 0..255 and every min ≤ its max.
   [[nodiscard]] bool valid() const;
@@ -110,8 +108,8 @@ class ColorSegmenter {
   // the counts say how much of each is in use
   std::vector<Run> runs_;
   std::vector<std::uint8_t> row_mask_;  // one row's classification, plus a closing 0
-  std::vector<int> row_start_;  // runs of row y are runs_[row_start_[y] .. row_start_[y + 1])
-  std::vector<int> region_of_;  // for a root run: its index in accumulators_
+  std::vector<int> row_start_;          // runs of row y are runs_[row_start_[y] .. row_start_[y + 1])
+  std::vector<int> region_of_;          // for a root run: its index in accumulators_
   std::vector<Accumulator> accumulators_;
   std::vector<Region> regions_;
   int run_count_ = 0;

@@ -38,9 +38,7 @@ class Finisher : public keel::Component {
   }
 
  private:
-  std::string fields() const {
-    return fields_.empty() ? fields_ : fields_ + ",\"executions\":" + std::to_string(n_);
-  }
+  std::string fields() const { return fields_.empty() ? fields_ : fields_ + ",\"executions\":" + std::to_string(n_); }
   int n_ = 0;
   int end_after_ = 0;
   bool end_on_stop_ = false;
@@ -61,8 +59,8 @@ class Driver : public keel::Component {
     const double ms = static_cast<double>(nowNs() - start_ns_.load(std::memory_order_acquire)) / 1e6;
     {
       std::lock_guard lock(mutex_);
-      std::printf("[%s] hardware fault '%.*s' at %.0f ms\n", instanceName().c_str(),
-                  static_cast<int>(command.size()), command.data(), ms);
+      std::printf("[%s] hardware fault '%.*s' at %.0f ms\n", instanceName().c_str(), static_cast<int>(command.size()),
+                  command.data(), ms);
       std::fflush(stdout);
     }
     if (command.find("explode") != std::string_view::npos) throw std::runtime_error("board unreachable");
@@ -72,8 +70,7 @@ class Driver : public keel::Component {
 
  private:
   static std::int64_t nowNs() {
-    return std::chrono::duration_cast<std::chrono::nanoseconds>(
-               std::chrono::steady_clock::now().time_since_epoch())
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
         .count();
   }
   std::atomic<std::int64_t> start_ns_{0};

@@ -157,8 +157,7 @@ class Sleepy : public keel::Component {
     return keel::ReturnCode::Ok;
   }
   keel::ReturnCode onExecute() override {
-    if (++n_ % every_ == 0)
-      std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long>(sleep_ms_ * 1000)));
+    if (++n_ % every_ == 0) std::this_thread::sleep_for(std::chrono::microseconds(static_cast<long>(sleep_ms_ * 1000)));
     return keel::ReturnCode::Ok;
   }
 

@@ -54,9 +54,7 @@ class VoterRig {
     test::wire(voter.output, probe.output, keep_);
     test::wire(voter.agreeing, probe.agreeing, keep_);
   }
-  void set(const std::string& name, PropertyValue value) {
-    runtime::coreOf(voter).properties[name] = std::move(value);
-  }
+  void set(const std::string& name, PropertyValue value) { runtime::coreOf(voter).properties[name] = std::move(value); }
   bool initialize() { return runtime::transition(voter, Transition::Initialize); }
   /// One period: the inputs given a value deliver it (nullopt: that input stays silent).
   void cycle(const std::array<std::optional<double>, N>& values) {
@@ -238,8 +236,7 @@ TEST(MedianVoter, ToleranceRatioScalesWithTheMedian) {
   const auto faults = rig.faults();
   ASSERT_EQ(faults.size(), 1u);
   EXPECT_EQ(faults[0].componentName(), "c");
-  EXPECT_EQ(detailOf(faults[0]),
-            "in2 = 1200 deviates from median 1050 by 150 (tolerance 105 = 0.1 \u00d7 median)");
+  EXPECT_EQ(detailOf(faults[0]), "in2 = 1200 deviates from median 1050 by 150 (tolerance 105 = 0.1 \u00d7 median)");
 }
 
 // ---- median of five ----
@@ -283,8 +280,7 @@ TEST(MedianVoter, FailsInitializeWhenSourcesDoNotNameEveryInput) {
   const auto faults = rig.faults();
   ASSERT_EQ(faults.size(), 1u);
   EXPECT_EQ(faults[0].kind, FaultKind::Exception);
-  EXPECT_THAT(detailOf(faults[0]),
-              HasSubstr("component 'voter': property 'sources' must name 3 components"));
+  EXPECT_THAT(detailOf(faults[0]), HasSubstr("component 'voter': property 'sources' must name 3 components"));
 }
 
 TEST(MedianVoter, FailsInitializeOnANegativeTolerance) {

@@ -243,8 +243,7 @@ TEST(SlidingWindowMonitor, AbsoluteModeReportsADifferenceBeyondTheThreshold) {
   ASSERT_EQ(faults.size(), 1u);
   EXPECT_EQ(faults[0].kind, FaultKind::Model);
   EXPECT_EQ(faults[0].componentName(), "odometry");
-  EXPECT_EQ(detailOf(faults[0]),
-            "|filtered target 112 - reference 100| = 12 > 10 for 1 sample (window 5)");
+  EXPECT_EQ(detailOf(faults[0]), "|filtered target 112 - reference 100| = 12 > 10 for 1 sample (window 5)");
   const auto residuals = rig.residuals();
   ASSERT_EQ(residuals.size(), 2u);
   EXPECT_NEAR(residuals[0], 6.0, 1e-9);  // filtered target - filtered reference
@@ -378,19 +377,15 @@ TEST_P(SlidingWindowMonitorBadProperty, FailsInitializeNamingTheProperty) {
 
 INSTANTIATE_TEST_SUITE_P(
     SlidingWindowMonitor, SlidingWindowMonitorBadProperty,
-    ::testing::Values(
-        BadProperty{"window", std::int64_t{0}, "must be between 1 and 1048576 (got 0)"},
-        BadProperty{"window", std::string("nine"), "is not an integer"},
-        BadProperty{"mode", std::string("relative"),
-                    "must be 'ratio' or 'absolute' (got 'relative')"},
-        BadProperty{"threshold", 0.0, "must be > 0 in ratio mode"},
-        BadProperty{"threshold", -1.0, "must be >= 0 in absolute mode"},
-        BadProperty{"min_consecutive", std::int64_t{0}, "must be at least 1 (got 0)"},
-        BadProperty{"min_reference", -1.0, "must be >= 0"},
-        BadProperty{"monitored", std::string(64, 'x'), "is longer than a fault event can name"}),
-    [](const ::testing::TestParamInfo<BadProperty>& param) {
-      return param.param.name + std::to_string(param.index);
-    });
+    ::testing::Values(BadProperty{"window", std::int64_t{0}, "must be between 1 and 1048576 (got 0)"},
+                      BadProperty{"window", std::string("nine"), "is not an integer"},
+                      BadProperty{"mode", std::string("relative"), "must be 'ratio' or 'absolute' (got 'relative')"},
+                      BadProperty{"threshold", 0.0, "must be > 0 in ratio mode"},
+                      BadProperty{"threshold", -1.0, "must be >= 0 in absolute mode"},
+                      BadProperty{"min_consecutive", std::int64_t{0}, "must be at least 1 (got 0)"},
+                      BadProperty{"min_reference", -1.0, "must be >= 0"},
+                      BadProperty{"monitored", std::string(64, 'x'), "is longer than a fault event can name"}),
+    [](const ::testing::TestParamInfo<BadProperty>& param) { return param.param.name + std::to_string(param.index); });
 
 TEST(SlidingWindowMonitor, UsesThePaperDefaultsWithoutProperties) {
   // window 9, threshold 0.5, ratio mode, min_consecutive 1.

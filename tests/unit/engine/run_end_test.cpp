@@ -58,8 +58,9 @@ TEST(RunEndRecord, MalformedFieldsGiveAFieldsErrorNamingThem) {
   for (const char* bad : {R"("a":1,)", R"("a":1}, {"b":2)", R"({"a":1})", "a:1", R"("a":1 "b":2)"}) {
     const auto r = runEndRecord({"referee", "s", "mission", bad}, 7);
     ASSERT_TRUE(r.contains("fields_error")) << bad;
-    EXPECT_EQ(r["fields_error"].get<std::string>().rfind(
-                  std::string("fields_json '") + bad + "' is not the members of a JSON object: ", 0),
+    EXPECT_EQ(r["fields_error"].get<std::string>().rfind(std::string("fields_json '") + bad +
+                                                             "' is not the members of a JSON object: ",
+                                                         0),
               0u)
         << r.dump();
     EXPECT_EQ(r.size(), 4u) << r.dump();  // t_ns, event, component, fields_error

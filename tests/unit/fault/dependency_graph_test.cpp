@@ -11,9 +11,9 @@
 namespace keel::fault {
 namespace {
 
+using profile::Scope;
 using ::testing::ElementsAre;
 using ::testing::IsEmpty;
-using profile::Scope;
 
 struct AppSpec {
   std::string name;

@@ -31,8 +31,8 @@ constexpr RoleFacts kAlternativeAfterEmergency{true, false, false, true};
 
 const Row kRows[] = {
     {"a reset that did is the end", Step::Reset, Outcome::Done, kAlternative, Step::Done, false},
-    {"reset: intensity exceeded, alternative declared → replace", Step::Reset, Outcome::IntensityExceeded,
-     kAlternative, Step::Replace, true},
+    {"reset: intensity exceeded, alternative declared → replace", Step::Reset, Outcome::IntensityExceeded, kAlternative,
+     Step::Replace, true},
     {"reset: intensity exceeded, no alternative → stop", Step::Reset, Outcome::IntensityExceeded, kNoAlternative,
      Step::Stop, true},
     {"reset: intensity exceeded, alternative already in place → stop", Step::Reset, Outcome::IntensityExceeded,
@@ -62,8 +62,8 @@ const Row kRows[] = {
     {"hung callback, no alternative → stop", Step::Reset, Outcome::Hung, kNoAlternative, Step::Stop, true},
     {"hung callback while replacing, none ready → stop", Step::Replace, Outcome::Hung, kAlternative, Step::Stop, true},
     {"a passive component that stays busy → stop", Step::Reset, Outcome::Busy, kAlternative, Step::Stop, true},
-    {"a stop whose component is hung is a stop that cannot be carried out", Step::Stop, Outcome::Hung,
-     kNoAlternative, Step::Emergency, true},
+    {"a stop whose component is hung is a stop that cannot be carried out", Step::Stop, Outcome::Hung, kNoAlternative,
+     Step::Emergency, true},
     {"an emergency goes on as a stop whatever held it up", Step::Emergency, Outcome::Busy, kNoAlternative, Step::Stop,
      false},
     {"ignore is the end", Step::Ignore, Outcome::Done, kAlternative, Step::Done, false},
@@ -83,7 +83,8 @@ TEST(Escalation, TheReasonNamesWhatHappened) {
   EXPECT_EQ(decide(Step::Reset, Outcome::IntensityExceeded, kAlternative).why, "restart intensity exceeded");
   EXPECT_EQ(decide(Step::Replace, Outcome::Unavailable, kNoAlternative).why, "no alternative");
   EXPECT_EQ(decide(Step::Replace, Outcome::Unavailable, kReplaced).why, "the alternative is already in place");
-  EXPECT_EQ(decide(Step::Reset, Outcome::Hung, kNoAlternative).why, "the hung callback did not return when interrupted");
+  EXPECT_EQ(decide(Step::Reset, Outcome::Hung, kNoAlternative).why,
+            "the hung callback did not return when interrupted");
 }
 
 struct FirstRow {
@@ -94,9 +95,9 @@ struct FirstRow {
 
 TEST(Escalation, TheFirstStepFollowsTheSeverity) {
   const FirstRow rows[] = {
-      {Severity::Ignore, false, Step::Ignore},       {Severity::Reset, false, Step::Reset},
-      {Severity::Reset, true, Step::Reset},          {Severity::Stop, false, Step::Stop},
-      {Severity::Stop, true, Step::Replace},         {Severity::Emergency, false, Step::Emergency},
+      {Severity::Ignore, false, Step::Ignore},      {Severity::Reset, false, Step::Reset},
+      {Severity::Reset, true, Step::Reset},         {Severity::Stop, false, Step::Stop},
+      {Severity::Stop, true, Step::Replace},        {Severity::Emergency, false, Step::Emergency},
       {Severity::Emergency, true, Step::Emergency},
   };
   profile::ComponentProfile backup;
@@ -136,8 +137,8 @@ TEST(Escalation, WithoutAPolicyACrashIsContainedAndTheRestLogged) {
 // as the acting parts update them. Whatever the outcomes, it ends, and no (step, facts) state
 // comes back.
 TEST(Escalation, NoSequenceOfOutcomesLoops) {
-  const Outcome outcomes[] = {Outcome::Done, Outcome::Failed, Outcome::IntensityExceeded, Outcome::Unavailable,
-                              Outcome::Hung, Outcome::Busy};
+  const Outcome outcomes[] = {Outcome::Done,        Outcome::Failed, Outcome::IntensityExceeded,
+                              Outcome::Unavailable, Outcome::Hung,   Outcome::Busy};
   for (Step first : {Step::Reset, Step::Replace, Step::Stop, Step::Emergency}) {
     for (bool alternative : {false, true}) {
       for (std::size_t seed = 0; seed < 6 * 6 * 6 * 6; ++seed) {
@@ -173,11 +174,11 @@ TEST(RestartWindow, MoreThanIntensityRecoveriesWithinThePeriodExceedIt) {
   w.note(10 * ms);
   EXPECT_FALSE(w.exceededAt(20 * ms));
   w.note(20 * ms);
-  EXPECT_TRUE(w.exceededAt(30 * ms));    // a 4th within 100 ms of the 1st
+  EXPECT_TRUE(w.exceededAt(30 * ms));  // a 4th within 100 ms of the 1st
   EXPECT_TRUE(w.exceededAt(99 * ms));
   EXPECT_FALSE(w.exceededAt(100 * ms));  // the 1st has left the window
   w.note(100 * ms);
-  EXPECT_TRUE(w.exceededAt(109 * ms));   // 10, 20, 100 are within 100 ms of 109
+  EXPECT_TRUE(w.exceededAt(109 * ms));  // 10, 20, 100 are within 100 ms of 109
   EXPECT_FALSE(w.exceededAt(110 * ms));
 }
 

@@ -335,8 +335,8 @@ TEST(FaultManager, AnEmergencyFaultRunsEveryOnEmergencyStopThenStopsTheFaultyCom
   EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"}) << "an emergency goes on as a stop";
   const auto log = rig.read();
   const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed",
-                                                         "action emergency_stop", "action stop"}))
+  EXPECT_EQ(recordsOf(log, id),
+            (std::vector<std::string>{"detected", "state Error", "diagnosed", "action emergency_stop", "action stop"}))
       << "the emergency stop is one of this fault's actions";
   const auto emergency = test::eventsOf(log, ev::kEmergency);
   ASSERT_EQ(emergency.size(), 1u);

@@ -24,8 +24,8 @@ class ScenarioFile : public ::testing::Test {
     for (const auto& d : s.error()) got.push_back(d.str());
     return got;
   }
-  std::string path_ = (std::filesystem::temp_directory_path() /
-                       ("keel_scenario_" + std::to_string(::getpid()) + ".xml")).string();
+  std::string path_ =
+      (std::filesystem::temp_directory_path() / ("keel_scenario_" + std::to_string(::getpid()) + ".xml")).string();
 };
 
 TEST_F(ScenarioFile, ReadsEveryAttributeAndSortsByTime) {
@@ -62,15 +62,15 @@ TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
   ASSERT_FALSE(s);
   const std::string f = path_;
   EXPECT_EQ(problems(s), (std::vector<std::string>{
-                     f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
-                     f + ":3: <fault>: attribute 'component' is required",
-                     f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
-                         "throw, error_code, hang, stall_heartbeat, out_of_range; hardware: sensor_unplugged, "
-                         "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise)",
-                     f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
-                         "value, duration, repeat, every, args)",
-                     f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",
-                 }));
+                             f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
+                             f + ":3: <fault>: attribute 'component' is required",
+                             f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
+                                 "throw, error_code, hang, stall_heartbeat, out_of_range; hardware: sensor_unplugged, "
+                                 "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise)",
+                             f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
+                                 "value, duration, repeat, every, args)",
+                             f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",
+                         }));
 }
 
 TEST_F(ScenarioFile, RejectsAnotherRootElement) {
@@ -80,7 +80,8 @@ TEST_F(ScenarioFile, RejectsAnotherRootElement) {
 }
 
 TEST_F(ScenarioFile, RejectsRepeatWithoutEvery) {
-  auto s = loadScenario(write(R"(<fault_scenario><fault at="1" component="a" kind="throw" repeat="2"/></fault_scenario>)"));
+  auto s = loadScenario(
+      write(R"(<fault_scenario><fault at="1" component="a" kind="throw" repeat="2"/></fault_scenario>)"));
   ASSERT_FALSE(s);
   EXPECT_EQ(s.error().front().message, "<fault>: repeat needs every (ms) > 0");
 }
@@ -106,7 +107,8 @@ TEST_F(ScenarioFile, ReadsHardwareFaultsWithTheirArgs) {
   EXPECT_EQ(s->faults[1].repeat, 2);
   EXPECT_EQ(s->faults[2].command(), "motor_power_on");  // no args
   EXPECT_EQ(s->faults[5].command(), "noise 0.2");
-  for (const char* kind : {"sensor_unplugged", "sensor_stuck", "sensor_ok", "motor_power_off", "motor_power_on", "noise"})
+  for (const char* kind :
+       {"sensor_unplugged", "sensor_stuck", "sensor_ok", "motor_power_off", "motor_power_on", "noise"})
     EXPECT_TRUE(isHardwareKind(kind)) << kind;
   EXPECT_FALSE(isHardwareKind("segfault"));
 }
@@ -119,13 +121,14 @@ TEST_F(ScenarioFile, SoftwareKindsTakeNoArgsAndHardwareKindsNothingElse) {
 </fault_scenario>)"));
   ASSERT_FALSE(s);
   const std::string f = path_;
-  EXPECT_EQ(problems(s), (std::vector<std::string>{
-                     f + ":2: <fault>: attribute 'args' is for the hardware kinds; 'segfault' takes none",
-                     f + ":3: <fault>: attribute 'port' is not for hardware kind 'motor_power_off' (it takes args)",
-                     f + ":3: <fault>: attribute 'duration' is not for hardware kind 'motor_power_off' (it takes "
-                         "args)",
-                     f + ":4: <fault>: attribute 'value' is not for hardware kind 'noise' (it takes args)",
-                 }));
+  EXPECT_EQ(problems(s),
+            (std::vector<std::string>{
+                f + ":2: <fault>: attribute 'args' is for the hardware kinds; 'segfault' takes none",
+                f + ":3: <fault>: attribute 'port' is not for hardware kind 'motor_power_off' (it takes args)",
+                f + ":3: <fault>: attribute 'duration' is not for hardware kind 'motor_power_off' (it takes "
+                    "args)",
+                f + ":4: <fault>: attribute 'value' is not for hardware kind 'noise' (it takes args)",
+            }));
 }
 
 }  // namespace

@@ -61,7 +61,7 @@ TEST_F(PropertySettings, AreTypedAsDeclaredAndWinOverTheProfilesOverrides) {
 
   ASSERT_TRUE(r) << r.error().message;
   EXPECT_EQ(value("counter", "step"), PropertyValue(std::int64_t{5}));
-  EXPECT_EQ(value("summer", "gain"), PropertyValue(3.0));  // the later one
+  EXPECT_EQ(value("summer", "gain"), PropertyValue(3.0));                      // the later one
   EXPECT_EQ(value("summer", "label"), PropertyValue(std::string("relayed")));  // trimmed, as in a profile
 }
 

@@ -12,7 +12,8 @@ using ::testing::ElementsAre;
 
 TEST(ComponentProfileErrors, RejectsAMisspeltElementNamingItsParent) {
   EXPECT_THAT(problems("errors/component/unknown_element.xml"),
-              ElementsAre("errors/component/unknown_element.xml:5: unknown element <librry_name> in <execution_environment>"));
+              ElementsAre(
+                  "errors/component/unknown_element.xml:5: unknown element <librry_name> in <execution_environment>"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownAttribute) {
@@ -21,8 +22,10 @@ TEST(ComponentProfileErrors, RejectsAnUnknownAttribute) {
 }
 
 TEST(ComponentProfileErrors, RejectsASingletonElementGivenTwice) {
-  EXPECT_THAT(problems("errors/component/duplicate_element.xml"),
-              ElementsAre("errors/component/duplicate_element.xml:5: duplicate <name> in <component_profile> (first at line 3)"));
+  EXPECT_THAT(
+      problems("errors/component/duplicate_element.xml"),
+      ElementsAre(
+          "errors/component/duplicate_element.xml:5: duplicate <name> in <component_profile> (first at line 3)"));
 }
 
 TEST(ComponentProfileErrors, RejectsTextInAContainerElement) {
@@ -41,73 +44,90 @@ TEST(ComponentProfileErrors, RejectsAProfileWithoutName) {
 }
 
 TEST(ComponentProfileErrors, RejectsAZeroPeriod) {
-  EXPECT_THAT(problems("errors/component/period_zero.xml"),
-              ElementsAre("errors/component/period_zero.xml:6: <period> of component 'Probe' must be a positive number, got '0'"));
+  EXPECT_THAT(
+      problems("errors/component/period_zero.xml"),
+      ElementsAre(
+          "errors/component/period_zero.xml:6: <period> of component 'Probe' must be a positive number, got '0'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAPeriodWithUnits) {
   EXPECT_THAT(problems("errors/component/period_not_number.xml"),
-              ElementsAre("errors/component/period_not_number.xml:5: <period> of component 'Probe' must be a positive number, got '10ms'"));
+              ElementsAre("errors/component/period_not_number.xml:5: <period> of component 'Probe' must be a positive "
+                          "number, got '10ms'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnInfinitePeriod) {
   EXPECT_THAT(problems("errors/component/period_infinite.xml"),
-              ElementsAre("errors/component/period_infinite.xml:5: <period> of component 'Probe' must be a positive number, got 'inf'"));
+              ElementsAre("errors/component/period_infinite.xml:5: <period> of component 'Probe' must be a positive "
+                          "number, got 'inf'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownExecutionType) {
   EXPECT_THAT(problems("errors/component/bad_execution_type.xml"),
-              ElementsAre("errors/component/bad_execution_type.xml:5: <type> of component 'Probe' must be one of periodic, aperiodic or passive, got 'cyclic'"));
+              ElementsAre("errors/component/bad_execution_type.xml:5: <type> of component 'Probe' must be one of "
+                          "periodic, aperiodic or passive, got 'cyclic'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownSchedulingPolicy) {
   EXPECT_THAT(problems("errors/component/bad_policy.xml"),
-              ElementsAre("errors/component/bad_policy.xml:5: <policy> of component 'Probe' must be one of other, fifo or rr, got 'edf'"));
+              ElementsAre("errors/component/bad_policy.xml:5: <policy> of component 'Probe' must be one of other, fifo "
+                          "or rr, got 'edf'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAPriorityAbove99) {
   EXPECT_THAT(problems("errors/component/priority_out_of_range.xml"),
-              ElementsAre("errors/component/priority_out_of_range.xml:5: <priority> of component 'Probe' must be an integer from 0 to 99, got '120'"));
+              ElementsAre("errors/component/priority_out_of_range.xml:5: <priority> of component 'Probe' must be an "
+                          "integer from 0 to 99, got '120'"));
 }
 
 TEST(ComponentProfileErrors, RejectsPriorityZeroWithFifoPolicy) {
   EXPECT_THAT(problems("errors/component/fifo_priority_zero.xml"),
-              ElementsAre("errors/component/fifo_priority_zero.xml:5: <priority> of component 'Probe' must be from 1 to 99 with policy fifo, got '0'"));
+              ElementsAre("errors/component/fifo_priority_zero.xml:5: <priority> of component 'Probe' must be from 1 "
+                          "to 99 with policy fifo, got '0'"));
 }
 
 TEST(ComponentProfileErrors, RejectsRoundRobinPolicyWithoutPriority) {
-  EXPECT_THAT(problems("errors/component/rr_without_priority.xml"),
-              ElementsAre("errors/component/rr_without_priority.xml:4: policy rr of component 'Probe' needs a priority from 1 to 99"));
+  EXPECT_THAT(
+      problems("errors/component/rr_without_priority.xml"),
+      ElementsAre(
+          "errors/component/rr_without_priority.xml:4: policy rr of component 'Probe' needs a priority from 1 to 99"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownPropertyType) {
   EXPECT_THAT(problems("errors/component/property_unknown_type.xml"),
-              ElementsAre("errors/component/property_unknown_type.xml:5: property 'pose' of component 'Probe' has unknown type 'quaternion' (types: bool, int, double, string, double[])"));
+              ElementsAre("errors/component/property_unknown_type.xml:5: property 'pose' of component 'Probe' has "
+                          "unknown type 'quaternion' (types: bool, int, double, string, double[])"));
 }
 
 TEST(ComponentProfileErrors, RejectsADoublePropertyThatIsNotANumber) {
   EXPECT_THAT(problems("errors/component/property_bad_double.xml"),
-              ElementsAre("errors/component/property_bad_double.xml:5: property 'gain' of component 'Probe' must be a finite double, got 'abc'"));
+              ElementsAre("errors/component/property_bad_double.xml:5: property 'gain' of component 'Probe' must be a "
+                          "finite double, got 'abc'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnIntPropertyWithAFraction) {
-  EXPECT_THAT(problems("errors/component/property_bad_int.xml"),
-              ElementsAre("errors/component/property_bad_int.xml:5: property 'count' of component 'Probe' must be an int, got '1.5'"));
+  EXPECT_THAT(
+      problems("errors/component/property_bad_int.xml"),
+      ElementsAre(
+          "errors/component/property_bad_int.xml:5: property 'count' of component 'Probe' must be an int, got '1.5'"));
 }
 
 TEST(ComponentProfileErrors, RejectsABoolPropertyThatIsNotTrueOrFalse) {
   EXPECT_THAT(problems("errors/component/property_bad_bool.xml"),
-              ElementsAre("errors/component/property_bad_bool.xml:5: property 'enabled' of component 'Probe' must be a bool (true, false, 1 or 0), got 'yes'"));
+              ElementsAre("errors/component/property_bad_bool.xml:5: property 'enabled' of component 'Probe' must be a "
+                          "bool (true, false, 1 or 0), got 'yes'"));
 }
 
 TEST(ComponentProfileErrors, RejectsADoubleArrayPropertyWithAWord) {
   EXPECT_THAT(problems("errors/component/property_bad_list.xml"),
-              ElementsAre("errors/component/property_bad_list.xml:5: property 'weights' of component 'Probe' must be a double[] (finite numbers separated by spaces or commas), got '1, two, 3'"));
+              ElementsAre("errors/component/property_bad_list.xml:5: property 'weights' of component 'Probe' must be a "
+                          "double[] (finite numbers separated by spaces or commas), got '1, two, 3'"));
 }
 
 TEST(ComponentProfileErrors, RejectsANegativeUnsignedProperty) {
   EXPECT_THAT(problems("errors/component/property_negative_unsigned.xml"),
-              ElementsAre("errors/component/property_negative_unsigned.xml:5: property 'samples' of component 'Probe' must be a non-negative unsigned int, got '-1'"));
+              ElementsAre("errors/component/property_negative_unsigned.xml:5: property 'samples' of component 'Probe' "
+                          "must be a non-negative unsigned int, got '-1'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAPropertyWithoutType) {
@@ -117,27 +137,33 @@ TEST(ComponentProfileErrors, RejectsAPropertyWithoutType) {
 
 TEST(ComponentProfileErrors, RejectsTwoPropertiesWithOneName) {
   EXPECT_THAT(problems("errors/component/property_duplicate.xml"),
-              ElementsAre("errors/component/property_duplicate.xml:6: duplicate property 'gain' in component 'Probe' (first at line 5)"));
+              ElementsAre("errors/component/property_duplicate.xml:6: duplicate property 'gain' in component 'Probe' "
+                          "(first at line 5)"));
 }
 
 TEST(ComponentProfileErrors, RejectsANegativeQueueSize) {
   EXPECT_THAT(problems("errors/component/queue_size_negative.xml"),
-              ElementsAre("errors/component/queue_size_negative.xml:9: <queue_size> of data port 'range' must be a positive integer, got '-3'"));
+              ElementsAre("errors/component/queue_size_negative.xml:9: <queue_size> of data port 'range' must be a "
+                          "positive integer, got '-3'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownDataPortUsage) {
-  EXPECT_THAT(problems("errors/component/bad_usage.xml"),
-              ElementsAre("errors/component/bad_usage.xml:7: <usage> of data port 'range' must be one of input or output, got 'in'"));
+  EXPECT_THAT(
+      problems("errors/component/bad_usage.xml"),
+      ElementsAre(
+          "errors/component/bad_usage.xml:7: <usage> of data port 'range' must be one of input or output, got 'in'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownQueueingPolicy) {
   EXPECT_THAT(problems("errors/component/bad_queueing_policy.xml"),
-              ElementsAre("errors/component/bad_queueing_policy.xml:9: <queueing_policy> of data port 'range' must be one of FIFO, UFIFO, LIFO or LAST, got 'RING'"));
+              ElementsAre("errors/component/bad_queueing_policy.xml:9: <queueing_policy> of data port 'range' must be "
+                          "one of FIFO, UFIFO, LIFO or LAST, got 'RING'"));
 }
 
 TEST(ComponentProfileErrors, RejectsBothQueueingPolicySpellingsOnOnePort) {
   EXPECT_THAT(problems("errors/component/both_queueing_spellings.xml"),
-              ElementsAre("errors/component/both_queueing_spellings.xml:10: both <queueing_policy> and <queuing_policy> in data port 'range'"));
+              ElementsAre("errors/component/both_queueing_spellings.xml:10: both <queueing_policy> and "
+                          "<queuing_policy> in data port 'range'"));
 }
 
 TEST(ComponentProfileErrors, RejectsADataPortWithoutUsage) {
@@ -157,47 +183,57 @@ TEST(ComponentProfileErrors, RejectsAPortWithoutName) {
 
 TEST(ComponentProfileErrors, RejectsAValidityBoundThatIsNotANumber) {
   EXPECT_THAT(problems("errors/component/validity_not_number.xml"),
-              ElementsAre("errors/component/validity_not_number.xml:10: <min> of data port 'range' must be a number or a list of numbers, got 'low'"));
+              ElementsAre("errors/component/validity_not_number.xml:10: <min> of data port 'range' must be a number or "
+                          "a list of numbers, got 'low'"));
 }
 
 TEST(ComponentProfileErrors, RejectsANanValidityBound) {
   EXPECT_THAT(problems("errors/component/validity_nan.xml"),
-              ElementsAre("errors/component/validity_nan.xml:10: <max> of data port 'range' must be a number or a list of numbers, got 'nan'"));
+              ElementsAre("errors/component/validity_nan.xml:10: <max> of data port 'range' must be a number or a list "
+                          "of numbers, got 'nan'"));
 }
 
 TEST(ComponentProfileErrors, RejectsValidityMinAboveMax) {
   EXPECT_THAT(problems("errors/component/validity_min_above_max.xml"),
-              ElementsAre("errors/component/validity_min_above_max.xml:9: <validity> of data port 'range': min 10 is greater than max 3"));
+              ElementsAre("errors/component/validity_min_above_max.xml:9: <validity> of data port 'range': min 10 is "
+                          "greater than max 3"));
 }
 
 TEST(ComponentProfileErrors, RejectsValidityBoundsCrossingElementWise) {
   EXPECT_THAT(problems("errors/component/validity_elementwise.xml"),
-              ElementsAre("errors/component/validity_elementwise.xml:9: <validity> of data port 'range': min[1] 5 is greater than max[1] 2"));
+              ElementsAre("errors/component/validity_elementwise.xml:9: <validity> of data port 'range': min[1] 5 is "
+                          "greater than max[1] 2"));
 }
 
 TEST(ComponentProfileErrors, RejectsValidityBoundListsOfDifferentLengths) {
   EXPECT_THAT(problems("errors/component/validity_sizes_differ.xml"),
-              ElementsAre("errors/component/validity_sizes_differ.xml:9: <validity> of data port 'range': <min> has 3 values but <max> has 2"));
+              ElementsAre("errors/component/validity_sizes_differ.xml:9: <validity> of data port 'range': <min> has 3 "
+                          "values but <max> has 2"));
 }
 
 TEST(ComponentProfileErrors, RejectsTwoPortsWithOneNameAcrossKinds) {
-  EXPECT_THAT(problems("errors/component/duplicate_port.xml"),
-              ElementsAre("errors/component/duplicate_port.xml:10: duplicate port 'range' in component 'Probe' (first at line 5)"));
+  EXPECT_THAT(
+      problems("errors/component/duplicate_port.xml"),
+      ElementsAre(
+          "errors/component/duplicate_port.xml:10: duplicate port 'range' in component 'Probe' (first at line 5)"));
 }
 
 TEST(ComponentProfileErrors, RejectsAZeroEventQueueSize) {
   EXPECT_THAT(problems("errors/component/event_queue_size.xml"),
-              ElementsAre("errors/component/event_queue_size.xml:8: <queue_size> of event port 'alarm' must be a positive integer, got '0'"));
+              ElementsAre("errors/component/event_queue_size.xml:8: <queue_size> of event port 'alarm' must be a "
+                          "positive integer, got '0'"));
 }
 
 TEST(ComponentProfileErrors, RejectsANegativeServiceTimeout) {
   EXPECT_THAT(problems("errors/component/service_bad_timeout.xml"),
-              ElementsAre("errors/component/service_bad_timeout.xml:9: <timeout> of service port 'map' must be a positive number, got '-5'"));
+              ElementsAre("errors/component/service_bad_timeout.xml:9: <timeout> of service port 'map' must be a "
+                          "positive number, got '-5'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAServicePortUsedAsOutput) {
   EXPECT_THAT(problems("errors/component/service_bad_usage.xml"),
-              ElementsAre("errors/component/service_bad_usage.xml:8: <usage> of service port 'map' must be one of provided or required, got 'output'"));
+              ElementsAre("errors/component/service_bad_usage.xml:8: <usage> of service port 'map' must be one of "
+                          "provided or required, got 'output'"));
 }
 
 TEST(ComponentProfileErrors, RejectsAServicePortWithoutType) {
@@ -206,12 +242,17 @@ TEST(ComponentProfileErrors, RejectsAServicePortWithoutType) {
 }
 
 TEST(ComponentProfileErrors, ReportsEveryProblemOfTheFileNotJustTheFirst) {
-  EXPECT_THAT(problems("errors/component/many_problems.xml"),
-              ElementsAre("errors/component/many_problems.xml:5: <type> of component 'Probe' must be one of periodic, aperiodic or passive, got 'cyclic'",
-                          "errors/component/many_problems.xml:6: <period> of component 'Probe' must be a positive number, got '-1'",
-                          "errors/component/many_problems.xml:9: property 'gain' of component 'Probe' must be a finite double, got 'fast'",
-                          "errors/component/many_problems.xml:16: <queue_size> of data port 'range' must be a positive integer, got '0'",
-                          "errors/component/many_problems.xml:19: unknown element <extra> in <component_profile>"));
+  EXPECT_THAT(
+      problems("errors/component/many_problems.xml"),
+      ElementsAre(
+          "errors/component/many_problems.xml:5: <type> of component 'Probe' must be one of periodic, aperiodic or "
+          "passive, got 'cyclic'",
+          "errors/component/many_problems.xml:6: <period> of component 'Probe' must be a positive number, got '-1'",
+          "errors/component/many_problems.xml:9: property 'gain' of component 'Probe' must be a finite double, got "
+          "'fast'",
+          "errors/component/many_problems.xml:16: <queue_size> of data port 'range' must be a positive integer, got "
+          "'0'",
+          "errors/component/many_problems.xml:19: unknown element <extra> in <component_profile>"));
 }
 
 }  // namespace

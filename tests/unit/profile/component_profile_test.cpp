@@ -56,8 +56,7 @@ TEST(ComponentProfile, TypesPropertiesAndNormalisesTheirTypeNames) {
   EXPECT_EQ(findProperty(c, "frame")->type, "string");  // "std::string", value trimmed
   EXPECT_EQ(std::get<std::string>(findProperty(c, "frame")->value), "base_link");
   EXPECT_EQ(findProperty(c, "offsets")->type, "double[]");  // "std::vector<double>"
-  EXPECT_THAT(std::get<std::vector<double>>(findProperty(c, "offsets")->value),
-              ElementsAre(0.1, 0.2, 0.3));
+  EXPECT_THAT(std::get<std::vector<double>>(findProperty(c, "offsets")->value), ElementsAre(0.1, 0.2, 0.3));
   EXPECT_EQ(findProperty(c, "gain")->where.line, 15);
 }
 
@@ -77,7 +76,7 @@ TEST(ComponentProfile, ReadsDataAndEventPortsWithDefaultsAndValidity) {
   EXPECT_THAT(distance.validity->min, ElementsAre(3.0));
   EXPECT_THAT(distance.validity->max, ElementsAre(3000.0));
   const DataPort& threshold = c.data_ports[1];
-  EXPECT_EQ(threshold.usage, Usage::Input);            // written "Input"
+  EXPECT_EQ(threshold.usage, Usage::Input);              // written "Input"
   EXPECT_EQ(threshold.queue_policy, QueuePolicy::Last);  // <queuing_policy>last</queuing_policy>
   EXPECT_EQ(threshold.queue_size, 1u);
   EXPECT_FALSE(threshold.validity.has_value());

@@ -46,22 +46,26 @@ TEST(CompositeProfile, ConnectsThroughExportedPortsOfNestedComposites) {
 
 TEST(CompositeProfileErrors, RejectsAnExportOfAnUnknownSubcomponent) {
   EXPECT_THAT(problems("errors/composite/export_unknown_component.xml"),
-              ElementsAre("errors/composite/export_unknown_component.xml:9: export_port 'out': no subcomponent 'votr' (subcomponents: s1, voter)"));
+              ElementsAre("errors/composite/export_unknown_component.xml:9: export_port 'out': no subcomponent 'votr' "
+                          "(subcomponents: s1, voter)"));
 }
 
 TEST(CompositeProfileErrors, RejectsAnExportOfAnUnknownPort) {
   EXPECT_THAT(problems("errors/composite/export_unknown_port.xml"),
-              ElementsAre("errors/composite/export_unknown_port.xml:9: export_port 'out': component 'voter' has no port 'output' (ports: in1, in2, in3, out)"));
+              ElementsAre("errors/composite/export_unknown_port.xml:9: export_port 'out': component 'voter' has no "
+                          "port 'output' (ports: in1, in2, in3, out)"));
 }
 
 TEST(CompositeProfileErrors, RejectsTwoExportsWithOneName) {
   EXPECT_THAT(problems("errors/composite/export_duplicate_name.xml"),
-              ElementsAre("errors/composite/export_duplicate_name.xml:10: duplicate export_port 'out' (first at line 9)"));
+              ElementsAre(
+                  "errors/composite/export_duplicate_name.xml:10: duplicate export_port 'out' (first at line 9)"));
 }
 
 TEST(CompositeProfileErrors, RejectsAnExportMixingAttributesAndElements) {
   EXPECT_THAT(problems("errors/composite/export_mixed_forms.xml"),
-              ElementsAre("errors/composite/export_mixed_forms.xml:9: <export_port> mixes attributes (name, component, port) and child elements (export_port_name, component_name, port_name)"));
+              ElementsAre("errors/composite/export_mixed_forms.xml:9: <export_port> mixes attributes (name, component, "
+                          "port) and child elements (export_port_name, component_name, port_name)"));
 }
 
 TEST(CompositeProfileErrors, RejectsAnOprosExportWithoutPortName) {
@@ -71,22 +75,26 @@ TEST(CompositeProfileErrors, RejectsAnOprosExportWithoutPortName) {
 
 TEST(CompositeProfileErrors, RejectsAnExportWithoutPortAttribute) {
   EXPECT_THAT(problems("errors/composite/export_missing_attribute.xml"),
-              ElementsAre("errors/composite/export_missing_attribute.xml:9: missing attribute 'port' of <export_port>"));
+              ElementsAre(
+                  "errors/composite/export_missing_attribute.xml:9: missing attribute 'port' of <export_port>"));
 }
 
 TEST(CompositeProfileErrors, RejectsACompositeIncludingItself) {
   EXPECT_THAT(problems("errors/composite/SelfComposite.xml"),
-              ElementsAre("errors/composite/SelfComposite.xml:5: subcomponent 'me': circular reference: errors/composite/SelfComposite.xml -> errors/composite/SelfComposite.xml"));
+              ElementsAre("errors/composite/SelfComposite.xml:5: subcomponent 'me': circular reference: "
+                          "errors/composite/SelfComposite.xml -> errors/composite/SelfComposite.xml"));
 }
 
 TEST(CompositeProfileErrors, RejectsCompositesIncludingEachOtherWithTheCycle) {
   EXPECT_THAT(problems("errors/composite/CycleA.xml"),
-              ElementsAre("errors/composite/CycleB.xml:5: subcomponent 'a': circular reference: errors/composite/CycleA.xml -> errors/composite/CycleB.xml -> errors/composite/CycleA.xml"));
+              ElementsAre("errors/composite/CycleB.xml:5: subcomponent 'a': circular reference: "
+                          "errors/composite/CycleA.xml -> errors/composite/CycleB.xml -> errors/composite/CycleA.xml"));
 }
 
 TEST(CompositeProfileErrors, RejectsAConnectionToAPortTheCompositeDoesNotExport) {
   EXPECT_THAT(problems("errors/composite/connection_to_unexported_port.xml"),
-              ElementsAre("errors/composite/connection_to_unexported_port.xml:9: port_connection: component 'array' has no port 'alarm' (ports: distance, threshold)"));
+              ElementsAre("errors/composite/connection_to_unexported_port.xml:9: port_connection: component 'array' "
+                          "has no port 'alarm' (ports: distance, threshold)"));
 }
 
 }  // namespace

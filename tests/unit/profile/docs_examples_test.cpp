@@ -41,13 +41,11 @@ std::vector<std::string> profileBlocks(const std::string& markdown) {
 class DocsExamples : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("keel_docs_examples_" + std::to_string(::getpid()));
+    dir_ = fs::temp_directory_path() / ("keel_docs_examples_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
-    for (const auto& [from, to] : {std::pair{"valid/Sonar.xml", "Sonar.xml"},
-                                   std::pair{"valid/SonarBackup.xml", "SonarBackup.xml"},
-                                   std::pair{"valid/Nav.xml", "Nav.xml"},
-                                   std::pair{"valid/Voter.xml", "MedianVoter.xml"}}) {
+    for (const auto& [from, to] :
+         {std::pair{"valid/Sonar.xml", "Sonar.xml"}, std::pair{"valid/SonarBackup.xml", "SonarBackup.xml"},
+          std::pair{"valid/Nav.xml", "Nav.xml"}, std::pair{"valid/Voter.xml", "MedianVoter.xml"}}) {
       fs::copy_file(dataPath(from), dir_ / to, fs::copy_options::overwrite_existing);
     }
     write("robot.xml",
@@ -75,8 +73,7 @@ TEST_F(DocsExamples, EveryXmlExampleOfTheSchemaReferenceLoads) {
   ASSERT_EQ(blocks.size(), 4u) << "component, package, composite and system examples in " << doc;
 
   const char* names[] = {"component.xml", "package.xml", "composite.xml", "system.xml"};
-  const RootKind kinds[] = {RootKind::Component, RootKind::Package, RootKind::Composite,
-                            RootKind::System};
+  const RootKind kinds[] = {RootKind::Component, RootKind::Package, RootKind::Composite, RootKind::System};
   for (std::size_t i = 0; i < blocks.size(); ++i) {
     const auto result = load(write(names[i], blocks[i]));
     ASSERT_TRUE(result.ok()) << names[i] << ":\n" << joined(result);

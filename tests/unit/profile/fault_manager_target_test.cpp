@@ -23,10 +23,14 @@ class FaultManagerTarget : public ::testing::Test {
   std::string package(const std::string& sub_name, const std::string& port) {
     std::ofstream(dir_ / "app.xml") << R"(<package_profile>
   <name>app</name>
-  <subcomponents><subcomponent><name>)" << sub_name << R"(</name><reference>Reporter.xml</reference></subcomponent></subcomponents>
+  <subcomponents><subcomponent><name>)"
+                                    << sub_name
+                                    << R"(</name><reference>Reporter.xml</reference></subcomponent></subcomponents>
   <port_connections><port_connection port_type="event">
-    <source component_name=")" << sub_name << R"(" port_name="faults"/>
-    <target component_name="fault_manager" port_name=")" << port << R"("/>
+    <source component_name=")" << sub_name
+                                    << R"(" port_name="faults"/>
+    <target component_name="fault_manager" port_name=")"
+                                    << port << R"("/>
   </port_connection></port_connections>
 </package_profile>)";
     return (dir_ / "app.xml").string();

@@ -79,32 +79,40 @@ TEST(FaultPolicy, LoadsTheAlternativeComponentProfile) {
 
 TEST(FaultPolicyErrors, RejectsAnUnknownSeverity) {
   EXPECT_THAT(problems("errors/fault/bad_severity.xml"),
-              ElementsAre("errors/fault/bad_severity.xml:9: <severity> of fault_policy of subcomponent 'sonar' must be one of ignore, reset, stop or emergency, got 'restart'"));
+              ElementsAre("errors/fault/bad_severity.xml:9: <severity> of fault_policy of subcomponent 'sonar' must be "
+                          "one of ignore, reset, stop or emergency, got 'restart'"));
 }
 
 TEST(FaultPolicyErrors, RejectsAnUnknownFaultKind) {
   EXPECT_THAT(problems("errors/fault/bad_severity_kind.xml"),
-              ElementsAre("errors/fault/bad_severity_kind.xml:9: kind of <severity> of fault_policy of subcomponent 'sonar' must be one of signal, exception, error_code, range, model, heartbeat, deadline, vote, user or remote, got 'timeout'"));
+              ElementsAre("errors/fault/bad_severity_kind.xml:9: kind of <severity> of fault_policy of subcomponent "
+                          "'sonar' must be one of signal, exception, error_code, range, model, heartbeat, deadline, "
+                          "vote, user or remote, got 'timeout'"));
 }
 
 TEST(FaultPolicyErrors, RejectsTwoDefaultSeverities) {
   EXPECT_THAT(problems("errors/fault/duplicate_severity.xml"),
-              ElementsAre("errors/fault/duplicate_severity.xml:10: duplicate <severity> in fault_policy of subcomponent 'sonar' (first at line 9)"));
+              ElementsAre("errors/fault/duplicate_severity.xml:10: duplicate <severity> in fault_policy of "
+                          "subcomponent 'sonar' (first at line 9)"));
 }
 
 TEST(FaultPolicyErrors, RejectsTwoSeveritiesForOneKindIgnoringCase) {
   EXPECT_THAT(problems("errors/fault/duplicate_severity_kind.xml"),
-              ElementsAre("errors/fault/duplicate_severity_kind.xml:10: duplicate <severity kind=\"range\"> in fault_policy of subcomponent 'sonar' (first at line 9)"));
+              ElementsAre("errors/fault/duplicate_severity_kind.xml:10: duplicate <severity kind=\"range\"> in "
+                          "fault_policy of subcomponent 'sonar' (first at line 9)"));
 }
 
 TEST(FaultPolicyErrors, RejectsAnUnknownDependencyScope) {
   EXPECT_THAT(problems("errors/fault/bad_dependency.xml"),
-              ElementsAre("errors/fault/bad_dependency.xml:9: <dependency> of fault_policy of subcomponent 'sonar' must be one of component, executor or system, got 'task'"));
+              ElementsAre("errors/fault/bad_dependency.xml:9: <dependency> of fault_policy of subcomponent 'sonar' "
+                          "must be one of component, executor or system, got 'task'"));
 }
 
 TEST(FaultPolicyErrors, RejectsTwoDependencies) {
-  EXPECT_THAT(problems("errors/fault/duplicate_dependency.xml"),
-              ElementsAre("errors/fault/duplicate_dependency.xml:10: duplicate <dependency> in <fault_policy> (first at line 9)"));
+  EXPECT_THAT(
+      problems("errors/fault/duplicate_dependency.xml"),
+      ElementsAre(
+          "errors/fault/duplicate_dependency.xml:10: duplicate <dependency> in <fault_policy> (first at line 9)"));
 }
 
 TEST(FaultPolicyErrors, RejectsAHeartbeatWithoutTimeout) {
@@ -120,7 +128,8 @@ TEST(FaultPolicyErrors, RejectsAMisspeltHeartbeatAttribute) {
 
 TEST(FaultPolicyErrors, RejectsAZeroHeartbeatTimeout) {
   EXPECT_THAT(problems("errors/fault/heartbeat_zero.xml"),
-              ElementsAre("errors/fault/heartbeat_zero.xml:9: timeout of <heartbeat> of fault_policy of subcomponent 'sonar' must be a positive number, got '0'"));
+              ElementsAre("errors/fault/heartbeat_zero.xml:9: timeout of <heartbeat> of fault_policy of subcomponent "
+                          "'sonar' must be a positive number, got '0'"));
 }
 
 TEST(FaultPolicyErrors, RejectsTextInAnEmptyElement) {
@@ -130,50 +139,66 @@ TEST(FaultPolicyErrors, RejectsTextInAnEmptyElement) {
 
 TEST(FaultPolicyErrors, RejectsADeadlineWithUnits) {
   EXPECT_THAT(problems("errors/fault/deadline_not_number.xml"),
-              ElementsAre("errors/fault/deadline_not_number.xml:9: <deadline> of fault_policy of subcomponent 'sonar' must be a positive number, got '20 ms'"));
+              ElementsAre("errors/fault/deadline_not_number.xml:9: <deadline> of fault_policy of subcomponent 'sonar' "
+                          "must be a positive number, got '20 ms'"));
 }
 
 TEST(FaultPolicyErrors, RejectsANegativeCheckpointPeriod) {
   EXPECT_THAT(problems("errors/fault/checkpoint_negative.xml"),
-              ElementsAre("errors/fault/checkpoint_negative.xml:9: period of <checkpoint> of fault_policy of subcomponent 'sonar' must be a positive number, got '-100'"));
+              ElementsAre("errors/fault/checkpoint_negative.xml:9: period of <checkpoint> of fault_policy of "
+                          "subcomponent 'sonar' must be a positive number, got '-100'"));
 }
 
 TEST(FaultPolicyErrors, RejectsAMissingAlternativeFile) {
   EXPECT_THAT(problems("errors/fault/alternative_missing_file.xml"),
-              ElementsAre("errors/fault/alternative_missing_file.xml:9: <alternative> of subcomponent 'sonar': cannot open 'SonarSpare.xml': No such file or directory"));
+              ElementsAre("errors/fault/alternative_missing_file.xml:9: <alternative> of subcomponent 'sonar': cannot "
+                          "open 'SonarSpare.xml': No such file or directory"));
 }
 
 TEST(FaultPolicyErrors, RejectsACompositeAsAlternative) {
   EXPECT_THAT(problems("errors/fault/alternative_is_composite.xml"),
-              ElementsAre("errors/fault/alternative_is_composite.xml:9: <alternative> of subcomponent 'sonar': '../../valid/SonarArray.xml' is a <composite_component_profile>, expected <component_profile>"));
+              ElementsAre(
+                  "errors/fault/alternative_is_composite.xml:9: <alternative> of subcomponent 'sonar': "
+                  "'../../valid/SonarArray.xml' is a <composite_component_profile>, expected <component_profile>"));
 }
 
 TEST(FaultPolicyErrors, RejectsAPreloadThatIsNotABool) {
   EXPECT_THAT(problems("errors/fault/alternative_bad_preload.xml"),
-              ElementsAre("errors/fault/alternative_bad_preload.xml:9: preload of <alternative> of fault_policy of subcomponent 'sonar' must be true or false, got 'yes'"));
+              ElementsAre("errors/fault/alternative_bad_preload.xml:9: preload of <alternative> of fault_policy of "
+                          "subcomponent 'sonar' must be true or false, got 'yes'"));
 }
 
 TEST(FaultPolicyErrors, RejectsAnAlternativeWithoutReference) {
   EXPECT_THAT(problems("errors/fault/alternative_without_reference.xml"),
-              ElementsAre("errors/fault/alternative_without_reference.xml:9: missing attribute 'reference' of <alternative>"));
+              ElementsAre(
+                  "errors/fault/alternative_without_reference.xml:9: missing attribute 'reference' of <alternative>"));
 }
 
 TEST(FaultPolicyErrors, NamesEveryPortMismatchOfAnAlternative) {
-  EXPECT_THAT(problems("errors/fault/alternative_ports_differ.xml"),
-              ElementsAre("errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts': port 'distance' is an input data port of data_type 'double', but in component 'Sonar' it is an output data port of data_type 'double'",
-                          "errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts': port 'threshold' is an input data port of data_type 'float', but in component 'Sonar' it is an input data port of data_type 'double'",
-                          "errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts' has no port 'alarm' (an output event port of data_type 'keel::Event' of component 'Sonar')",
-                          "errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts' has port 'debug' that component 'Sonar' does not have"));
+  EXPECT_THAT(
+      problems("errors/fault/alternative_ports_differ.xml"),
+      ElementsAre("errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts': "
+                  "port 'distance' is an input data port of data_type 'double', but in component 'Sonar' it is an "
+                  "output data port of data_type 'double'",
+                  "errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts': "
+                  "port 'threshold' is an input data port of data_type 'float', but in component 'Sonar' it is an "
+                  "input data port of data_type 'double'",
+                  "errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts' "
+                  "has no port 'alarm' (an output event port of data_type 'keel::Event' of component 'Sonar')",
+                  "errors/fault/alternative_ports_differ.xml:9: subcomponent 'sonar': alternative 'SonarWrongPorts' "
+                  "has port 'debug' that component 'Sonar' does not have"));
 }
 
 TEST(FaultPolicyErrors, RejectsANegativeRestartIntensity) {
   EXPECT_THAT(problems("errors/fault/restart_bad_intensity.xml"),
-              ElementsAre("errors/fault/restart_bad_intensity.xml:9: intensity of <restart> of fault_policy of subcomponent 'sonar' must be an integer from 0 to 1000000, got '-1'"));
+              ElementsAre("errors/fault/restart_bad_intensity.xml:9: intensity of <restart> of fault_policy of "
+                          "subcomponent 'sonar' must be an integer from 0 to 1000000, got '-1'"));
 }
 
 TEST(FaultPolicyErrors, RejectsAZeroRestartPeriod) {
   EXPECT_THAT(problems("errors/fault/restart_bad_period.xml"),
-              ElementsAre("errors/fault/restart_bad_period.xml:9: period of <restart> of fault_policy of subcomponent 'sonar' must be a positive number, got '0'"));
+              ElementsAre("errors/fault/restart_bad_period.xml:9: period of <restart> of fault_policy of subcomponent "
+                          "'sonar' must be a positive number, got '0'"));
 }
 
 TEST(FaultPolicyErrors, RejectsAnUnknownPolicyElement) {

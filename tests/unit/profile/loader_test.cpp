@@ -15,8 +15,8 @@ namespace keel::profile::test {
 namespace {
 
 using ::testing::ElementsAre;
-using ::testing::Not;
 using ::testing::IsEmpty;
+using ::testing::Not;
 
 /// Writes `content` to a scratch file and loads it.
 Result<ProfileSet, Diagnostics> loadText(const std::string& content) {
@@ -93,41 +93,52 @@ TEST(ProfileLoader, ReportsAnXmlSyntaxErrorInAReferencedFileAtThatFile) {
 
 TEST(ProfileLoader, RejectsAnUnknownRootElement) {
   EXPECT_THAT(problems("errors/loader/unknown_root.xml"),
-              ElementsAre("errors/loader/unknown_root.xml:2: unknown root element <robot> (expected <component_profile>, <composite_component_profile>, <package_profile> or <system_profile>)"));
+              ElementsAre(
+                  "errors/loader/unknown_root.xml:2: unknown root element <robot> (expected <component_profile>, "
+                  "<composite_component_profile>, <package_profile> or <system_profile>)"));
 }
 
 TEST(ProfileLoader, RejectsASecondRootElement) {
   EXPECT_THAT(problems("errors/loader/second_root.xml"),
-              ElementsAre("errors/loader/second_root.xml:5: second root element <component_profile> (a profile has one)"));
+              ElementsAre(
+                  "errors/loader/second_root.xml:5: second root element <component_profile> (a profile has one)"));
 }
 
 TEST(ProfileLoader, RejectsADirectoryAsReference) {
   EXPECT_THAT(problems("errors/loader/reference_is_directory.xml"),
-              ElementsAre("errors/loader/reference_is_directory.xml:5: subcomponent 'p': cannot open '.': is a directory"));
+              ElementsAre(
+                  "errors/loader/reference_is_directory.xml:5: subcomponent 'p': cannot open '.': is a directory"));
 }
 
 TEST(ProfileLoader, RejectsASystemProfileAsSubcomponent) {
   EXPECT_THAT(problems("errors/loader/system_as_subcomponent.xml"),
-              ElementsAre("errors/loader/system_as_subcomponent.xml:5: subcomponent 'p': '../../system/system.xml' is a <system_profile>, expected <component_profile> or <composite_component_profile>"));
+              ElementsAre("errors/loader/system_as_subcomponent.xml:5: subcomponent 'p': '../../system/system.xml' is "
+                          "a <system_profile>, expected <component_profile> or <composite_component_profile>"));
 }
 
 TEST(ProfileLoader, RejectsAPackageIncludingItself) {
   EXPECT_THAT(problems("errors/loader/package_includes_itself.xml"),
-              ElementsAre("errors/loader/package_includes_itself.xml:5: subcomponent 'p': 'package_includes_itself.xml' is a <package_profile>, expected <component_profile> or <composite_component_profile>"));
+              ElementsAre(
+                  "errors/loader/package_includes_itself.xml:5: subcomponent 'p': 'package_includes_itself.xml' is a "
+                  "<package_profile>, expected <component_profile> or <composite_component_profile>"));
 }
 
 TEST(ProfileLoader, ReportsAllProblemsAcrossFilesNotJustTheFirst) {
   // Grouped by file in load order (the root first), each file in line order.
-  EXPECT_THAT(problems("errors/many/app.xml"),
-              ElementsAre("errors/many/app.xml:9: <severity> of fault_policy of subcomponent 'bad' must be one of ignore, reset, stop or emergency, got 'explode'",
-                          "errors/many/app.xml:10: timeout of <heartbeat> of fault_policy of subcomponent 'bad' must be a positive number, got '-1'",
-                          "errors/many/app.xml:17: property 'speed' of subcomponent 'nav' must be a finite double, got 'quick'",
-                          "errors/many/app.xml:22: subcomponent 'ghost': cannot open 'Ghost.xml': No such file or directory",
-                          "errors/many/app.xml:26: port_connection: component 'nav' has no port 'rang' (ports: range, limit, alarm, map)",
-                          "errors/many/app.xml:32: period of task 'control' must be a positive number, got '0'",
-                          "errors/many/app.xml:32: task 'control': no subcomponent 'nobody' (subcomponents: bad, nav, ghost)",
-                          "errors/many/Bad.xml:5: <period> of component 'Bad' must be a positive number, got 'fast'",
-                          "errors/many/Bad.xml:12: <queue_size> of data port 'out' must be a positive integer, got '-3'"));
+  EXPECT_THAT(
+      problems("errors/many/app.xml"),
+      ElementsAre("errors/many/app.xml:9: <severity> of fault_policy of subcomponent 'bad' must be one of ignore, "
+                  "reset, stop or emergency, got 'explode'",
+                  "errors/many/app.xml:10: timeout of <heartbeat> of fault_policy of subcomponent 'bad' must be a "
+                  "positive number, got '-1'",
+                  "errors/many/app.xml:17: property 'speed' of subcomponent 'nav' must be a finite double, got 'quick'",
+                  "errors/many/app.xml:22: subcomponent 'ghost': cannot open 'Ghost.xml': No such file or directory",
+                  "errors/many/app.xml:26: port_connection: component 'nav' has no port 'rang' (ports: range, limit, "
+                  "alarm, map)",
+                  "errors/many/app.xml:32: period of task 'control' must be a positive number, got '0'",
+                  "errors/many/app.xml:32: task 'control': no subcomponent 'nobody' (subcomponents: bad, nav, ghost)",
+                  "errors/many/Bad.xml:5: <period> of component 'Bad' must be a positive number, got 'fast'",
+                  "errors/many/Bad.xml:12: <queue_size> of data port 'out' must be a positive integer, got '-3'"));
 }
 
 }  // namespace

@@ -33,8 +33,8 @@ TEST(PackageProfile, ReadsSubcomponentsWithAbsoluteReferences) {
   EXPECT_EQ(pkg.subcomponents[1].reference, keyOf("valid/Nav.xml"));  // written "./Nav.xml"
   EXPECT_EQ(pkg.subcomponents[2].where.line, 31);
   EXPECT_THAT(keys(result->components),
-              UnorderedElementsAre(keyOf("valid/Sonar.xml"), keyOf("valid/Nav.xml"),
-                                   keyOf("valid/MapServer.xml"), keyOf("valid/SonarBackup.xml")));
+              UnorderedElementsAre(keyOf("valid/Sonar.xml"), keyOf("valid/Nav.xml"), keyOf("valid/MapServer.xml"),
+                                   keyOf("valid/SonarBackup.xml")));
 }
 
 TEST(PackageProfile, TypesPropertyOverridesAgainstTheComponentProfile) {
@@ -99,8 +99,7 @@ TEST(PackageProfile, LoadsAFileReferencedSeveralTimesOnce) {
 
   EXPECT_EQ(result->rootPackage()->subcomponents.size(), 5u);
   EXPECT_THAT(keys(result->components),
-              UnorderedElementsAre(keyOf("valid/Sonar.xml"), keyOf("valid/Nav.xml"),
-                                   keyOf("valid/MapServer.xml")));
+              UnorderedElementsAre(keyOf("valid/Sonar.xml"), keyOf("valid/Nav.xml"), keyOf("valid/MapServer.xml")));
 }
 
 TEST(PackageProfile, AcceptsFanInToAnInputAndFanOutFromAnOutput) {
@@ -137,11 +136,10 @@ TEST(PackageProfile, KeepsDeclarationLinesForLaterStages) {
   EXPECT_EQ(relative(pkg.where.file), "valid/app.xml");
   EXPECT_EQ(pkg.where.line, 2);
   EXPECT_EQ(pkg.tasks[0].where.line, 55);
-  EXPECT_THAT(std::vector<int>({pkg.depends[0].where.line, pkg.depends[1].where.line}),
-              ElementsAre(61, 62));
+  EXPECT_THAT(std::vector<int>({pkg.depends[0].where.line, pkg.depends[1].where.line}), ElementsAre(61, 62));
   EXPECT_THAT(pkg.subcomponents[0].property_overrides,
-              ::testing::Contains(Pair("gain", ::testing::Field(&Property::where,
-                                                                ::testing::Field(&Where::line, 11)))));
+              ::testing::Contains(
+                  Pair("gain", ::testing::Field(&Property::where, ::testing::Field(&Where::line, 11)))));
 }
 
 }  // namespace

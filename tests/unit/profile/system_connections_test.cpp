@@ -4,8 +4,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "profile_test_support.hpp"
 #include "plan/plan.hpp"
+#include "profile_test_support.hpp"
 
 namespace keel::profile::test {
 namespace {
@@ -35,37 +35,35 @@ TEST(SystemConnections, ArePlannedBetweenAbsoluteInstanceNamesThroughExports) {
   ASSERT_TRUE(plan) << plan.error().message;
   std::vector<std::string> edges;
   for (const auto& c : plan->connections)
-    edges.push_back(c.source.component + "." + c.source.port + " -> " + c.target.component + "." +
-                    c.target.port);
-  EXPECT_THAT(edges, ElementsAre(
-                         // the composite's own, prefixed with the application and the instance
-                         "obstacle.array.s1.distance -> obstacle.array.voter.in1",
-                         "obstacle.array.s2.distance -> obstacle.array.voter.in2",
-                         "obstacle.array.s3.distance -> obstacle.array.voter.in3",
-                         "navigation.nav.map -> navigation.map.map",
-                         // the system's: exported ports resolved to the inner ones
-                         "obstacle.array.voter.out -> navigation.nav.range",
-                         "navigation.nav.limit -> obstacle.sonar.threshold"));
+    edges.push_back(c.source.component + "." + c.source.port + " -> " + c.target.component + "." + c.target.port);
+  EXPECT_THAT(edges,
+              ElementsAre(
+                  // the composite's own, prefixed with the application and the instance
+                  "obstacle.array.s1.distance -> obstacle.array.voter.in1",
+                  "obstacle.array.s2.distance -> obstacle.array.voter.in2",
+                  "obstacle.array.s3.distance -> obstacle.array.voter.in3", "navigation.nav.map -> navigation.map.map",
+                  // the system's: exported ports resolved to the inner ones
+                  "obstacle.array.voter.out -> navigation.nav.range",
+                  "navigation.nav.limit -> obstacle.sonar.threshold"));
 }
 
 TEST(SystemConnectionsErrors, AreCheckedAsAPackagesConnectionsAre) {
   EXPECT_THAT(
       problems("errors/system/connections.xml"),
-      ElementsAre(
-          "errors/system/connections.xml:10: port_connection: no subcomponent 'navigation.navv' "
-          "(subcomponents: obstacle.array, obstacle.sonar, navigation.nav, navigation.map, odometry.odo)",
-          "errors/system/connections.xml:14: port_connection: component 'obstacle.array' has no port "
-          "'out' (ports: distance, threshold)",
-          "errors/system/connections.xml:18: port_connection: port 'obstacle.sonar.alarm' is an event "
-          "port, but port_type is data",
-          "errors/system/connections.xml:22: port_connection: 'obstacle.sonar.distance' is a data port "
-          "but 'navigation.nav.alarm' is an event port",
-          "errors/system/connections.xml:26: port_connection: source 'navigation.nav.range' is an input "
-          "data port of data_type 'double'; a source must be an output port",
-          "errors/system/connections.xml:30: port_connection: data types differ: 'odometry.odo.out' is "
-          "'float', 'navigation.nav.range' is 'double'",
-          "errors/system/connections.xml:38: duplicate port_connection 'obstacle.array.distance' -> "
-          "'navigation.nav.range' (first at line 34)"));
+      ElementsAre("errors/system/connections.xml:10: port_connection: no subcomponent 'navigation.navv' "
+                  "(subcomponents: obstacle.array, obstacle.sonar, navigation.nav, navigation.map, odometry.odo)",
+                  "errors/system/connections.xml:14: port_connection: component 'obstacle.array' has no port "
+                  "'out' (ports: distance, threshold)",
+                  "errors/system/connections.xml:18: port_connection: port 'obstacle.sonar.alarm' is an event "
+                  "port, but port_type is data",
+                  "errors/system/connections.xml:22: port_connection: 'obstacle.sonar.distance' is a data port "
+                  "but 'navigation.nav.alarm' is an event port",
+                  "errors/system/connections.xml:26: port_connection: source 'navigation.nav.range' is an input "
+                  "data port of data_type 'double'; a source must be an output port",
+                  "errors/system/connections.xml:30: port_connection: data types differ: 'odometry.odo.out' is "
+                  "'float', 'navigation.nav.range' is 'double'",
+                  "errors/system/connections.xml:38: duplicate port_connection 'obstacle.array.distance' -> "
+                  "'navigation.nav.range' (first at line 34)"));
 }
 
 TEST(SystemConnectionsErrors, ToAnApplicationThatFailedToLoadAreNotCheckedAgain) {

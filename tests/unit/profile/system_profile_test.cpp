@@ -58,7 +58,8 @@ TEST(SystemProfileErrors, RejectsTwoApplicationsWithOneName) {
 
 TEST(SystemProfileErrors, RejectsADependencyOnAnUnknownApplication) {
   EXPECT_THAT(problems("errors/system/depends_on_unknown.xml"),
-              ElementsAre("errors/system/depends_on_unknown.xml:6: application 'hri': depends_on 'navv' is not an application (applications: nav, hri)"));
+              ElementsAre("errors/system/depends_on_unknown.xml:6: application 'hri': depends_on 'navv' is not an "
+                          "application (applications: nav, hri)"));
 }
 
 TEST(SystemProfileErrors, RejectsAnApplicationDependingOnItself) {
@@ -88,37 +89,45 @@ TEST(SystemProfileErrors, RejectsALongerCycleAndPrintsItInOrder) {
 
 TEST(SystemProfileErrors, RejectsAnApplicationReferencingAComponentProfile) {
   EXPECT_THAT(problems("errors/system/reference_not_package.xml"),
-              ElementsAre("errors/system/reference_not_package.xml:5: application 'nav': '../../valid/Sonar.xml' is a <component_profile>, expected <package_profile>"));
+              ElementsAre("errors/system/reference_not_package.xml:5: application 'nav': '../../valid/Sonar.xml' is a "
+                          "<component_profile>, expected <package_profile>"));
 }
 
 TEST(SystemProfileErrors, RejectsAMissingApplicationProfile) {
   EXPECT_THAT(problems("errors/system/reference_missing.xml"),
-              ElementsAre("errors/system/reference_missing.xml:5: application 'nav': cannot open 'nav.xml': No such file or directory"));
+              ElementsAre("errors/system/reference_missing.xml:5: application 'nav': cannot open 'nav.xml': No such "
+                          "file or directory"));
 }
 
 TEST(SystemProfileErrors, RejectsARequiredComponentThePackageDoesNotHave) {
   EXPECT_THAT(problems("errors/system/requires_unknown_component.xml"),
-              ElementsAre("errors/system/requires_unknown_component.xml:6: application 'nav' requires component 'sonar4', which package 'Robot' does not have (subcomponents: sonar1, sonar2, sonar3, nav, map)"));
+              ElementsAre(
+                  "errors/system/requires_unknown_component.xml:6: application 'nav' requires component 'sonar4', "
+                  "which package 'Robot' does not have (subcomponents: sonar1, sonar2, sonar3, nav, map)"));
 }
 
 TEST(SystemProfileErrors, RejectsMinHealthyAboveTheNumberOfListedComponents) {
   EXPECT_THAT(problems("errors/system/min_healthy_too_large.xml"),
-              ElementsAre("errors/system/min_healthy_too_large.xml:6: min_healthy of application 'nav' must be from 1 to 2 (the number of listed components), got '3'"));
+              ElementsAre("errors/system/min_healthy_too_large.xml:6: min_healthy of application 'nav' must be from 1 "
+                          "to 2 (the number of listed components), got '3'"));
 }
 
 TEST(SystemProfileErrors, RejectsMinHealthyZero) {
   EXPECT_THAT(problems("errors/system/min_healthy_zero.xml"),
-              ElementsAre("errors/system/min_healthy_zero.xml:6: min_healthy of application 'nav' must be from 1 to 1 (the number of listed components), got '0'"));
+              ElementsAre("errors/system/min_healthy_zero.xml:6: min_healthy of application 'nav' must be from 1 to 1 "
+                          "(the number of listed components), got '0'"));
 }
 
 TEST(SystemProfileErrors, RejectsRequiresWithoutComponents) {
   EXPECT_THAT(problems("errors/system/requires_nothing.xml"),
-              ElementsAre("errors/system/requires_nothing.xml:6: <requires> of application 'nav' lists no <component>"));
+              ElementsAre(
+                  "errors/system/requires_nothing.xml:6: <requires> of application 'nav' lists no <component>"));
 }
 
 TEST(SystemProfileErrors, RejectsAComponentRequiredTwice) {
   EXPECT_THAT(problems("errors/system/requires_component_twice.xml"),
-              ElementsAre("errors/system/requires_component_twice.xml:8: application 'nav' lists component 'sonar1' twice in <requires>"));
+              ElementsAre("errors/system/requires_component_twice.xml:8: application 'nav' lists component 'sonar1' "
+                          "twice in <requires>"));
 }
 
 TEST(SystemProfileErrors, RejectsAnEmptyRequiredComponent) {
@@ -128,7 +137,8 @@ TEST(SystemProfileErrors, RejectsAnEmptyRequiredComponent) {
 
 TEST(SystemProfileErrors, RejectsAnApplicationWithoutReference) {
   EXPECT_THAT(problems("errors/system/application_missing_reference.xml"),
-              ElementsAre("errors/system/application_missing_reference.xml:5: missing attribute 'reference' of <application>"));
+              ElementsAre(
+                  "errors/system/application_missing_reference.xml:5: missing attribute 'reference' of <application>"));
 }
 
 TEST(SystemProfileErrors, RejectsAnApplicationWithoutName) {

@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "robot/world/camera.hpp"
 #include "profile/loader.hpp"
+#include "robot/world/camera.hpp"
 #include "robot/world/world.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
@@ -77,8 +77,7 @@ class DetectorRig {
 
 /// Where the target's centre lies from `pose`, in degrees, positive to the left.
 double trueBearingDeg(const World& world, const Pose& pose) {
-  const double b = std::atan2(world.target().y_m - pose.y_m, world.target().x_m - pose.x_m) -
-                   pose.heading_rad;
+  const double b = std::atan2(world.target().y_m - pose.y_m, world.target().x_m - pose.x_m) - pose.heading_rad;
   return std::remainder(b, 2 * std::numbers::pi) * kDeg;
 }
 
@@ -165,12 +164,10 @@ TEST(ColorBlobDetector, FindsNoFalseBlobInAHundredNoisyFramesWithoutTheTarget) {
 }
 
 TEST(ColorBlobDetector, DefaultColourTakesRedsAndNothingElseOfTheArena) {
-  const auto takes = [](Rgb c) {
-    return ColorBlobDetector::kDefaultColour.contains(toYuv(c.r, c.g, c.b));
-  };
+  const auto takes = [](Rgb c) { return ColorBlobDetector::kDefaultColour.contains(toYuv(c.r, c.g, c.b)); };
   EXPECT_TRUE(takes({220, 30, 30}));  // the target
   EXPECT_TRUE(takes({255, 0, 0}));
-  EXPECT_TRUE(takes({150, 20, 20}));  // a dark red
+  EXPECT_TRUE(takes({150, 20, 20}));     // a dark red
   EXPECT_FALSE(takes({90, 90, 80}));     // floor
   EXPECT_FALSE(takes({170, 170, 175}));  // ceiling
   EXPECT_FALSE(takes({220, 220, 220}));  // a near wall
@@ -199,8 +196,7 @@ TEST(ColorBlobDetector, BearingIsPositiveTowardsColumnZeroAndZeroAtTheCentre) {
   EXPECT_NEAR(ColorBlobDetector::bearingDeg(80.0, 80, 60.0), -30.0, 1e-12);
   // The camera's column rays: column c looks atan((w/2 - (c + 0.5)) / f) off the heading.
   const double focal = 40.0 / std::tan(30.0 / kDeg);
-  EXPECT_NEAR(ColorBlobDetector::bearingDeg(10.5, 80, 60.0), std::atan(29.5 / focal) * kDeg,
-              1e-12);
+  EXPECT_NEAR(ColorBlobDetector::bearingDeg(10.5, 80, 60.0), std::atan(29.5 / focal) * kDeg, 1e-12);
 }
 
 TEST(ColorBlobDetector, AMalformedFrameIsAnExceptionOfTheCallback) {
@@ -239,17 +235,14 @@ TEST_P(ColorBlobDetectorBadProperty, FailsInitializeNamingTheProperty) {
 
 INSTANTIATE_TEST_SUITE_P(
     ColorBlobDetector, ColorBlobDetectorBadProperty,
-    ::testing::Values(
-        BadProperty{"y_min", std::int64_t{-1}, "must be between 0 and 255 (got -1)"},
-        BadProperty{"v_max", std::int64_t{256}, "must be between 0 and 255 (got 256)"},
-        BadProperty{"u_min", std::int64_t{141}, "must not exceed u_max (got 141 > 140)"},
-        BadProperty{"y_max", std::string("high"), "is not an integer"},
-        BadProperty{"min_area", std::int64_t{0}, "must be between 1 and 16777216 (got 0)"},
-        BadProperty{"fov_deg", 0.0, "must be greater than 0 and less than 180"},
-        BadProperty{"fov_deg", 180.0, "must be greater than 0 and less than 180"}),
-    [](const ::testing::TestParamInfo<BadProperty>& param) {
-      return param.param.name + std::to_string(param.index);
-    });
+    ::testing::Values(BadProperty{"y_min", std::int64_t{-1}, "must be between 0 and 255 (got -1)"},
+                      BadProperty{"v_max", std::int64_t{256}, "must be between 0 and 255 (got 256)"},
+                      BadProperty{"u_min", std::int64_t{141}, "must not exceed u_max (got 141 > 140)"},
+                      BadProperty{"y_max", std::string("high"), "is not an integer"},
+                      BadProperty{"min_area", std::int64_t{0}, "must be between 1 and 16777216 (got 0)"},
+                      BadProperty{"fov_deg", 0.0, "must be greater than 0 and less than 180"},
+                      BadProperty{"fov_deg", 180.0, "must be greater than 0 and less than 180"}),
+    [](const ::testing::TestParamInfo<BadProperty>& param) { return param.param.name + std::to_string(param.index); });
 
 TEST(ColorBlobDetector, MinAreaDropsATargetTooFarToBeBigEnough) {
   const World world = World::paperArena();
@@ -283,9 +276,12 @@ TEST(ColorBlobDetector, ProfileDeclaresTheClassPortsAndDefaults) {
   EXPECT_EQ(p.data_ports[0].queue_policy, profile::QueuePolicy::Last);
   const YuvBox c = ColorBlobDetector::kDefaultColour;
   const std::vector<std::pair<std::string, PropertyValue>> defaults = {
-      {"y_min", std::int64_t{c.y_min}}, {"y_max", std::int64_t{c.y_max}},
-      {"u_min", std::int64_t{c.u_min}}, {"u_max", std::int64_t{c.u_max}},
-      {"v_min", std::int64_t{c.v_min}}, {"v_max", std::int64_t{c.v_max}},
+      {"y_min", std::int64_t{c.y_min}},
+      {"y_max", std::int64_t{c.y_max}},
+      {"u_min", std::int64_t{c.u_min}},
+      {"u_max", std::int64_t{c.u_max}},
+      {"v_min", std::int64_t{c.v_min}},
+      {"v_max", std::int64_t{c.v_max}},
       {"min_area", std::int64_t{ColorBlobDetector::kDefaultMinArea}},
       {"fov_deg", ColorBlobDetector::kDefaultFovDeg}};
   ASSERT_EQ(p.properties.size(), defaults.size());

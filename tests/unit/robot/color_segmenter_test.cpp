@@ -22,8 +22,8 @@
 namespace keel::robot {
 namespace {
 
-constexpr Rgb kRed{220, 30, 30};   // the arena's target
-constexpr Rgb kGrey{90, 90, 80};   // the arena's floor
+constexpr Rgb kRed{220, 30, 30};  // the arena's target
+constexpr Rgb kGrey{90, 90, 80};  // the arena's floor
 
 /// A w × h image, red where red(x, y) holds, floor grey elsewhere.
 template <class Red>
@@ -44,9 +44,7 @@ Image art(const std::vector<std::string>& rows) {
                [&](int x, int y) { return rows[y][x] == '#'; });
 }
 
-ColorSegmenter segmenter(int min_area = 1) {
-  return ColorSegmenter(ColorBlobDetector::kDefaultColour, min_area);
-}
+ColorSegmenter segmenter(int min_area = 1) { return ColorSegmenter(ColorBlobDetector::kDefaultColour, min_area); }
 
 std::vector<Region> regionsOf(const Image& image, int min_area = 1) {
   ColorSegmenter s = segmenter(min_area);
@@ -61,7 +59,7 @@ TEST(ColorSegmenter, ConvertsRgbToBt601Yuv) {
   EXPECT_EQ(toYuv(255, 255, 255), (Yuv{255, 128, 128}));
   EXPECT_EQ(toYuv(128, 128, 128), (Yuv{128, 128, 128}));
   EXPECT_EQ(toYuv(220, 30, 30), (Yuv{87, 96, 223}));  // the target: strongly red (high V)
-  EXPECT_EQ(toYuv(255, 0, 0), (Yuv{77, 85, 255}));     // the extremes stay within 0..255
+  EXPECT_EQ(toYuv(255, 0, 0), (Yuv{77, 85, 255}));    // the extremes stay within 0..255
   EXPECT_EQ(toYuv(0, 0, 255), (Yuv{29, 255, 107}));
   EXPECT_EQ(toYuv(0, 255, 255), (Yuv{178, 171, 0}));
   // Within one level of the real-valued formulas over a grid of colours (0 and 255 included).
@@ -69,8 +67,7 @@ TEST(ColorSegmenter, ConvertsRgbToBt601Yuv) {
     for (int g = 0; g < 256; g += 15) {
       for (int b = 0; b < 256; b += 15) {
         const double y = 0.299 * r + 0.587 * g + 0.114 * b;
-        const Yuv p = toYuv(static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g),
-                            static_cast<std::uint8_t>(b));
+        const Yuv p = toYuv(static_cast<std::uint8_t>(r), static_cast<std::uint8_t>(g), static_cast<std::uint8_t>(b));
         EXPECT_TRUE(p.y >= 0 && p.y <= 255 && p.u >= 0 && p.u <= 255 && p.v >= 0 && p.v <= 255);
         EXPECT_NEAR(p.y, y, 1.0);
         EXPECT_NEAR(p.u, std::clamp(128.0 + 0.5 * (b - y) / 0.886, 0.0, 255.0), 1.0);
@@ -150,8 +147,7 @@ TEST(ColorSegmenter, AUShapeMergesInItsLastRow) {
 TEST(ColorSegmenter, ACombWhoseTeethMeetOnlyInTheLastRowIsOneRegion) {
   // Five teeth and a hook, each its own region (its own union-find root) until the last row's
   // single run unites them all.
-  const auto regions = regionsOf(art({"#.#.#.#.####", "#.#.#.#....#", "#.#.#.#..#.#",
-                                      "#.#.#.#..#.#", "############"}));
+  const auto regions = regionsOf(art({"#.#.#.#.####", "#.#.#.#....#", "#.#.#.#..#.#", "#.#.#.#..#.#", "############"}));
 
   ASSERT_EQ(regions.size(), 1u);
   EXPECT_EQ(regions[0].area, 16 + 2 + 7 + 12);
@@ -225,8 +221,8 @@ TEST(ColorSegmenter, AgreesWithAFloodFillOnRandomMasks) {
     const auto key = [](const Region& a, const Region& b) {
       return std::tie(a.y_min, a.x_min, a.x_max, a.area) < std::tie(b.y_min, b.x_min, b.x_max, b.area);
     };
-    ASSERT_TRUE(std::is_sorted(found.begin(), found.end(),
-                               [](const Region& a, const Region& b) { return a.area > b.area; }));
+    ASSERT_TRUE(
+        std::is_sorted(found.begin(), found.end(), [](const Region& a, const Region& b) { return a.area > b.area; }));
     std::sort(expected.begin(), expected.end(), key);
     std::sort(found.begin(), found.end(), key);
     ASSERT_EQ(found.size(), expected.size()) << "trial " << trial;
@@ -235,8 +231,7 @@ TEST(ColorSegmenter, AgreesWithAFloodFillOnRandomMasks) {
       EXPECT_NEAR(found[i].cx, expected[i].cx, 1e-9);
       EXPECT_NEAR(found[i].cy, expected[i].cy, 1e-9);
       EXPECT_EQ(std::tie(found[i].x_min, found[i].y_min, found[i].x_max, found[i].y_max),
-                std::tie(expected[i].x_min, expected[i].y_min, expected[i].x_max,
-                         expected[i].y_max));
+                std::tie(expected[i].x_min, expected[i].y_min, expected[i].x_max, expected[i].y_max));
     }
   }
 }
@@ -285,12 +280,10 @@ TEST(ColorSegmenter, SegmentsAnArenaFrameInWellUnderAMillisecond) {
   for (int i = 0; i < 1000; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     found += s.segment(frame).size();
-    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0)
-                     .count());
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
   }
   std::nth_element(us.begin(), us.begin() + 500, us.end());
-  std::printf("[ cost     ] ColorSegmenter: median %.1f us per 80x60 frame (1000 frames)\n",
-              us[500]);
+  std::printf("[ cost     ] ColorSegmenter: median %.1f us per 80x60 frame (1000 frames)\n", us[500]);
   ::testing::Test::RecordProperty("median_us", std::to_string(us[500]));
   EXPECT_EQ(found, 1000u);
   EXPECT_LT(us[500], 1000.0);

@@ -51,14 +51,19 @@ std::vector<Frame> decodeAll(const Bytes& bytes) {
 
 TEST(MotionBoardProtocol, EveryFrameTypeRoundTrips) {
   const std::vector<Frame> frames{
-      MotionCommand{MotionType::Stop, 0},          MotionCommand{MotionType::Forward, 120},
-      MotionCommand{MotionType::Backward, -32768}, MotionCommand{MotionType::TurnLeft, 40},
+      MotionCommand{MotionType::Stop, 0},
+      MotionCommand{MotionType::Forward, 120},
+      MotionCommand{MotionType::Backward, -32768},
+      MotionCommand{MotionType::TurnLeft, 40},
       MotionCommand{MotionType::TurnRight, 32767},
       StatusReport{-5, 2147483647, {3, 0, 3000, 65535}},
       StatusReport{std::numeric_limits<std::int32_t>::min(), 0, {}},
-      FaultCommand{FaultKind::SensorUnplugged, 3, 0}, FaultCommand{FaultKind::SensorStuck, 1, 150},
-      FaultCommand{FaultKind::MotorPowerOff, 1, 0},   FaultCommand{FaultKind::MotorPowerOn, 0, 0},
-      FaultCommand{FaultKind::Noise, 0, 25},          FaultCommand{FaultKind::SensorOk, 2, 0},
+      FaultCommand{FaultKind::SensorUnplugged, 3, 0},
+      FaultCommand{FaultKind::SensorStuck, 1, 150},
+      FaultCommand{FaultKind::MotorPowerOff, 1, 0},
+      FaultCommand{FaultKind::MotorPowerOn, 0, 0},
+      FaultCommand{FaultKind::Noise, 0, 25},
+      FaultCommand{FaultKind::SensorOk, 2, 0},
   };
   for (const Frame& frame : frames) {
     const Bytes bytes = encode(frame);
@@ -133,10 +138,13 @@ TEST(MotionBoardProtocol, RandomChunksNeverCrashAndOnlyIntactFramesComeOut) {
   auto randomFrame = [&]() -> Frame {
     switch (rng() % 3) {
       case 0: return MotionCommand{static_cast<MotionType>(rng() % 5), static_cast<std::int16_t>(rng())};
-      case 1: return StatusReport{static_cast<std::int32_t>(rng()), static_cast<std::int32_t>(rng()),
-                                  {static_cast<std::uint16_t>(rng()), 0, 3, 3000}};
-      default: return FaultCommand{static_cast<FaultKind>(1 + rng() % 6), static_cast<std::uint8_t>(rng() % 2),
-                                   static_cast<std::uint16_t>(rng())};
+      case 1:
+        return StatusReport{static_cast<std::int32_t>(rng()),
+                            static_cast<std::int32_t>(rng()),
+                            {static_cast<std::uint16_t>(rng()), 0, 3, 3000}};
+      default:
+        return FaultCommand{static_cast<FaultKind>(1 + rng() % 6), static_cast<std::uint8_t>(rng() % 2),
+                            static_cast<std::uint16_t>(rng())};
     }
   };
   Decoder decoder;
@@ -175,8 +183,8 @@ TEST(MotionBoardProtocol, FaultCommandsParseFromTheirTextForm) {
   EXPECT_EQ(parseFaultCommand("motor_power_off right"), (FaultCommand{FaultKind::MotorPowerOff, 1, 0}));
   EXPECT_EQ(parseFaultCommand("motor_power_on"), (FaultCommand{FaultKind::MotorPowerOn, 0, 0}));
   EXPECT_EQ(parseFaultCommand("noise 2.5"), (FaultCommand{FaultKind::Noise, 0, 25}));
-  for (const char* bad : {"sensor_unplugged 4", "sensor_stuck 1", "motor_power_off up", "noise -1",
-                          "motor_power_on now", "explode", ""})
+  for (const char* bad :
+       {"sensor_unplugged 4", "sensor_stuck 1", "motor_power_off up", "noise -1", "motor_power_on now", "explode", ""})
     EXPECT_EQ(parseFaultCommand(bad), std::nullopt) << bad;
   for (const char* text : {"sensor_stuck 3 42", "motor_power_off right", "noise 2.5", "sensor_ok 0"})
     EXPECT_EQ(toString(*parseFaultCommand(text)), text);
@@ -187,7 +195,7 @@ TEST(MotionBoardProtocol, FaultCommandsParseFromTheirTextForm) {
 TEST(MotionBoardSimulator, ForwardAdvancesBothEncodersAtTheCommandedRate) {
   Simulator sim;
   const MotionCommand forward{MotionType::Forward, 60};  // 1 rev/s = 360 counts/s
-  runFor(sim, 1.0, &forward);  // past the motor lag (τ = 150 ms)
+  runFor(sim, 1.0, &forward);                            // past the motor lag (τ = 150 ms)
   const auto left0 = sim.encoder(Wheel::Left), right0 = sim.encoder(Wheel::Right);
   const double x0 = sim.pose().x_m;
 
@@ -478,7 +486,7 @@ TEST(MotionBoardProcess, ServesTheProtocolOnAPseudoTerminalAndPublishesTheTruth)
   EXPECT_GT(sample->x_m, arena.start().x_m);  // it drove forward
   EXPECT_EQ(sample->collisions, 0.0);
   EXPECT_GT(sample->rpm_left, 0.0);
-  EXPECT_EQ(process.terminate(), 0);  // SIGTERM is a clean exit
+  EXPECT_EQ(process.terminate(), 0);                  // SIGTERM is a clean exit
   EXPECT_FALSE(std::filesystem::exists(truth_path));  // the board removes its truth file
 }
 

@@ -42,7 +42,8 @@ std::map<std::string, std::string> subcomponents(const fs::path& file) {
 }
 
 TEST(RobotProfiles, TheFig7ApplicationsHoldExactlyTheComponentsAndPoliciesOfTheFig5Package) {
-  const fs::path robot = fs::path(KEEL_PROFILE_TEST_DATA).parent_path().parent_path().parent_path().parent_path() / "robot";
+  const fs::path robot = fs::path(KEEL_PROFILE_TEST_DATA).parent_path().parent_path().parent_path().parent_path() /
+                         "robot";
   const auto package = subcomponents(robot / "navigation.xml");
   std::map<std::string, std::string> apps;
   for (const char* app : {"obstacle_detection.xml", "path_planning.xml", "hri.xml"})

@@ -193,15 +193,13 @@ TEST(World, SonarRayCastFeedsTheSimulatorInCentimetres) {
   // target; the ray 5° left of the axis is the nearest echo.
   const double a_cm = 100.0 * arena.rayCast(0.505, 1.5, 0.26 / 3, 30.0);
   EXPECT_NEAR(sim.sonarCm(SonarId::FrontB), a_cm, 1.0);
-  EXPECT_LT(a_cm, 100.0 * (3.5 - 0.12 - 0.505));                       // nearer than the target
+  EXPECT_LT(a_cm, 100.0 * (3.5 - 0.12 - 0.505));                        // nearer than the target
   EXPECT_NEAR(sim.sonarCm(SonarId::Back), 100.0 * (0.4 - 0.105), 1.0);  // west wall
 }
 
 // ---- camera ----
 
-World targetAhead() {
-  return worldOf({{5.0, -5.0, 5.5, 5.0}}, Target{3.0, 0.0, 0.12, Rgb{220, 30, 30}});
-}
+World targetAhead() { return worldOf({{5.0, -5.0, 5.5, 5.0}}, Target{3.0, 0.0, 0.12, Rgb{220, 30, 30}}); }
 
 TEST(Camera, FacingTheTargetShowsRedInTheCentreColumns) {
   Camera camera;

@@ -72,8 +72,7 @@ TEST_F(ExecutorTest, ATaskRunsItsMembersInDeclaredOrderExecuteThenUpdated) {
   std::lock_guard lock(trace_mutex_);
   ASSERT_GE(trace_.size(), 6u);
   EXPECT_EQ(std::vector<std::string>(trace_.begin(), trace_.begin() + 6),
-            (std::vector<std::string>{"a.start", "b.start", "a.execute", "b.execute", "a.updated",
-                                      "b.updated"}));
+            (std::vector<std::string>{"a.start", "b.start", "a.execute", "b.execute", "a.updated", "b.updated"}));
   EXPECT_EQ(trace_.back(), "a.stop");  // stopped in reverse order
   EXPECT_EQ(a.state(), State::Inactive);
   EXPECT_EQ(b.state(), State::Inactive);
@@ -265,8 +264,7 @@ TEST_F(ExecutorTest, RunsSubMillisecondPeriods) {
   // With a millisecond granularity no two releases would be closer than ~1 ms. On a loaded
   // machine some releases are late, but many consecutive ones are still ~0.5 ms apart.
   int short_gaps = 0;
-  for (std::size_t i = 1; i < c.count; ++i)
-    short_gaps += (c.stamps[i] - c.stamps[i - 1]) < 800us;
+  for (std::size_t i = 1; i < c.count; ++i) short_gaps += (c.stamps[i] - c.stamps[i - 1]) < 800us;
   EXPECT_GE(short_gaps, 20) << "of " << c.count << " executions";
 }
 
@@ -284,11 +282,10 @@ TEST_F(ExecutorTest, AppliesTheSchedulingPolicyOrWarnsWhenTheOsRefusesIt) {
   ready(probe, "probe");
   std::vector<std::string> warnings;
   std::mutex wm;
-  Executor ex({"rt", ExecutorKind::Periodic, 1ms, 10, Policy::Fifo},
-              [&](const std::string& w) {
-                std::lock_guard lock(wm);
-                warnings.push_back(w);
-              });
+  Executor ex({"rt", ExecutorKind::Periodic, 1ms, 10, Policy::Fifo}, [&](const std::string& w) {
+    std::lock_guard lock(wm);
+    warnings.push_back(w);
+  });
   ex.add(probe);
   ex.start();
   ASSERT_TRUE(eventually([&] { return probe.runs.load() > 3; })) << "a refused policy stopped the executor";

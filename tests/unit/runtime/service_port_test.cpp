@@ -17,9 +17,9 @@ using namespace std::chrono_literals;
 class Calculator : public Component {
  public:
   ProvidedServicePort<double(double, double)> add{this, "add", [this](double a, double b) {
-                                                     thread = std::this_thread::get_id();
-                                                     return a + b;
-                                                   }};
+                                                    thread = std::this_thread::get_id();
+                                                    return a + b;
+                                                  }};
   ProvidedServicePort<int(int)> slow{this, "slow", [](int x) {
                                        std::this_thread::sleep_for(300ms);
                                        return x;
@@ -80,8 +80,7 @@ TEST_F(ServicePortTest, AProviderThatThrowsFaultsAndTheCallerGetsAnError) {
   ex_.start();
   auto r = client_.crash.call(1);
   ASSERT_FALSE(r);
-  EXPECT_NE(r.error().message.find("faulted: exception in service call: boom"), std::string::npos)
-      << r.error().message;
+  EXPECT_NE(r.error().message.find("faulted: exception in service call: boom"), std::string::npos) << r.error().message;
   EXPECT_EQ(calc_.state(), State::Error);
   ASSERT_EQ(hooks_.faults().size(), 1u);
   EXPECT_EQ(hooks_.faults()[0].kind, FaultKind::Exception);
@@ -99,9 +98,7 @@ TEST_F(ServicePortTest, AnUnconnectedPortFailsClearly) {
   EXPECT_EQ(r.error().message, "service port 'wrong' is not connected");
 }
 
-TEST_F(ServicePortTest, SignaturesMustMatchToBind) {
-  EXPECT_FALSE(client_.wrong.bind(calc_.add));
-}
+TEST_F(ServicePortTest, SignaturesMustMatchToBind) { EXPECT_FALSE(client_.wrong.bind(calc_.add)); }
 
 TEST_F(ServicePortTest, APassiveProviderRunsOnTheCallersThread) {
   ASSERT_TRUE(transition(calc_, Transition::Start));  // passive: no executor
