@@ -1,10 +1,12 @@
 // keel::Component: the base class of every component (OPRoS's Component). An author derives
 // from it, declares ports as members, overrides the callbacks it needs and registers the class
 // with KEEL_REGISTER_COMPONENT. The runtime owns instances and calls the callbacks; all
-// callbacks of one component are serialised (never two at once), so authors write no locks —
-// except onHardwareFault, which a driver of hardware implements thread-safe.
+// callbacks of one component are serialised (never two at once), so authors write no locks.
+// Two abilities are opt-in, by adding a base: keel::HardwareDriver (keel/hardware_driver.hpp)
+// to receive a fault scenario's hardware faults, keel::RunControl (keel/run_control.hpp) to
+// end the run.
 // Thread-safety: callbacks run on the component's executor; the protected services
-// (critical, raiseFault, reportFault, endRun, property) may be called from any callback.
+// (critical, raiseFault, reportFault, property) may be called from any callback.
 #pragma once
 
 #include <cstddef>
@@ -57,18 +59,6 @@ class Component {
   /// Actuators: put outputs into the safe state ("stop in neutral") and keep them there until
   /// the emergency is cleared.
   virtual ReturnCode onEmergencyStop() { return ReturnCode::Ok; }
-  /// A hardware fault from a fault scenario (`keel run --inject`, SPEC §6), for the component
-  /// that drives that hardware: how a hardware-in-the-loop or simulated driver receives the
-  /// harness's hardware faults (it forwards them to its board). `command` is the kind, then a
-  /// space and the scenario's `args` if any: "motor_power_off left", "sensor_stuck 1 250",
-  /// "noise". Called at the fault's time on the injector's thread, concurrently with this
-  /// component's callbacks and whatever its state: it must be thread-safe, and return soon.
-  /// Return Ok when the fault was applied; anything else (the default: Unsupported) or an
-  /// exception is logged as the injection's outcome, with a warning.
-  virtual ReturnCode onHardwareFault(std::string_view command) {
-    (void)command;
-    return ReturnCode::Unsupported;
-  }
 
   /// Instance name from the package profile ("sonar_left"); empty before the runtime names it.
   const std::string& instanceName() const;
@@ -108,20 +98,6 @@ class Component {
   /// Rejects a property value (from onInitialize): throws PropertyError "component '<instance>':
   /// property '<name>' <why>", which fails the load with that message.
   [[noreturn]] void rejectProperty(std::string_view name, std::string_view why) const;
-  /// Ends the run, as the end of its duration would: `keel run` stops and destroys everything
-  /// cleanly and exits 0. For a component that knows when the job is done (a mission referee).
-  /// - Callable from any callback, onStop included (a run that ends for another reason, its
-  ///   duration or a signal, still gets the record below); returns at once.
-  /// - The first call of the run wins, from whichever component; later calls are ignored.
-  /// - `summary` is printed by `keel run`: "ended by <instance>: <summary>".
-  /// - With a non-empty `event`, once every component has stopped (their onStop ran) the fault
-  ///   log's last record is {"t_ns":…, "event": event, "component": <instance>, <fields_json>},
-  ///   where `fields_json` is the members of a JSON object without braces
-  ///   (`"goal_reached":true,"collisions":0`). It is checked when the record is written; if it
-  ///   is malformed the record has "fields_error" (why) instead of them. t_ns, event and
-  ///   component are keel's: members of those names are dropped.
-  /// Without a runtime (a component not run by keel) it does nothing.
-  void endRun(std::string_view summary, std::string_view event = {}, std::string_view fields_json = {});
 
  private:
   friend struct detail::ComponentAccess;

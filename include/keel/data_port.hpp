@@ -5,68 +5,46 @@
 // for fixed-size T. Thread-safety: push from the owner's callbacks; pop/peek likewise.
 #pragma once
 
-#include <memory>
+#include <atomic>
 #include <optional>
 #include <string>
-#include <vector>
 
-#include "keel/detail/connection.hpp"
-#include "keel/detail/port_base.hpp"
-#include "keel/detail/port_queue.hpp"
-#include "keel/type_name.hpp"
+#include "keel/detail/typed_port.hpp"
 
 namespace keel {
 
 template <class T>
-class InputDataPort final : public detail::InputPortBase, private detail::Sink<T> {
+class InputDataPort final : public detail::QueuedInput<T, detail::InputPortBase> {
  public:
   InputDataPort(Component* owner, std::string name)
-      : InputPortBase(owner, std::move(name), detail::PortKind::Data, detail::PortDirection::Input, typeid(T),
-                      ::keel::typeName<T>()) {}
+      : detail::QueuedInput<T, detail::InputPortBase>(owner, std::move(name), detail::PortKind::Data, 16) {}
 
   /// The next value by the queue policy, or nothing if the queue is empty.
-  std::optional<T> pop() { return queue_.pop(); }
+  std::optional<T> pop() { return this->queue_.pop(); }
   /// The value pop() would return, left in the queue.
-  std::optional<T> peek() const { return queue_.peek(); }
-  bool empty() const { return queue_.size() == 0; }
+  std::optional<T> peek() const { return this->queue_.peek(); }
+  bool empty() const { return this->queue_.size() == 0; }
   bool numeric() const override { return detail::NumericTraits<T>::numeric; }
-
-  // ---- runtime side ----
-  void configureQueue(detail::QueuePolicy policy, std::size_t size) override { queue_.configure(policy, size); }
-  std::size_t capacity() const override { return queue_.capacity(); }
-  std::size_t queued() const override { return queue_.size(); }
-  std::size_t dropped() const override { return queue_.dropped(); }
-  void clear() override { queue_.clear(); }
-  std::unique_ptr<detail::ConnectionBase> makeConnection() override {
-    return std::make_unique<detail::Connection<T>>(static_cast<detail::Sink<T>*>(this));
-  }
-  bool retarget(detail::ConnectionBase& c) override {
-    if (c.type() != std::type_index(typeid(T))) return false;
-    static_cast<detail::Connection<T>&>(c).retarget(this);
-    return true;
-  }
 
  private:
   void deliver(const T& value) override {
     if constexpr (detail::NumericTraits<T>::numeric) {
       detail::Violation v;
-      if (validity_ && !validity_->check(value, v)) [[unlikely]] {
-        detail::reportRange(owner(), name(), v, true);
+      if (this->validity_ && !this->validity_->check(value, v)) [[unlikely]] {
+        detail::reportRange(this->owner(), this->name(), v, true);
         return;  // an invalid value is not queued
       }
     }
-    queue_.push(value);
-    detail::notifyInput(owner(), false);
+    this->queue_.push(value);
+    detail::notifyInput(this->owner(), false);
   }
-  detail::PortQueue<T> queue_;
 };
 
 template <class T>
-class OutputDataPort final : public detail::OutputPortBase {
+class OutputDataPort final : public detail::Fanout<T> {
  public:
   OutputDataPort(Component* owner, std::string name)
-      : OutputPortBase(owner, std::move(name), detail::PortKind::Data, detail::PortDirection::Output, typeid(T),
-                       ::keel::typeName<T>()) {}
+      : detail::Fanout<T>(owner, std::move(name), detail::PortKind::Data) {}
 
   /// Sends `value` to every connected input. A value that violates the port's validity rule
   /// is a `range` fault of this component and is not sent.
@@ -77,34 +55,33 @@ class OutputDataPort final : public detail::OutputPortBase {
         return;
       }
       detail::Violation v;
-      if (validity_ && !validity_->check(value, v)) [[unlikely]] {
-        detail::reportRange(owner(), name(), v, false);
+      if (this->validity_ && !this->validity_->check(value, v)) [[unlikely]] {
+        detail::reportRange(this->owner(), this->name(), v, false);
         return;
       }
     }
-    for (const detail::Connection<T>* c : connections_) c->send(value);
+    this->sendAll(value);
   }
   bool numeric() const override { return detail::NumericTraits<T>::numeric; }
-  std::size_t connections() const { return connections_.size(); }
-
-  // ---- runtime side ----
-  bool attach(detail::ConnectionBase& connection) override {
-    if (connection.type() != std::type_index(typeid(T))) return false;
-    connections_.push_back(static_cast<detail::Connection<T>*>(&connection));
-    return true;
-  }
 
  private:
+  bool corruptNext(double value) override {
+    if (!detail::NumericTraits<T>::numeric) return false;
+    corrupt_value_ = value;
+    corrupt_next_.store(true, std::memory_order_release);  // publishes corrupt_value_
+    return true;
+  }
   void pushCorrupted(T value) {
     // acquire: pairs with corruptNext()'s release, so corrupt_value_ is the injector's.
     if (!corrupt_next_.exchange(false, std::memory_order_acquire)) return push(value);
     detail::NumericTraits<T>::fill(value, corrupt_value_);
-    detail::noteInjectedCorruption(owner());
+    detail::noteInjectedCorruption(this->owner());
     push(value);
     detail::endInjectedCorruption();
   }
 
-  std::vector<const detail::Connection<T>*> connections_;
+  std::atomic<bool> corrupt_next_{false};  // fault injection (`out_of_range`) armed
+  double corrupt_value_ = 0;
 };
 
 }  // namespace keel

@@ -3,3 +3,5 @@
 
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
+#include "keel/hardware_driver.hpp"
+#include "keel/run_control.hpp"

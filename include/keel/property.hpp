@@ -31,10 +31,10 @@ template <class T>
 T propertyAs(const PropertyValue* v, std::string_view component, std::string_view name) {
   if (!v) throwPropertyError(component, name, "no such property");
   if constexpr (std::is_same_v<T, bool>) {
-    if (auto* b = std::get_if<bool>(v)) return *b;
+    if (const auto* b = std::get_if<bool>(v)) return *b;
     throwPropertyError(component, name, "is not a bool");
   } else if constexpr (std::is_integral_v<T>) {
-    if (auto* i = std::get_if<std::int64_t>(v)) {
+    if (const auto* i = std::get_if<std::int64_t>(v)) {
       if (*i < static_cast<std::int64_t>(std::numeric_limits<T>::min()) ||
           (*i > 0 && static_cast<std::uint64_t>(*i) > std::numeric_limits<T>::max()))
         throwPropertyError(component, name, "is out of range for the requested integer type");
@@ -42,15 +42,15 @@ T propertyAs(const PropertyValue* v, std::string_view component, std::string_vie
     }
     throwPropertyError(component, name, "is not an integer");
   } else if constexpr (std::is_floating_point_v<T>) {
-    if (auto* d = std::get_if<double>(v)) return static_cast<T>(*d);
-    if (auto* i = std::get_if<std::int64_t>(v)) return static_cast<T>(*i);
+    if (const auto* d = std::get_if<double>(v)) return static_cast<T>(*d);
+    if (const auto* i = std::get_if<std::int64_t>(v)) return static_cast<T>(*i);
     throwPropertyError(component, name, "is not a number");
   } else if constexpr (std::is_same_v<T, std::string>) {
-    if (auto* s = std::get_if<std::string>(v)) return *s;
+    if (const auto* s = std::get_if<std::string>(v)) return *s;
     throwPropertyError(component, name, "is not a string");
   } else if constexpr (std::is_same_v<T, std::vector<double>>) {
-    if (auto* a = std::get_if<std::vector<double>>(v)) return *a;
-    if (auto* d = std::get_if<double>(v)) return {*d};
+    if (const auto* a = std::get_if<std::vector<double>>(v)) return *a;
+    if (const auto* d = std::get_if<double>(v)) return {*d};
     throwPropertyError(component, name, "is not a double[]");
   } else {
     static_assert(!sizeof(T*),

@@ -41,10 +41,8 @@ std::string invokeService(Component& provider, const std::string& port, const st
 template <class R>
 using Returned = std::conditional_t<std::is_void_v<R>, std::monostate, R>;
 
-}  // namespace detail
-
 /// Common base of service ports, as the runtime sees them.
-class ServicePortBase : public detail::PortBase {
+class ServicePortBase : public PortBase {
  public:
   using PortBase::PortBase;
   /// Required side: binds to a provided port of the same signature; false on mismatch.
@@ -56,13 +54,15 @@ class ServicePortBase : public detail::PortBase {
   virtual void setTimeout(std::chrono::nanoseconds timeout) { (void)timeout; }
 };
 
+}  // namespace detail
+
 template <class Sig>
 class ProvidedServicePort;
 template <class Sig>
 class RequiredServicePort;
 
 template <class R, class... A>
-class ProvidedServicePort<R(A...)> final : public ServicePortBase {
+class ProvidedServicePort<R(A...)> final : public detail::ServicePortBase {
  public:
   ProvidedServicePort(Component* owner, std::string name, std::function<R(A...)> fn)
       : ServicePortBase(owner, std::move(name), detail::PortKind::Service, detail::PortDirection::Input,
@@ -76,7 +76,7 @@ class ProvidedServicePort<R(A...)> final : public ServicePortBase {
 };
 
 template <class R, class... A>
-class RequiredServicePort<R(A...)> final : public ServicePortBase {
+class RequiredServicePort<R(A...)> final : public detail::ServicePortBase {
  public:
   using Value = detail::Returned<R>;
 
@@ -99,6 +99,7 @@ class RequiredServicePort<R(A...)> final : public ServicePortBase {
 
   bool connected() const { return provider_.load(std::memory_order_acquire) != nullptr; }
 
+ private:
   bool bind(ServicePortBase& provided) override {
     if (provided.type() != type() || provided.direction() != detail::PortDirection::Input) return false;
     // atomic: a replacement provider is bound while this port's owner may be calling
@@ -107,7 +108,6 @@ class RequiredServicePort<R(A...)> final : public ServicePortBase {
   }
   void setTimeout(std::chrono::nanoseconds timeout) override { timeout_ = timeout; }
 
- private:
   struct Call final : detail::ServiceCall {
     Call(const ProvidedServicePort<R(A...)>* p, std::tuple<A...> a) : provider(p), args(std::move(a)) {}
     void run() override {

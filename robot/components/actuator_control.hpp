@@ -16,6 +16,7 @@
 #include <optional>
 
 #include <keel/component.hpp>
+#include <keel/hardware_driver.hpp>
 
 #include "robot/components/board_link.hpp"
 #include "robot/components/robot_types.hpp"
@@ -23,7 +24,7 @@
 
 namespace keel::robot {
 
-class ActuatorControl : public Component {
+class ActuatorControl : public Component, public HardwareDriver {
  public:
   /// The planner's command: {motion_type, parameter} as in the protocol's motion frame.
   InputDataPort<std::array<double, 2>> command{this, "command"};

@@ -12,13 +12,14 @@
 #include <string>
 
 #include <keel/component.hpp>
+#include <keel/run_control.hpp>
 
 #include "robot/sim/sim_host.hpp"
 #include "robot/sim/truth.hpp"
 
 namespace keel::robot {
 
-class MissionReferee : public Component {
+class MissionReferee : public Component, public RunControl {
  public:
   /// For the trace only (Fig. 6): measured and reference wheel rpm, latest values.
   InputDataPort<double> measured_left{this, "measured_left"};

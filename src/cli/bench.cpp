@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <iostream>
+#include <system_error>
 
 #include "cli/commands.hpp"
 
@@ -31,10 +32,12 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
       std::vector<std::string> argv_s{harness};
       argv_s.insert(argv_s.end(), args.begin(), args.end());
       std::vector<char*> argv;
+      argv.reserve(argv_s.size() + 1);
       for (auto& a : argv_s) argv.push_back(a.data());
       argv.push_back(nullptr);
       ::execv(harness.c_str(), argv.data());
-      std::cerr << "keel bench: cannot run " << harness << ": " << std::strerror(errno) << '\n';
+      const int err = errno;
+      std::cerr << "keel bench: cannot run " << harness << ": " << std::generic_category().message(err) << '\n';
       return 2;
     };
   });

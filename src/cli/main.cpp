@@ -1,9 +1,10 @@
 // keel: the command-line front end (SPEC §4).
+#include <exception>
 #include <iostream>
 
 #include "cli/commands.hpp"
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
   CLI::App app{"keel: a component framework for robots, with fault tolerance built in"};
   app.require_subcommand(1);
   std::function<int()> run;
@@ -18,4 +19,10 @@ int main(int argc, char** argv) {
     return app.exit(e);
   }
   return run ? run() : 2;
+} catch (const std::exception& e) {
+  std::cerr << "keel: " << e.what() << '\n';
+  return 1;
+} catch (...) {
+  std::cerr << "keel: unknown exception\n";
+  return 1;
 }

@@ -1,7 +1,7 @@
 // keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--set I.P=V]... [--console]
 //          [--cpu-dma-latency US]:
 // runs a package or system profile until the duration ends, SIGINT/SIGTERM, or a component ends
-// the run (Component::endRun), then stops and destroys everything (exit 0) and prints a
+// the run (RunControl::endRun), then stops and destroys everything (exit 0) and prints a
 // one-screen summary of faults and their handling, and who ended the run. --set sets a
 // component's property for this run (a bad one: exit 2 before anything loads). With --console,
 // operator commands are read from stdin: `emergency` (emergency stop), `clear` (clears a
@@ -114,13 +114,20 @@ int waitForEnd(const sigset_t& set, double duration_s, const engine::Engine& eng
 /// The `reason` of the log's `stopping` record.
 std::string stopReason(int why, const engine::Engine& engine) {
   if (why == kEnded) return "ended by " + engine.runEnd()->component;
-  return why == 0 ? "duration" : strsignal(why);
+  if (why == 0) return "duration";
+  const char* name = sigdescr_np(why);
+  return name ? name : "signal " + std::to_string(why);
 }
 
-/// The --set options, parsed and checked against the plan of `set`; nothing after printing
-/// every problem, a line each.
-std::optional<std::vector<plan::PropertySetting>> propertySettings(const RunOptions& o,
-                                                                   const profile::ProfileSet& set) {
+/// Prints each line of `errors` as keel run's.
+void printErrors(const std::string& errors) {
+  std::istringstream lines(errors);
+  for (std::string line; std::getline(lines, line);) std::cerr << "keel run: " << line << '\n';
+}
+
+/// The --set options, parsed and applied to `plan`; nothing after printing every problem, a
+/// line each.
+std::optional<std::vector<plan::PropertySetting>> applySettings(const RunOptions& o, plan::Plan& plan) {
   std::vector<plan::PropertySetting> settings;
   std::string errors;
   for (const auto& text : o.sets) {
@@ -128,12 +135,11 @@ std::optional<std::vector<plan::PropertySetting>> propertySettings(const RunOpti
     if (s) settings.push_back(std::move(*s));
     else errors += s.error().message + '\n';
   }
-  if (auto plan = plan::makePlan(set); errors.empty() && plan) {  // no plan: Engine::create says why
-    if (auto r = plan::applyPropertySettings(*plan, settings); !r) errors = r.error().message + '\n';
+  if (errors.empty()) {
+    if (auto r = plan::applyPropertySettings(plan, settings); !r) errors = r.error().message + '\n';
   }
   if (errors.empty()) return settings;
-  std::istringstream lines(errors);
-  for (std::string line; std::getline(lines, line);) std::cerr << "keel run: " << line << '\n';
+  printErrors(errors);
   return std::nullopt;
 }
 
@@ -144,10 +150,15 @@ int runProfile(const RunOptions& o) {
     for (const auto& d : set.error()) std::cerr << d.str() << '\n';
     return 2;
   }
+  auto planned = plan::planProfiles(std::move(*set));  // the run's one plan
+  if (!planned) {
+    std::cerr << planned.error().message << '\n';
+    return 1;
+  }
   engine::EngineOptions eo;
   eo.log_path = o.log;
   eo.cpu_dma_latency_us = o.cpu_dma_latency_us;
-  auto settings = propertySettings(o, *set);
+  auto settings = applySettings(o, planned->plan);
   if (!settings) return 2;
   eo.property_settings = std::move(*settings);
   if (!o.inject.empty()) {
@@ -158,7 +169,7 @@ int runProfile(const RunOptions& o) {
     }
     eo.scenario = std::move(*scenario);
   }
-  auto engine = engine::Engine::create(std::move(*set), eo);
+  auto engine = engine::Engine::create(std::move(*planned), eo);
   if (!engine) {
     std::cerr << engine.error().message << '\n';
     return 1;

@@ -22,19 +22,22 @@ Engine::Engine(EngineOptions options)
 Engine::~Engine() { shutdown(); }
 
 Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOptions options) {
+  auto planned = plan::planProfiles(std::move(set));
+  if (!planned) return planned.error();
+  if (auto r = plan::applyPropertySettings(planned->plan, options.property_settings); !r) return r.error();
+  return create(std::move(*planned), std::move(options));
+}
+
+Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, EngineOptions options) {
   std::unique_ptr<Engine> engine(new Engine(std::move(options)));
-  engine->set_ = std::move(set);
-  auto plan = plan::makePlan(engine->set_);
-  if (!plan) return plan.error();
-  if (auto r = plan::applyPropertySettings(*plan, engine->options_.property_settings); !r) return r.error();
-  engine->plan_ = std::move(*plan);
+  engine->planned_ = std::move(planned);
   if (!engine->options_.log_path.empty()) {
     if (auto r = engine->log_.open(engine->options_.log_path); !r) return r.error();
   }
   nlohmann::json load = fault::schema::engine("load");
-  load["profile"] = engine->set_.root;
-  load["instances"] = engine->plan_.instances.size();
-  for (const auto& s : engine->options_.property_settings) load["set"].push_back(s.text);
+  load[fault::schema::field::kProfile] = engine->set().root;
+  load[fault::schema::field::kInstances] = engine->planned_.plan.instances.size();
+  for (const auto& s : engine->options_.property_settings) load[fault::schema::field::kSet].push_back(s.text);
   engine->log_.write(std::move(load));
   if (auto r = engine->instantiate(); !r) return r.error();
   engine->setUpHandling();
@@ -44,7 +47,7 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
         *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_,
         [e](const std::string& m) { e->warn(m); });
     auto passive = [e](std::string_view name) {
-      for (const auto& ex : e->plan_.executors)
+      for (const auto& ex : e->planned_.plan.executors)
         if (std::find(ex.members.begin(), ex.members.end(), name) != ex.members.end()) return false;
       return true;
     };
@@ -65,7 +68,7 @@ void Engine::warn(const std::string& message) {
 }
 
 void Engine::buildExecutors() {
-  for (const auto& pe : plan_.executors) {
+  for (const auto& pe : planned_.plan.executors) {
     runtime::ExecutorConfig cfg;
     cfg.name = pe.name;
     cfg.kind = pe.periodic ? runtime::ExecutorKind::Periodic : runtime::ExecutorKind::Aperiodic;
@@ -119,8 +122,8 @@ Result<void> Engine::start() {
   started_ = true;
   startDetectors();
   nlohmann::json started = fault::schema::engine("started");
-  started["executors"] = executors;
-  if (cpu_latency_.held()) started["cpu_dma_latency_us"] = cpu_latency_.microseconds();
+  started[fault::schema::field::kExecutors] = executors;
+  if (cpu_latency_.held()) started[fault::schema::field::kCpuDmaLatencyUs] = cpu_latency_.microseconds();
   log_.write(std::move(started));
   return {};
 }
@@ -202,8 +205,6 @@ void Engine::shutdown() {
 void Engine::stateChanged(Component& c, State from, State to) {
   log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
 }
-
-void Engine::faultDetected(Component& c, const FaultEvent& fault) { fault_manager_.onFault(c, fault); }
 
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
   RunEnd end{c.instanceName(), std::string(summary), std::string(event), std::string(fields)};

@@ -1,7 +1,8 @@
 // The engine carries a plan out (ARCHITECTURE.md "How data flows", step 3): load libraries and
 // create instances, check their ports against the profiles, initialize, connect, start the
-// executors; at the end stop and destroy everything in reverse order. It is also the runtime's
-// runtime::RuntimeHooks: state changes and faults reach the fault log from here.
+// executors; at the end stop and destroy everything in reverse order. It is the runtime's
+// runtime::RunHooks (state changes reach the fault log from here, endRun ends the run); the
+// runtime's faults go to the fault manager, the runtime's runtime::FaultSink, without a stop here.
 // Thread-safety: build/start/stop from one thread; hooks are called from executor threads.
 #pragma once
 
@@ -71,11 +72,16 @@ struct Wire {
   detail::PortBase* target = nullptr;            // input port, or provided service port
 };
 
-class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
+class Engine final : public runtime::RunHooks, public fault::HandlingHost {
  public:
-  /// Plans, loads and instantiates; checks every port of code against its profile.
+  /// Plans `set` with options.property_settings applied, then as below.
   static Result<std::unique_ptr<Engine>> create(profile::ProfileSet set, EngineOptions options);
+  /// Loads and instantiates `planned` (options.property_settings already applied to it: they
+  /// are only logged); checks every port of code against its profile.
+  static Result<std::unique_ptr<Engine>> create(plan::PlannedProfiles planned, EngineOptions options);
   ~Engine() override;
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
 
   /// initialize → connect → start executors. On failure, what failed and why.
   Result<void> start();
@@ -85,7 +91,7 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
 
   /// The component in service under `instance` (a replacement after a replacement).
   Component* find(std::string_view instance) const override;
-  const plan::Plan& plan() const { return plan_; }
+  const plan::Plan& plan() const { return planned_.plan; }
   const std::vector<Instance>& instances() const { return instances_; }
   /// The executors, including those that took over from an abandoned one (a snapshot).
   std::vector<const runtime::Executor*> executors() const;
@@ -102,7 +108,7 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   /// Clears a latched emergency (the explicit call SPEC §2 asks for); false if none was latched.
   bool clearEmergency(std::string_view by) { return fault_manager_.clearEmergency(by); }
 
-  /// A component ended the run (Component::endRun; the first call wins). The run's owner
+  /// A component ended the run (RunControl::endRun; the first call wins). The run's owner
   /// (`keel run`) waits for it and then stops as at the end of its duration; shutdown() logs
   /// the request's record last. Any thread.
   bool endRequested() const { return run_end_.requested(); }
@@ -110,11 +116,8 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   /// Blocks until a component ends the run or `until` passes; true if one did.
   bool waitForEnd(std::chrono::steady_clock::time_point until) const { return run_end_.waitUntil(until); }
 
-  // runtime::RuntimeHooks
+  // runtime::RunHooks (faults go from the runtime to the fault manager directly: its FaultSink)
   void stateChanged(Component& c, State from, State to) override;
-  void faultDetected(Component& c, const FaultEvent& fault) override;
-  void runPending(Component& c) override { fault_manager_.runPending(c); }
-  void recovered(Component& c, std::int64_t t_ns) override { fault_manager_.recovered(c, t_ns); }
   void endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) override;
 
   // fault::HandlingHost (engine_recovery.cpp)
@@ -138,8 +141,8 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   void warn(const std::string& message);
 
   EngineOptions options_;
-  profile::ProfileSet set_;  // owned: the plan points into it
-  plan::Plan plan_;
+  plan::PlannedProfiles planned_;  // the plan, and the profiles it points into
+  const profile::ProfileSet& set() const { return *planned_.profiles; }
   runtime::Loader loader_;
   fault::FaultLog log_;
   std::vector<Instance> instances_;
@@ -162,7 +165,7 @@ class Engine final : public runtime::RuntimeHooks, public fault::HandlingHost {
   std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
-  RunEndLatch run_end_;  // Component::endRun, from any component's thread
+  RunEndLatch run_end_;  // RunControl::endRun, from any component's thread
 };
 
 }  // namespace keel::engine

@@ -6,6 +6,7 @@
 
 #include "engine/engine.hpp"
 #include "fault/fault_manager_component.hpp"
+#include "runtime/port_access.hpp"
 #include "runtime/registry.hpp"
 
 namespace keel::engine {
@@ -55,7 +56,7 @@ detail::QueuePolicy queuePolicy(profile::QueuePolicy p) {
 
 Result<void> Engine::instantiate() {
   std::string errors;
-  for (const auto& pi : plan_.instances) {
+  for (const auto& pi : planned_.plan.instances) {
     const profile::ComponentProfile& cp = *pi.profile;
     if (&cp == &plan::faultManagerProfile()) {
       Instance inst;
@@ -65,6 +66,7 @@ Result<void> Engine::instantiate() {
       core.instance_name = pi.name;
       core.class_name = cp.name;
       core.hooks = this;
+      core.fault_sink = &fault_manager_;
       (void)configurePorts(inst);  // its one port has no validity: cannot fail
       inst.current->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
@@ -105,6 +107,7 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   core.instance_name = pi.name;
   core.class_name = cp.name;
   core.hooks = this;
+  core.fault_sink = &fault_manager_;
   for (const auto& [k, v] : pi.properties) core.properties[k] = v;
   if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
   if (auto r = checkPorts(inst); !r) return r.error();
@@ -133,7 +136,7 @@ Result<void> Engine::configurePorts(Instance& inst) {
       continue;
     }
     rules_.push_back(std::make_unique<detail::ValidityRule>(detail::ValidityRule{d.validity->min, d.validity->max}));
-    port->setValidity(rules_.back().get());
+    detail::PortAccess::setValidity(*port, rules_.back().get());
   }
   for (const auto& e : cp.event_ports) {
     if (e.usage != profile::Usage::Input) continue;
@@ -141,7 +144,7 @@ Result<void> Engine::configurePorts(Instance& inst) {
   }
   for (const auto& sp : cp.service_ports) {
     if (sp.usage != profile::ServiceUsage::Required) continue;
-    static_cast<ServicePortBase*>(core.findPort(sp.name))
+    static_cast<detail::ServicePortBase*>(core.findPort(sp.name))
         ->setTimeout(std::chrono::nanoseconds(static_cast<std::int64_t>(sp.timeout_ms * 1e6)));
   }
   if (!errors.empty()) return fail(errors);
@@ -185,7 +188,7 @@ Result<void> Engine::connect() {
     return c ? runtime::coreOf(*c).findPort(e.port) : nullptr;
   };
   std::string errors;
-  for (const auto& pc : plan_.connections) {
+  for (const auto& pc : planned_.plan.connections) {
     detail::PortBase* src = port(pc.source);
     detail::PortBase* dst = port(pc.target);
     if (!src || !dst) {
@@ -195,7 +198,7 @@ Result<void> Engine::connect() {
     }
     bool ok = false;
     if (src->kind() == PortKind::Service) {
-      ok = static_cast<ServicePortBase*>(src)->bind(*static_cast<ServicePortBase*>(dst));
+      ok = static_cast<detail::ServicePortBase*>(src)->bind(*static_cast<detail::ServicePortBase*>(dst));
       if (ok) wires_.push_back({nullptr, src, dst});
     } else if (src->kind() == dst->kind() && dst->direction() == PortDirection::Input &&
                src->direction() == PortDirection::Output) {

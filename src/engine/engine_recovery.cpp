@@ -17,14 +17,14 @@
 namespace keel::engine {
 
 void Engine::setUpHandling() {
-  if (auto g = fault::DependencyGraph::build(plan_, set_)) graph_ = std::move(*g);
+  if (auto g = fault::DependencyGraph::build(planned_.plan, set())) graph_ = std::move(*g);
   else warn("fault stops cover the component alone: " + g.error().message);
   for (auto& inst : instances_) {
     if (inst.plan->name == fault::kFaultManagerInstance) continue;  // the framework's own
     // The restart window is allocated whole here: recording a recovery never allocates on the
     // executor's thread.
     auto h = std::make_unique<fault::ComponentHandling>(
-        fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set_.components), inst.plan->name);
+        fault::compileRules(inst.plan->policy ? &*inst.plan->policy : nullptr, set().components), inst.plan->name);
     runtime::coreOf(*inst.component).fault.handling = h.get();
     inst.handling = std::move(h);
   }
@@ -71,9 +71,12 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   Component* alt = made->component.get();
   runtime::coreOf(*alt).fault.handling = &h;
   // Quietly: the log's `state` records of this name are the role's; a failure is returned.
-  runtime::coreOf(*alt).hooks = nullptr;
+  detail::ComponentCore& alt_core = runtime::coreOf(*alt);
+  alt_core.hooks = nullptr;
+  alt_core.fault_sink = nullptr;
   const bool initialized = runtime::transition(*alt, Transition::Initialize);
-  runtime::coreOf(*alt).hooks = this;
+  alt_core.hooks = this;
+  alt_core.fault_sink = &fault_manager_;
   if (!initialized) return fail(fmt::format("onInitialize of alternative {} failed", cp.name));
   // Allocates its checkpoint buffers now, off the fault path (the switch copies into them).
   if (!runtime::coreOf(*alt).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alt), runtime::steadyNs());
@@ -83,7 +86,7 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     detail::PortBase* port = runtime::coreOf(*alt).findPort(w.source->name());
     if (port == nullptr) continue;  // the loader checked that the ports are the same
     if (w.connection) static_cast<detail::OutputPortBase*>(port)->attach(*w.connection);
-    else static_cast<ServicePortBase*>(port)->bind(*static_cast<ServicePortBase*>(w.target));
+    else static_cast<detail::ServicePortBase*>(port)->bind(*static_cast<detail::ServicePortBase*>(w.target));
   }
   std::lock_guard lock(alternatives_mutex_);
   alternatives_.push_back(std::move(made->component));
@@ -96,7 +99,7 @@ void Engine::redirectInputs(Component& failed, Component& alternative) {
     detail::PortBase* port = runtime::coreOf(alternative).findPort(w.target->name());
     if (port == nullptr) continue;  // the loader checked that the ports are the same
     if (w.connection) static_cast<detail::InputPortBase*>(port)->retarget(*w.connection);
-    else static_cast<ServicePortBase*>(w.source)->bind(*static_cast<ServicePortBase*>(port));
+    else static_cast<detail::ServicePortBase*>(w.source)->bind(*static_cast<detail::ServicePortBase*>(port));
   }
 }
 

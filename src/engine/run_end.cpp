@@ -50,8 +50,8 @@ nlohmann::json runEndRecord(const RunEnd& end, std::int64_t t_ns) {
   if (auto* members = std::get_if<nlohmann::json>(&parsed)) {
     record = std::move(*members);
   } else {
-    record["fields_error"] = fmt::format("fields_json '{}' is not the members of a JSON object: {}", end.fields,
-                                         std::get<std::string>(parsed));
+    record[fault::schema::field::kFieldsError] = fmt::format("fields_json '{}' is not the members of a JSON object: {}",
+                                                             end.fields, std::get<std::string>(parsed));
   }
   record[fault::schema::field::kTime] = t_ns;
   record[fault::schema::field::kEvent] = end.event;

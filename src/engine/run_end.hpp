@@ -1,4 +1,4 @@
-// RunEnd and RunEndLatch: a component's request to end the run (Component::endRun), kept by
+// RunEnd and RunEndLatch: a component's request to end the run (RunControl::endRun), kept by
 // the engine. The first request wins and wakes whoever waits (`keel run`); later ones are
 // ignored. runEndRecord() makes the record the engine writes last in the fault log, from the
 // request's event and fields_json (JSON object members without braces, checked here).
@@ -18,7 +18,7 @@
 
 namespace keel::engine {
 
-/// Who ended the run and how (the arguments of the winning Component::endRun).
+/// Who ended the run and how (the arguments of the winning RunControl::endRun).
 struct RunEnd {
   std::string component;  // its instance name
   std::string summary;    // printed by `keel run`: "ended by <component>: <summary>"

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <system_error>
 
 namespace keel::fault {
 
@@ -18,7 +19,7 @@ FaultLog::~FaultLog() {
 
 Result<void> FaultLog::open(const std::string& path) {
   int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
-  if (fd < 0) return fail(fmt::format("cannot open log '{}': {}", path, std::strerror(errno)));
+  if (fd < 0) return fail(fmt::format("cannot open log '{}': {}", path, std::generic_category().message(errno)));
   fd_ = fd;
   return {};
 }

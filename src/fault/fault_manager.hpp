@@ -41,14 +41,15 @@
 #include "fault/report.hpp"
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
+#include "runtime/component_core.hpp"
 
 namespace keel::fault {
 
-class FaultManager {
+class FaultManager final : public runtime::FaultSink {
  public:
   /// `find` maps an instance name to its component (null when unknown); used until attach().
   FaultManager(FaultLog& log, std::function<Component*(std::string_view)> find);
-  ~FaultManager();
+  ~FaultManager() override;
   FaultManager(const FaultManager&) = delete;
   FaultManager& operator=(const FaultManager&) = delete;
 
@@ -67,10 +68,13 @@ class FaultManager {
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
   /// reporter itself). `detector` names who found it in the log (default: the reporter).
   void onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {});
-  /// On `c`'s own thread: carries on the handling that waits for it (runtime hook).
-  void runPending(Component& c);
-  /// `c` executed normally after a recovery (runtime hook).
-  void recovered(Component& c, std::int64_t t_ns);
+
+  // runtime::FaultSink: what the runtime reports, straight from the thread that noticed it.
+  void faultDetected(Component& c, const FaultEvent& fault) override { onFault(c, fault); }
+  /// On `c`'s own thread: carries on the handling that waits for it.
+  void runPending(Component& c) override;
+  /// `c` executed normally after a recovery.
+  void recovered(Component& c, std::int64_t t_ns) override;
 
   /// Emergency stop (§5.3.3, fault/containment.hpp): latches the emergency and runs every
   /// component's onEmergencyStop. Returns the components whose onEmergencyStop ran. `by` is logged.

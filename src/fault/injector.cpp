@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <map>
 
+#include "keel/hardware_driver.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
 
@@ -96,7 +97,8 @@ void Injector::injectHardware(Component& c, const ScheduledFault& f, std::uint64
   const std::int64_t t_ns = log_.now();
   std::string outcome;
   try {
-    const ReturnCode rc = c.onHardwareFault(command);
+    auto* driver = dynamic_cast<HardwareDriver*>(&c);  // opt-in: keel/hardware_driver.hpp
+    const ReturnCode rc = driver ? driver->onHardwareFault(command) : ReturnCode::Unsupported;
     if (!ok(rc)) outcome = toString(rc);
   } catch (const std::exception& e) {
     outcome = std::string("exception: ") + e.what();
@@ -106,7 +108,7 @@ void Injector::injectHardware(Component& c, const ScheduledFault& f, std::uint64
   nlohmann::json record = schema::injected(id, f.component, t_ns);
   record[schema::field::kKind] = f.kind_name;
   record[schema::field::kDetail] = command;
-  record["hardware"] = true;
+  record[schema::field::kHardware] = true;
   if (!outcome.empty()) record[schema::field::kOutcome] = outcome;
   log_.write(std::move(record));
   if (!outcome.empty())

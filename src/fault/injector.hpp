@@ -3,7 +3,7 @@
 // fault at its time after the start. What an armed fault does, and when it manifests, is
 // runtime/injection's business; the log gets `injected` at manifestation (fault manager).
 // A hardware fault is not armed: at its time this thread hands it to the component that drives
-// that hardware (Component::onHardwareFault) and logs `injected` with `"hardware": true`.
+// that hardware (keel::HardwareDriver::onHardwareFault) and logs `injected` with `"hardware": true`.
 // Thread-safety: check/start/stop from the engine's thread.
 #pragma once
 

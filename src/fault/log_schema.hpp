@@ -59,6 +59,13 @@ inline constexpr char kReason[] = "reason";
 inline constexpr char kSummary[] = "summary";
 inline constexpr char kOnFaultManagerThread[] = "on_fault_manager_thread";
 inline constexpr char kNotFinished[] = "not_finished";
+inline constexpr char kHardware[] = "hardware";                   // on `injected`: a hardware fault
+inline constexpr char kFieldsError[] = "fields_error";            // on a component's end-of-run record
+inline constexpr char kProfile[] = "profile";                     // engine `load`
+inline constexpr char kInstances[] = "instances";                 // engine `load`
+inline constexpr char kSet[] = "set";                             // engine `load`: keel run --set
+inline constexpr char kExecutors[] = "executors";                 // engine `started`
+inline constexpr char kCpuDmaLatencyUs[] = "cpu_dma_latency_us";  // engine `started`
 }  // namespace field
 
 /// `outcome` values.

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <system_error>
 
 #include "runtime/component_core.hpp"
 #include "runtime/fault_detail.hpp"
@@ -75,7 +76,8 @@ void Watchdog::run() {
   sp.sched_priority = sched_get_priority_max(SCHED_FIFO);
   if (!realtime_) {
   } else if (int err = pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp); err != 0 && warn_)
-    warn_(fmt::format("watchdog: SCHED_FIFO refused ({}); hang detection runs at normal priority", std::strerror(err)));
+    warn_(fmt::format("watchdog: SCHED_FIFO refused ({}); hang detection runs at normal priority",
+                      std::generic_category().message(err)));
   while (!stop_.load(std::memory_order_acquire)) {
     const std::int64_t now = runtime::steadyNs();
     std::int64_t next = now + poll_ns_;

@@ -183,4 +183,13 @@ Result<Plan> makePlan(const ProfileSet& set) {
   return fail("unknown profile kind");
 }
 
+Result<PlannedProfiles> planProfiles(ProfileSet set) {
+  PlannedProfiles out;
+  out.profiles = std::make_unique<const ProfileSet>(std::move(set));
+  auto plan = makePlan(*out.profiles);
+  if (!plan) return plan.error();
+  out.plan = std::move(*plan);
+  return out;
+}
+
 }  // namespace keel::plan

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -56,5 +57,13 @@ struct Plan {
 
 /// Makes the plan for the root of `set` (a package, a system, or a single component).
 Result<Plan> makePlan(const profile::ProfileSet& set);
+
+/// A plan together with the profiles it points into, which it owns at a stable address: what
+/// one run is made of, planned once (`keel run` checks its --set options against it).
+struct PlannedProfiles {
+  std::unique_ptr<const profile::ProfileSet> profiles;
+  Plan plan;
+};
+Result<PlannedProfiles> planProfiles(profile::ProfileSet set);
 
 }  // namespace keel::plan

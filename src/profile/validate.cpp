@@ -90,6 +90,7 @@ std::string nameList(const std::vector<std::string>& names) {
 
 std::string subcomponentNames(const std::vector<Subcomponent>& subs) {
   std::vector<std::string> names;
+  names.reserve(subs.size());
   for (const Subcomponent& s : subs) names.push_back(s.name);
   return nameList(names);
 }

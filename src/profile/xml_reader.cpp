@@ -134,7 +134,8 @@ void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> 
     }
     if (node.type() != pugi::node_element) continue;
     const std::string_view name = node.name();
-    const auto rule = std::find_if(children.begin(), children.end(), [&](const Child& c) { return c.name == name; });
+    const auto* const rule = std::find_if(children.begin(), children.end(),
+                                          [&](const Child& c) { return c.name == name; });
     if (rule == children.end()) {
       ctx.error(node, fmt::format("unknown element {} in {}", tag(node), tag(parent)));
       continue;

@@ -8,6 +8,7 @@
 #include <memory>
 
 #include "keel/component.hpp"
+#include "keel/run_control.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/invoke.hpp"
@@ -38,19 +39,23 @@ void Component::critical(void* addr, std::size_t len) {
 }
 
 void Component::raiseFault(std::string_view why) {
-  if (core_->hooks) core_->hooks->faultDetected(*this, FaultEvent(FaultKind::User, core_->instance_name, why));
+  if (core_->fault_sink)
+    core_->fault_sink->faultDetected(*this, FaultEvent(FaultKind::User, core_->instance_name, why));
 }
 
 void Component::reportFault(const FaultEvent& fault) {
-  if (core_->hooks) core_->hooks->faultDetected(*this, fault);
+  if (core_->fault_sink) core_->fault_sink->faultDetected(*this, fault);
 }
 
 void Component::rejectProperty(std::string_view name, std::string_view why) const {
   detail::throwPropertyError(core_->instance_name, name, why);
 }
 
-void Component::endRun(std::string_view summary, std::string_view event, std::string_view fields_json) {
-  if (core_->hooks) core_->hooks->endRun(*this, summary, event, fields_json);
+void RunControl::endRun(std::string_view summary, std::string_view event, std::string_view fields_json) {
+  auto* self = dynamic_cast<Component*>(this);
+  if (!self) return;
+  detail::ComponentCore& core = runtime::coreOf(*self);
+  if (core.hooks) core.hooks->endRun(*self, summary, event, fields_json);
 }
 
 }  // namespace keel

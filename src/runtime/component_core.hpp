@@ -20,19 +20,26 @@
 namespace keel::runtime {
 class Executor;
 
-/// What the runtime is told about a component. Implemented by the engine.
-class RuntimeHooks {
+/// Where the runtime reports faults: the runtime's own interface to the fault layer, which
+/// implements it (fault::FaultManager). Called on executor threads and detectors' threads.
+class FaultSink {
  public:
-  virtual ~RuntimeHooks() = default;
-  virtual void stateChanged(Component& c, State from, State to) = 0;
+  virtual ~FaultSink() = default;
   /// A fault was detected in `c` (or raised by it). Called on the thread that noticed it.
   virtual void faultDetected(Component& c, const FaultEvent& fault) = 0;
-  /// Handling of a fault of `c` waits for `c`'s own thread (core.pending was set): called
-  /// there, between callbacks or after its hung callback was interrupted.
+  /// Handling of a fault of `c` waits for `c`'s own thread (the fault cell's `pending` was
+  /// set): called there, between callbacks or after its hung callback was interrupted.
   virtual void runPending(Component& c) = 0;
-  /// `c` completed an onExecute after a recovery (core.recovering_id was set).
+  /// `c` completed an onExecute after a recovery (the fault cell's `recovering_id` was set).
   virtual void recovered(Component& c, std::int64_t t_ns) = 0;
-  /// `c` asked to end the run (Component::endRun); the first request wins.
+};
+
+/// What else the runtime tells the owner of a run about a component. Implemented by the engine.
+class RunHooks {
+ public:
+  virtual ~RunHooks() = default;
+  virtual void stateChanged(Component& c, State from, State to) = 0;
+  /// `c` asked to end the run (keel::RunControl::endRun); the first request wins.
   virtual void endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
     (void)c, (void)summary, (void)event, (void)fields;
   }
@@ -103,7 +110,8 @@ class ComponentCore {
   std::map<std::string, PropertyValue, std::less<>> properties;
   std::vector<runtime::CriticalRegion> critical;  // registered in onInitialize
   std::int64_t deadline_ns = 0;                   // <deadline> of its fault policy; 0: none
-  runtime::RuntimeHooks* hooks = nullptr;         // null: not yet managed by a runtime
+  runtime::RunHooks* hooks = nullptr;             // null: not yet managed by a runtime
+  runtime::FaultSink* fault_sink = nullptr;       // null: faults are not handled
 
   // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).
   std::atomic<State> state{State::Created};

@@ -6,6 +6,7 @@
 
 #include <cerrno>
 #include <cstring>
+#include <system_error>
 #include <utility>
 
 namespace keel::runtime {
@@ -30,13 +31,16 @@ Result<CpuLatencyRequest> CpuLatencyRequest::hold(std::int32_t us, const std::st
   if (us < 0 || us > 2'000'000'000) return fail(fmt::format("cpu_dma_latency must be 0..2000000000 µs, got {}", us));
   CpuLatencyRequest r;
   r.fd_ = ::open(device.c_str(), O_WRONLY | O_CLOEXEC);
-  if (r.fd_ < 0)
+  if (r.fd_ < 0) {
+    const int err = errno;
     return fail(fmt::format("cannot hold the CPUs' wake-up latency at {} µs: {}: {}{}", us, device,
-                            std::strerror(errno), errno == EACCES || errno == EPERM ? " (needs root)" : ""));
+                            std::generic_category().message(err),
+                            err == EACCES || err == EPERM ? " (needs root)" : ""));
+  }
   // The device takes the value as a binary 32-bit integer; the request stands until close.
   if (::write(r.fd_, &us, sizeof us) != static_cast<ssize_t>(sizeof us))
     return fail(fmt::format("cannot hold the CPUs' wake-up latency at {} µs: writing {}: {}", us, device,
-                            std::strerror(errno)));
+                            std::generic_category().message(errno)));
   r.us_ = us;
   return r;
 }

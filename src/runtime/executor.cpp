@@ -7,6 +7,7 @@
 #include <sys/prctl.h>
 
 #include <cstring>
+#include <system_error>
 
 #include "runtime/checkpoint.hpp"
 #include "runtime/component_core.hpp"
@@ -130,7 +131,7 @@ void Executor::setUpThread() {
                     policy == SCHED_FIFO ? "fifo"
                     : policy == SCHED_RR ? "rr"
                                          : "other",
-                    config_.priority, std::strerror(err)));
+                    config_.priority, std::generic_category().message(err)));
   }
 }
 
@@ -169,8 +170,8 @@ bool Executor::execute(Component& c) {
   if (ok) {
     core.executions.fetch_add(1, std::memory_order_relaxed);
     // The first good step after a recovery is the `recovered` moment (SPEC §5).
-    if (core.fault.recovering_id.load(std::memory_order_relaxed) != 0 && core.hooks) [[unlikely]]
-      core.hooks->recovered(c, steadyNs());
+    if (core.fault.recovering_id.load(std::memory_order_relaxed) != 0 && core.fault_sink) [[unlikely]]
+      core.fault_sink->recovered(c, steadyNs());
   }
   if (core.deadline_ns && ok) checkDeadline(c, steadyNs() - t0);  // a failed step is already a fault
   return ok;

@@ -135,6 +135,9 @@ void installAltStack() {
   thread_local struct AltStack {
     void* mem = nullptr;
     std::size_t size = 0;
+    AltStack() = default;
+    AltStack(const AltStack&) = delete;
+    AltStack& operator=(const AltStack&) = delete;
     ~AltStack() {
       if (!mem) return;
       stack_t off{};
@@ -144,7 +147,7 @@ void installAltStack() {
     }
   } alt;
   if (alt.mem) return;
-  alt.size = 64 * 1024;
+  alt.size = std::size_t{64} * 1024;
   alt.mem = mmap(nullptr, alt.size, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
   if (alt.mem == MAP_FAILED) {
     alt.mem = nullptr;

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "runtime/component_core.hpp"
+#include "runtime/port_access.hpp"
 
 namespace keel::runtime {
 namespace {
@@ -31,8 +32,8 @@ void markManifested(detail::ComponentCore& core) {
 // The store faults before it happens; TSan would still see two threads "writing" the same
 // address when two components are injected at once.
 [[gnu::noinline]] __attribute__((no_sanitize("thread"))) void segfaultNow() {
-  volatile std::uintptr_t addr = 0x10;  // page 0 is never mapped
-  *reinterpret_cast<volatile int*>(addr) = 1;
+  volatile std::uintptr_t addr = 0x10;         // page 0 is never mapped
+  *reinterpret_cast<volatile int*>(addr) = 1;  // NOLINT(performance-no-int-to-ptr): the injected fault
 }
 
 [[gnu::noinline]] void divideByZeroNow() {
@@ -72,8 +73,7 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
   switch (kind) {
     case InjectKind::OutOfRange: {
       detail::OutputPortBase* p = corruptiblePort(c, args.port);
-      if (p) p->corruptNext(args.value);
-      return p != nullptr;
+      return p != nullptr && detail::PortAccess::corruptNext(*p, args.value);
     }
     case InjectKind::StallHeartbeat:
       markManifested(core);

@@ -5,6 +5,7 @@
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
+#include "runtime/port_access.hpp"
 
 namespace keel::runtime {
 
@@ -57,15 +58,15 @@ bool finishCall(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   if (out.kind == GuardOutcome::Kind::Signal && out.signo == interruptSignal()) [[unlikely]] {
     core.fault.interrupt.store(false, std::memory_order_release);
-    if (core.hooks) core.hooks->runPending(c);
+    if (core.fault_sink) core.fault_sink->runPending(c);
     return false;
   }
   if (!out.ok()) recordFault(c, out, cb);
   // A fault noticed inside the call (a range fault on push, raiseFault) is handled now; the
   // call then counts as failed, so that a recovered component's step is run again.
   const bool pending = core.fault.pending.load(std::memory_order_acquire);
-  if (pending && core.hooks) [[unlikely]]
-    core.hooks->runPending(c);
+  if (pending && core.fault_sink) [[unlikely]]
+    core.fault_sink->runPending(c);
   return out.ok() && !pending;
 }
 
@@ -84,7 +85,7 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   // of a running callback is the fault manager's to handle by the component's rules.
   State s = core.state.load(std::memory_order_acquire);
   if (isLifecycle(cb) && cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
-  if (core.hooks) core.hooks->faultDetected(c, ev);
+  if (core.fault_sink) core.fault_sink->faultDetected(c, ev);
 }
 
 StateChange setState(Component& c, State to) {
@@ -100,7 +101,7 @@ StateChange setStateQuiet(Component& c, State to) {
 
 void reportFault(Component& c, const FaultEvent& ev) {
   detail::ComponentCore& core = coreOf(c);
-  if (core.hooks) core.hooks->faultDetected(c, ev);
+  if (core.fault_sink) core.fault_sink->faultDetected(c, ev);
 }
 
 bool invoke(Component& c, Callback cb) {
@@ -156,7 +157,7 @@ void dispatchEvents(Component& c) {
   for (detail::PortBase* p : core.ports) {
     if (p->kind() != detail::PortKind::Event || p->direction() != detail::PortDirection::Input) continue;
     auto& port = static_cast<InputEventPortBase&>(*p);
-    while (c.state() == State::Active && port.takeNext()) {
+    while (c.state() == State::Active && detail::PortAccess::takeNext(port)) {
       GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); }, &c, &core.fault.interrupt);
       if (!out.ok() || core.fault.pending.load(std::memory_order_relaxed)) finishCall(c, out, Callback::Event);
     }

@@ -83,6 +83,6 @@ bool finishCall(Component& c, const GuardOutcome& out, Callback cb);
 void recordFault(Component& c, const GuardOutcome& out, Callback cb);
 
 /// Reports a fault detected outside a callback (port validity, watchdog, ...).
-void reportFault(Component& c, const FaultEvent& fault);
+void reportFault(Component& c, const FaultEvent& ev);
 
 }  // namespace keel::runtime

@@ -5,7 +5,7 @@
 namespace keel::runtime {
 
 Registry& Registry::instance() {
-  static Registry* registry = new Registry();  // never destroyed: plugins may outlive statics
+  static auto* registry = new Registry();  // never destroyed: plugins may outlive statics
   return *registry;
 }
 

@@ -3,12 +3,16 @@
 
 #include <filesystem>
 
+#include "fault/log_schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/process.hpp"
+#include "support/temp_log.hpp"
 
 namespace keel {
 namespace {
 
+namespace ev = fault::schema::event;
+namespace fd = fault::schema::field;
 using namespace std::chrono_literals;
 
 std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/" + name; }
@@ -19,8 +23,7 @@ class Cli : public ::testing::Test {
   // KEEL_COMPONENT_PATH.
   void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
   void TearDown() override { std::filesystem::remove(log_); }
-  std::string log_ =
-      (std::filesystem::temp_directory_path() / ("keel_cli_test_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_ = test::tempPath("keel_cli_test");
 };
 
 TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
@@ -32,10 +35,10 @@ TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
   ASSERT_FALSE(log.empty());
   EXPECT_EQ(test::statesOf(log, "counter"), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
   for (const auto& rec : log) {
-    EXPECT_TRUE(rec.contains("t_ns"));
-    EXPECT_TRUE(rec.contains("event"));
+    EXPECT_TRUE(rec.contains(fd::kTime));
+    EXPECT_TRUE(rec.contains(fd::kEvent));
   }
-  auto stopping = test::eventsOf(log, "engine");
+  auto stopping = test::eventsOf(log, ev::kEngine);
   ASSERT_FALSE(stopping.empty());
 }
 
@@ -48,11 +51,11 @@ TEST_F(Cli, RunHoldsTheCpusWakeUpLatencyWhileRunning) {
   auto log = test::readLog(log_);
   const bool permitted = ::geteuid() == 0 && std::filesystem::exists("/dev/cpu_dma_latency");
   bool started = false;
-  for (const auto& e : test::eventsOf(log, "engine")) {
-    if (e.value("phase", "") != "started") continue;
+  for (const auto& e : test::eventsOf(log, ev::kEngine)) {
+    if (e.value(fd::kPhase, "") != "started") continue;
     started = true;
-    if (permitted) EXPECT_EQ(e.value("cpu_dma_latency_us", -1), 50) << e.dump();
-    else EXPECT_FALSE(e.contains("cpu_dma_latency_us")) << e.dump();
+    if (permitted) EXPECT_EQ(e.value(fd::kCpuDmaLatencyUs, -1), 50) << e.dump();
+    else EXPECT_FALSE(e.contains(fd::kCpuDmaLatencyUs)) << e.dump();
   }
   EXPECT_TRUE(started);
   const bool warned = r.err.find("wake-up latency at 50 µs") != std::string::npos;
@@ -65,8 +68,9 @@ TEST_F(Cli, RunStopsCleanlyOnSigterm) {
   ASSERT_EQ(r.status, 0) << r.err;
   auto log = test::readLog(log_);
   bool saw_reason = false;
-  for (const auto& e : test::eventsOf(log, "engine"))
-    if (e.value("phase", "") == "stopping") saw_reason = e.value("reason", "").find("Terminated") != std::string::npos;
+  for (const auto& e : test::eventsOf(log, ev::kEngine))
+    if (e.value(fd::kPhase, "") == "stopping")
+      saw_reason = e.value(fd::kReason, "").find("Terminated") != std::string::npos;
   EXPECT_TRUE(saw_reason);
   EXPECT_EQ(test::statesOf(log, "summer").back(), "Destroyed");
 }
@@ -121,7 +125,7 @@ TEST_F(Cli, TheHelloExampleRunsAndDeliversEvents) {
                              "0.6", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   EXPECT_NE(r.out.find("[listener] milestone: 5"), std::string::npos) << r.out;
-  EXPECT_TRUE(test::eventsOf(test::readLog(log_), "detected").empty());
+  EXPECT_TRUE(test::eventsOf(test::readLog(log_), ev::kDetected).empty());
 }
 
 TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
@@ -129,15 +133,15 @@ TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
       {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "2", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   auto log = test::readLog(log_);
-  auto detected = test::eventsOf(log, "detected");
+  auto detected = test::eventsOf(log, ev::kDetected);
   ASSERT_GE(detected.size(), 3u);
-  EXPECT_EQ(detected[0]["component"], "sonar_left");
-  EXPECT_EQ(detected[0]["kind"], "signal");
+  EXPECT_EQ(detected[0][fd::kComponent], "sonar_left");
+  EXPECT_EQ(detected[0][fd::kKind], "signal");
   EXPECT_EQ(test::statesOf(log, "sonar_left"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
   // its <fault_policy> has the default severity, reset: each fault it raises resets it
   EXPECT_EQ(test::statesOf(log, "avoider"), (std::vector<std::string>{"Ready", "Active", "Error", "Active", "Error",
                                                                       "Active", "Inactive", "Destroyed"}));
-  EXPECT_EQ(test::eventsOf(log, "recovered").size(), 2u);
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 2u);
 }
 
 TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
@@ -158,14 +162,14 @@ TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
   EXPECT_EQ(r.out.find("EMERGENCY STOP LATCHED"), std::string::npos) << r.out;               // summary: cleared
 
   auto log = test::readLog(log_);
-  auto phases = test::eventsOf(log, "emergency");
+  auto phases = test::eventsOf(log, ev::kEmergency);
   ASSERT_EQ(phases.size(), 2u);
-  EXPECT_EQ(phases[0]["phase"], "latched");
-  EXPECT_EQ(phases[0]["by"], "console");
-  EXPECT_EQ(phases[1]["phase"], "cleared");
+  EXPECT_EQ(phases[0][fd::kPhase], "latched");
+  EXPECT_EQ(phases[0][fd::kBy], "console");
+  EXPECT_EQ(phases[1][fd::kPhase], "cleared");
   bool stopped_actuators = false;
-  for (const auto& a : test::eventsOf(log, "action"))
-    if (a["action"] == "emergency_stop") stopped_actuators = a["components"].size() == 3;  // all three
+  for (const auto& a : test::eventsOf(log, ev::kAction))
+    if (a[fd::kAction] == "emergency_stop") stopped_actuators = a[fd::kComponents].size() == 3;  // all three
   EXPECT_TRUE(stopped_actuators);
 }
 

@@ -1,4 +1,4 @@
-// A component ends the run (Component::endRun): `keel run` stops at once as if its duration had
+// A component ends the run (RunControl::endRun): `keel run` stops at once as if its duration had
 // elapsed (exit 0), prints who ended it, and the fault log's last record is the one the
 // component asked for, written after every component stopped.
 #include <gtest/gtest.h>
@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 
+#include "fault/log_schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/process.hpp"
 
@@ -99,8 +100,8 @@ TEST_F(RunEnd, MalformedFieldsGiveAFieldsErrorInsteadOfACrash) {
   EXPECT_EQ(last["event"], "mission");
   EXPECT_EQ(last["component"], "finisher");
   EXPECT_FALSE(last.contains("goal_reached"));
-  ASSERT_TRUE(last.contains("fields_error")) << last.dump();
-  EXPECT_EQ(last["fields_error"].get<std::string>().rfind(
+  ASSERT_TRUE(last.contains(fault::schema::field::kFieldsError)) << last.dump();
+  EXPECT_EQ(last[fault::schema::field::kFieldsError].get<std::string>().rfind(
                 "fields_json '\"goal_reached\":tru,\"executions\":5' is not the members of a JSON object: ", 0),
             0u)
       << last.dump();

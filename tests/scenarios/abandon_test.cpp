@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "engine/engine.hpp"
+#include "fault/log_schema.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/guard.hpp"
 #include "support/log_reader.hpp"
@@ -18,6 +19,9 @@
 namespace keel {
 namespace {
 
+namespace schema = fault::schema;
+namespace ev = schema::event;
+namespace fd = schema::field;
 using namespace std::chrono_literals;
 
 std::atomic<bool> g_hang{false};     // the next onExecute of Stubborn hangs
@@ -139,18 +143,19 @@ TEST_F(Abandon, AnUninterruptibleHangAbandonsItsExecutorAndTheOthersMoveToANewOn
 
   const auto log = test::readLog(log_);
   bool escalated = false, stopped = false;
-  for (const auto& a : test::eventsOf(log, "action")) {
-    if (a["component"] != "stubborn") continue;
-    const std::string detail = a.value("detail", "");
-    if (a["action"] == "escalate" && detail.find("did not return when interrupted") != std::string::npos)
+  for (const auto& a : test::eventsOf(log, ev::kAction)) {
+    if (a[fd::kComponent] != "stubborn") continue;
+    const std::string detail = a.value(fd::kDetail, "");
+    if (a[fd::kAction] == "escalate" && detail.find("did not return when interrupted") != std::string::npos)
       escalated = true;
-    if (a["action"] == "stop" && a["outcome"] == "ok" && detail.find("shared+") != std::string::npos) stopped = true;
+    if (a[fd::kAction] == "stop" && a[fd::kOutcome] == schema::kOk && detail.find("shared+") != std::string::npos)
+      stopped = true;
   }
   EXPECT_TRUE(escalated);
   EXPECT_TRUE(stopped);
-  auto detected = test::eventsOf(log, "detected");
+  auto detected = test::eventsOf(log, ev::kDetected);
   ASSERT_FALSE(detected.empty());
-  EXPECT_EQ(detected[0]["kind"], "heartbeat");
+  EXPECT_EQ(detected[0][fd::kKind], "heartbeat");
 }
 
 TEST_F(Abandon, TheAlternativeOfAnUninterruptibleHangTakesItsPlaceOnTheNewExecutor) {
@@ -170,9 +175,10 @@ TEST_F(Abandon, TheAlternativeOfAnUninterruptibleHangTakesItsPlaceOnTheNewExecut
 
   bool replaced = false, recovered = false;
   const auto log = test::readLog(log_);
-  for (const auto& a : test::eventsOf(log, "action"))
-    if (a["action"] == "replace" && a["outcome"] == "ok") replaced = a["replacement"] == "StubbornBackup";
-  for (const auto& r : test::eventsOf(log, "recovered")) recovered |= r["component"] == "stubborn";
+  for (const auto& a : test::eventsOf(log, ev::kAction))
+    if (a[fd::kAction] == "replace" && a[fd::kOutcome] == schema::kOk)
+      replaced = a[fd::kReplacement] == "StubbornBackup";
+  for (const auto& r : test::eventsOf(log, ev::kRecovered)) recovered |= r[fd::kComponent] == "stubborn";
   EXPECT_TRUE(replaced);
   EXPECT_TRUE(recovered);
 }

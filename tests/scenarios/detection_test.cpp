@@ -9,13 +9,17 @@
 #include <thread>
 
 #include "engine/engine.hpp"
+#include "fault/log_schema.hpp"
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
+#include "support/temp_log.hpp"
 
 namespace keel {
 namespace {
 
+namespace ev = fault::schema::event;
+namespace fd = fault::schema::field;
 using namespace std::chrono_literals;
 using nlohmann::json;
 
@@ -68,11 +72,12 @@ class Detection : public ::testing::Test {
   /// fault_id and came before it (a loaded machine may starve a component into an unrelated
   /// heartbeat fault first).
   json detected(const RunResult& r, const std::string& kind, bool injected = true) {
-    for (const auto& d : test::eventsOf(r.log, "detected")) {
-      if (d["kind"] != kind) continue;
+    for (const auto& d : test::eventsOf(r.log, ev::kDetected)) {
+      if (d[fd::kKind] != kind) continue;
       if (!injected) return d;
-      for (const auto& i : test::eventsOf(r.log, "injected"))
-        if (i["fault_id"] == d["fault_id"] && i["t_ns"].get<std::int64_t>() <= d["t_ns"].get<std::int64_t>()) return d;
+      for (const auto& i : test::eventsOf(r.log, ev::kInjected))
+        if (i[fd::kFaultId] == d[fd::kFaultId] && i[fd::kTime].get<std::int64_t>() <= d[fd::kTime].get<std::int64_t>())
+          return d;
     }
     ADD_FAILURE() << "no detected record of kind " << kind << (injected ? " answering an injection" : "");
     return json::object();
@@ -85,15 +90,14 @@ class Detection : public ::testing::Test {
   }
 
   void TearDown() override { std::filesystem::remove(log_); }
-  std::string log_ =
-      (std::filesystem::temp_directory_path() / ("keel_detection_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_ = test::tempPath("keel_detection");
 };
 
 TEST_F(Detection, ASegfaultInsideOnExecuteIsASignalFaultAndTheTaskMateKeepsRunning) {
   RunResult r = run("segfault.xml", FaultKind::Signal);
   json d = detected(r, "signal");
-  EXPECT_EQ(d["component"], "worker_a");
-  EXPECT_EQ(d["detail"], "SIGSEGV in onExecute (address 0x10)");
+  EXPECT_EQ(d[fd::kComponent], "worker_a");
+  EXPECT_EQ(d[fd::kDetail], "SIGSEGV in onExecute (address 0x10)");
   EXPECT_EQ(test::statesOf(r.log, "worker_a")[2], "Error");
   keptRunning(r, "worker_b");  // same executor
   keptRunning(r, "bystander");
@@ -101,73 +105,73 @@ TEST_F(Detection, ASegfaultInsideOnExecuteIsASignalFaultAndTheTaskMateKeepsRunni
 
 TEST_F(Detection, ADivideByZeroIsASignalFault) {
   RunResult r = run("divide_by_zero.xml", FaultKind::Signal);
-  EXPECT_NE(detected(r, "signal")["detail"].get<std::string>().find("SIGFPE in onExecute"), std::string::npos);
+  EXPECT_NE(detected(r, "signal")[fd::kDetail].get<std::string>().find("SIGFPE in onExecute"), std::string::npos);
   keptRunning(r, "worker_b");
 }
 
 TEST_F(Detection, AnAbortIsASignalFault) {
   RunResult r = run("abort.xml", FaultKind::Signal);
-  EXPECT_NE(detected(r, "signal")["detail"].get<std::string>().find("SIGABRT in onExecute"), std::string::npos);
+  EXPECT_NE(detected(r, "signal")[fd::kDetail].get<std::string>().find("SIGABRT in onExecute"), std::string::npos);
   keptRunning(r, "worker_b");
 }
 
 TEST_F(Detection, AThrownExceptionIsAnExceptionFault) {
   RunResult r = run("throw.xml", FaultKind::Exception);
-  EXPECT_EQ(detected(r, "exception")["detail"], "exception in onExecute: injected exception");
+  EXPECT_EQ(detected(r, "exception")[fd::kDetail], "exception in onExecute: injected exception");
   keptRunning(r, "worker_b");
 }
 
 TEST_F(Detection, ANonOkReturnCodeIsAnErrorCodeFault) {
   RunResult r = run("error_code.xml", FaultKind::ErrorCode);
-  EXPECT_EQ(detected(r, "error_code")["detail"], "onExecute returned 500 (internal fault)");
+  EXPECT_EQ(detected(r, "error_code")[fd::kDetail], "onExecute returned 500 (internal fault)");
   keptRunning(r, "worker_b");
 }
 
 TEST_F(Detection, AHungCallbackIsFoundByTheWatchdogAfterItsTimeout) {
   RunResult r = run("hang.xml", FaultKind::Heartbeat);
   json d = detected(r, "heartbeat");
-  EXPECT_EQ(d["component"], "hanger");
-  EXPECT_EQ(d["detector"], "watchdog");
-  EXPECT_NE(d["detail"].get<std::string>().find("a callback has not returned for"), std::string::npos);
+  EXPECT_EQ(d[fd::kComponent], "hanger");
+  EXPECT_EQ(d[fd::kDetector], "watchdog");
+  EXPECT_NE(d[fd::kDetail].get<std::string>().find("a callback has not returned for"), std::string::npos);
   std::int64_t injected = 0;
-  for (const auto& i : test::eventsOf(r.log, "injected")) injected = i["t_ns"];
+  for (const auto& i : test::eventsOf(r.log, ev::kInjected)) injected = i[fd::kTime];
   // The watchdog counts from the callback's start, which precedes the injection inside it by
   // microseconds (10 µs under TSan): the callback itself has run at least the 50 ms timeout.
-  const std::string detail = d["detail"];
+  const std::string detail = d[fd::kDetail];
   const double hung_ms = std::stod(detail.substr(detail.find(" for ") + 5));
   EXPECT_GE(hung_ms, 50.0) << detail;
   // Measured from the injection: not before the timeout less that start-up, generous above (a
   // loaded machine); the timing itself is benchmarked.
-  EXPECT_GE(d["t_ns"].get<std::int64_t>() - injected, 49'000'000);
-  EXPECT_LT(d["t_ns"].get<std::int64_t>() - injected, 500'000'000);
+  EXPECT_GE(d[fd::kTime].get<std::int64_t>() - injected, 49'000'000);
+  EXPECT_LT(d[fd::kTime].get<std::int64_t>() - injected, 500'000'000);
   keptRunning(r, "bystander");
 }
 
 TEST_F(Detection, AStalledHeartbeatIsFoundByTheWatchdog) {
   RunResult r = run("stall_heartbeat.xml", FaultKind::Heartbeat);
   json d = detected(r, "heartbeat");
-  EXPECT_EQ(d["component"], "staller");
-  EXPECT_NE(d["detail"].get<std::string>().find("not executed for"), std::string::npos);
+  EXPECT_EQ(d[fd::kComponent], "staller");
+  EXPECT_NE(d[fd::kDetail].get<std::string>().find("not executed for"), std::string::npos);
   keptRunning(r, "bystander");
 }
 
 TEST_F(Detection, AnOutOfRangeValueIsCaughtOnPushOnDeliveryAndInArrays) {
   RunResult r = run("out_of_range.xml", FaultKind::Range);
   std::vector<json> ranges;
-  for (const auto& d : test::eventsOf(r.log, "detected"))
-    if (d["kind"] == "range") ranges.push_back(d);
+  for (const auto& d : test::eventsOf(r.log, ev::kDetected))
+    if (d[fd::kKind] == "range") ranges.push_back(d);
   ASSERT_EQ(ranges.size(), 3u);
-  EXPECT_EQ(ranges[0]["component"], "wave");
-  EXPECT_EQ(ranges[0]["detail"], "value 7 pushed on port 'value' outside [-2, 2]");
-  EXPECT_EQ(ranges[1]["component"], "probe");
-  EXPECT_EQ(ranges[1]["detail"], "value 1.8 received on port 'in' outside [-1.5, 1.5]");
-  EXPECT_EQ(ranges[2]["detail"], "value nan pushed on port 'values'[0] outside [-2, 2]");
-  auto injected = test::eventsOf(r.log, "injected");
+  EXPECT_EQ(ranges[0][fd::kComponent], "wave");
+  EXPECT_EQ(ranges[0][fd::kDetail], "value 7 pushed on port 'value' outside [-2, 2]");
+  EXPECT_EQ(ranges[1][fd::kComponent], "probe");
+  EXPECT_EQ(ranges[1][fd::kDetail], "value 1.8 received on port 'in' outside [-1.5, 1.5]");
+  EXPECT_EQ(ranges[2][fd::kDetail], "value nan pushed on port 'values'[0] outside [-2, 2]");
+  auto injected = test::eventsOf(r.log, ev::kInjected);
   ASSERT_EQ(injected.size(), 3u);
   for (std::size_t i = 0; i < 3; ++i) {
-    EXPECT_EQ(injected[i]["fault_id"], ranges[i]["fault_id"]);
+    EXPECT_EQ(injected[i][fd::kFaultId], ranges[i][fd::kFaultId]);
     // Caught within the push that carried it: same cycle, microseconds.
-    EXPECT_LT(ranges[i]["t_ns"].get<std::int64_t>() - injected[i]["t_ns"].get<std::int64_t>(), 5'000'000);
+    EXPECT_LT(ranges[i][fd::kTime].get<std::int64_t>() - injected[i][fd::kTime].get<std::int64_t>(), 5'000'000);
   }
   keptRunning(r, "wave");
   keptRunning(r, "probe");
@@ -176,25 +180,25 @@ TEST_F(Detection, AnOutOfRangeValueIsCaughtOnPushOnDeliveryAndInArrays) {
 TEST_F(Detection, ADeadlineOverrunIsADeadlineFault) {
   RunResult r = run("segfault.xml", FaultKind::Deadline);
   json d = detected(r, "deadline", false);
-  EXPECT_EQ(d["component"], "sleepy");
-  EXPECT_NE(d["detail"].get<std::string>().find("(deadline 5.000 ms)"), std::string::npos);
+  EXPECT_EQ(d[fd::kComponent], "sleepy");
+  EXPECT_NE(d[fd::kDetail].get<std::string>().find("(deadline 5.000 ms)"), std::string::npos);
   keptRunning(r, "sleepy");
 }
 
 TEST_F(Detection, AFaultEventSentToTheFaultManagersPortIsLogged) {
   RunResult r = run("segfault.xml", FaultKind::Model);
   json d = detected(r, "model", false);
-  EXPECT_EQ(d["component"], "wave");  // the component the event names
-  EXPECT_EQ(d["detector"], "fault_manager");
-  EXPECT_EQ(d["detail"], "tattler saw drift");
+  EXPECT_EQ(d[fd::kComponent], "wave");  // the component the event names
+  EXPECT_EQ(d[fd::kDetector], "fault_manager");
+  EXPECT_EQ(d[fd::kDetail], "tattler saw drift");
 }
 
 TEST_F(Detection, AWheelLosingPowerIsAModelFaultOfTheWheelFromTheSlidingWindowMonitor) {
   RunResult r = run("none.xml", FaultKind::Model, 700ms, "models.xml");
   json d = detected(r, "model", false);
-  EXPECT_EQ(d["component"], "left_wheel");
-  EXPECT_EQ(d["detector"], "monitor");
-  EXPECT_NE(d["detail"].get<std::string>().find("< 0.5 × reference"), std::string::npos) << d.dump();
+  EXPECT_EQ(d[fd::kComponent], "left_wheel");
+  EXPECT_EQ(d[fd::kDetector], "monitor");
+  EXPECT_NE(d[fd::kDetail].get<std::string>().find("< 0.5 × reference"), std::string::npos) << d.dump();
   keptRunning(r, "bystander");
   keptRunning(r, "left_wheel");
 }
@@ -202,11 +206,11 @@ TEST_F(Detection, AWheelLosingPowerIsAModelFaultOfTheWheelFromTheSlidingWindowMo
 TEST_F(Detection, ASonarStuckAtZeroIsMaskedByTheVoterAndReportedAsAVoteFault) {
   RunResult r = run("none.xml", FaultKind::Vote, 700ms, "models.xml");
   json d = detected(r, "vote", false);
-  EXPECT_EQ(d["component"], "sonar_b");
-  EXPECT_EQ(d["detector"], "voter");
-  EXPECT_NE(d["detail"].get<std::string>().find("in1 = "), std::string::npos) << d.dump();
+  EXPECT_EQ(d[fd::kComponent], "sonar_b");
+  EXPECT_EQ(d[fd::kDetector], "voter");
+  EXPECT_NE(d[fd::kDetail].get<std::string>().find("in1 = "), std::string::npos) << d.dump();
   int votes = 0;
-  for (const auto& e : test::eventsOf(r.log, "detected")) votes += e["kind"] == "vote";
+  for (const auto& e : test::eventsOf(r.log, ev::kDetected)) votes += e[fd::kKind] == "vote";
   EXPECT_EQ(votes, 1) << "one fault per episode";
   keptRunning(r, "voter");
 }

@@ -16,13 +16,18 @@
 #include <thread>
 
 #include "engine/engine.hpp"
+#include "fault/log_schema.hpp"
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
+#include "support/temp_log.hpp"
 
 namespace keel {
 namespace {
 
+namespace schema = fault::schema;
+namespace ev = schema::event;
+namespace fd = schema::field;
 using namespace std::chrono_literals;
 using nlohmann::json;
 
@@ -124,8 +129,7 @@ class Handling : public ::testing::Test {
   }
 
   std::unique_ptr<engine::Engine> engine_;
-  std::string log_ =
-      (std::filesystem::temp_directory_path() / ("keel_handling_" + std::to_string(::getpid()) + ".jsonl")).string();
+  std::string log_ = test::tempPath("keel_handling");
 
  private:
   using ProbeFn = int (*)(const char*, const char*, long*);
@@ -139,14 +143,14 @@ class Handling : public ::testing::Test {
 std::vector<json> ofFault(const std::vector<json>& log, std::uint64_t id) {
   std::vector<json> out;
   for (const auto& r : log)
-    if (r.contains("fault_id") && r["fault_id"] == id) out.push_back(r);
+    if (r.contains(fd::kFaultId) && r[fd::kFaultId] == id) out.push_back(r);
   return out;
 }
 
 /// The fault_id of the first `injected` record of `component`.
 std::uint64_t injectedId(const std::vector<json>& log, const std::string& component) {
-  for (const auto& r : test::eventsOf(log, "injected"))
-    if (r["component"] == component) return r["fault_id"];
+  for (const auto& r : test::eventsOf(log, ev::kInjected))
+    if (r[fd::kComponent] == component) return r[fd::kFaultId];
   ADD_FAILURE() << "no injected record of " << component;
   return 0;
 }
@@ -154,7 +158,7 @@ std::uint64_t injectedId(const std::vector<json>& log, const std::string& compon
 /// The first record of fault `id` with `event` (and `action`, for actions); null if none.
 json record(const std::vector<json>& log, std::uint64_t id, const std::string& event, const std::string& action = "") {
   for (const auto& r : ofFault(log, id))
-    if (r["event"] == event && (action.empty() || r.value("action", "") == action)) return r;
+    if (r[fd::kEvent] == event && (action.empty() || r.value(fd::kAction, "") == action)) return r;
   return nullptr;
 }
 
@@ -163,8 +167,8 @@ long positionOf(const std::vector<json>& log, std::uint64_t id, const std::strin
                 const std::string& action = "") {
   for (std::size_t i = 0; i < log.size(); ++i) {
     const json& r = log[i];
-    if (r.contains("fault_id") && r["fault_id"] == id && r["event"] == event &&
-        (action.empty() || r.value("action", "") == action))
+    if (r.contains(fd::kFaultId) && r[fd::kFaultId] == id && r[fd::kEvent] == event &&
+        (action.empty() || r.value(fd::kAction, "") == action))
       return static_cast<long>(i);
   }
   return -1;
@@ -173,8 +177,8 @@ long positionOf(const std::vector<json>& log, std::uint64_t id, const std::strin
 /// The `action` values logged for `component`, in order.
 std::vector<std::string> actionsOf(const std::vector<json>& log, const std::string& component) {
   std::vector<std::string> out;
-  for (const auto& r : test::eventsOf(log, "action"))
-    if (r.value("component", "") == component) out.push_back(r["action"]);
+  for (const auto& r : test::eventsOf(log, ev::kAction))
+    if (r.value(fd::kComponent, "") == component) out.push_back(r[fd::kAction]);
   return out;
 }
 
@@ -183,43 +187,43 @@ std::vector<std::string> actionsOf(const std::vector<json>& log, const std::stri
 void expectResetTrace(const std::vector<json>& log, const std::string& component, std::uint64_t id,
                       const std::string& kind) {
   SCOPED_TRACE(component);
-  json detected = record(log, id, "detected");
+  json detected = record(log, id, ev::kDetected);
   ASSERT_FALSE(detected.is_null()) << "no detected record for fault " << id;
-  EXPECT_EQ(detected["component"], component);
-  EXPECT_EQ(detected["kind"], kind);
-  json diagnosed = record(log, id, "diagnosed");
+  EXPECT_EQ(detected[fd::kComponent], component);
+  EXPECT_EQ(detected[fd::kKind], kind);
+  json diagnosed = record(log, id, ev::kDiagnosed);
   ASSERT_FALSE(diagnosed.is_null());
-  EXPECT_EQ(diagnosed["handling"], "reset");
-  EXPECT_EQ(diagnosed["severity"], "reset");
-  EXPECT_EQ(diagnosed["rules"], "fault_policy");
-  json reset = record(log, id, "action", "reset");
+  EXPECT_EQ(diagnosed[fd::kHandling], "reset");
+  EXPECT_EQ(diagnosed[fd::kSeverity], "reset");
+  EXPECT_EQ(diagnosed[fd::kRules], "fault_policy");
+  json reset = record(log, id, ev::kAction, "reset");
   ASSERT_FALSE(reset.is_null());
-  EXPECT_EQ(reset["outcome"], "ok");
-  EXPECT_EQ(reset["detail"], "onError → onReset → onRecover");
-  json restore = record(log, id, "action", "restore");
+  EXPECT_EQ(reset[fd::kOutcome], schema::kOk);
+  EXPECT_EQ(reset[fd::kDetail], "onError → onReset → onRecover");
+  json restore = record(log, id, ev::kAction, "restore");
   ASSERT_FALSE(restore.is_null());
-  EXPECT_EQ(restore["outcome"], "ok");
-  json recovered = record(log, id, "recovered");
+  EXPECT_EQ(restore[fd::kOutcome], schema::kOk);
+  json recovered = record(log, id, ev::kRecovered);
   ASSERT_FALSE(recovered.is_null()) << "no recovered record for fault " << id;
-  EXPECT_EQ(recovered["component"], component);
-  const long p[] = {positionOf(log, id, "injected"),          positionOf(log, id, "detected"),
-                    positionOf(log, id, "diagnosed"),         positionOf(log, id, "action", "reset"),
-                    positionOf(log, id, "action", "restore"), positionOf(log, id, "recovered")};
+  EXPECT_EQ(recovered[fd::kComponent], component);
+  const long p[] = {positionOf(log, id, ev::kInjected),          positionOf(log, id, ev::kDetected),
+                    positionOf(log, id, ev::kDiagnosed),         positionOf(log, id, ev::kAction, "reset"),
+                    positionOf(log, id, ev::kAction, "restore"), positionOf(log, id, ev::kRecovered)};
   for (std::size_t i = 1; i < std::size(p); ++i) EXPECT_LT(p[i - 1], p[i]) << "records out of order at " << i;
   // Each step at its own time: the rules are applied after the detection, the reset after both.
-  EXPECT_LE(record(log, id, "injected")["t_ns"].get<std::int64_t>(), detected["t_ns"].get<std::int64_t>());
-  EXPECT_LT(detected["t_ns"].get<std::int64_t>(), diagnosed["t_ns"].get<std::int64_t>());
-  EXPECT_LE(diagnosed["t_ns"].get<std::int64_t>(), reset["t_ns"].get<std::int64_t>());
+  EXPECT_LE(record(log, id, ev::kInjected)[fd::kTime].get<std::int64_t>(), detected[fd::kTime].get<std::int64_t>());
+  EXPECT_LT(detected[fd::kTime].get<std::int64_t>(), diagnosed[fd::kTime].get<std::int64_t>());
+  EXPECT_LE(diagnosed[fd::kTime].get<std::int64_t>(), reset[fd::kTime].get<std::int64_t>());
   // Its own state records of this fault: into Error with the detection, back to Active with the reset.
   std::vector<std::string> states;
   for (const auto& r : ofFault(log, id))
-    if (r["event"] == "state") states.push_back(std::string(r["from"]) + "→" + std::string(r["to"]));
+    if (r[fd::kEvent] == ev::kState) states.push_back(std::string(r[fd::kFrom]) + "→" + std::string(r[fd::kTo]));
   EXPECT_EQ(states, (std::vector<std::string>{"Active→Error", "Error→Active"}));
 }
 
 /// The checkpoint age the restore record gives ("... of 12.345 ms before").
 double restoredAgeMs(const json& restore) {
-  const std::string d = restore["detail"];
+  const std::string d = restore[fd::kDetail];
   const auto at = d.find("checkpoint of ");
   if (at == std::string::npos) return -1;
   return std::stod(d.substr(at + 14));
@@ -255,8 +259,8 @@ TEST_F(Handling, ResetRestoresTheCounterFromItsCheckpoint) {
   const std::uint64_t tally_id = injectedId(log, "tally"), fresh_id = injectedId(log, "fresh");
   expectResetTrace(log, "tally", tally_id, "signal");
   expectResetTrace(log, "fresh", fresh_id, "signal");
-  const double tally_age = restoredAgeMs(record(log, tally_id, "action", "restore"));
-  const double fresh_age = restoredAgeMs(record(log, fresh_id, "action", "restore"));
+  const double tally_age = restoredAgeMs(record(log, tally_id, ev::kAction, "restore"));
+  const double fresh_age = restoredAgeMs(record(log, fresh_id, ev::kAction, "restore"));
   EXPECT_GE(tally_age, 0);
   EXPECT_LT(tally_age, 200) << "periodic checkpoint (20 ms) not taken";
   EXPECT_GT(fresh_age, 299) << "the start checkpoint comes before the fault at 300 ms";
@@ -305,25 +309,27 @@ TEST_F(Handling, AnAlternativeColdOrPreloadedTakesOverWithTheCheckpointedCount) 
     EXPECT_EQ(probeOr0(tap, "max_drop"), std::max(0L, last - start_n - 1));
 
     const std::uint64_t id = injectedId(log, name);
-    json diagnosed = record(log, id, "diagnosed");
+    json diagnosed = record(log, id, ev::kDiagnosed);
     ASSERT_FALSE(diagnosed.is_null());
-    EXPECT_EQ(diagnosed["severity"], "stop");
-    EXPECT_EQ(diagnosed["handling"], "replace");
-    json replace = record(log, id, "action", "replace");
+    EXPECT_EQ(diagnosed[fd::kSeverity], "stop");
+    EXPECT_EQ(diagnosed[fd::kHandling], "replace");
+    json replace = record(log, id, ev::kAction, "replace");
     ASSERT_FALSE(replace.is_null());
-    EXPECT_EQ(replace["outcome"], "ok");
-    EXPECT_EQ(replace["replacement"], "TallyBackup");
-    EXPECT_NE(replace["detail"].get<std::string>().find("with the checkpointed state"), std::string::npos) << replace;
-    EXPECT_TRUE(record(log, id, "action", "stop").is_null()) << "replaced, not stopped";
-    json recovered = record(log, id, "recovered");
+    EXPECT_EQ(replace[fd::kOutcome], schema::kOk);
+    EXPECT_EQ(replace[fd::kReplacement], "TallyBackup");
+    EXPECT_NE(replace[fd::kDetail].get<std::string>().find("with the checkpointed state"), std::string::npos)
+        << replace;
+    EXPECT_TRUE(record(log, id, ev::kAction, "stop").is_null()) << "replaced, not stopped";
+    json recovered = record(log, id, ev::kRecovered);
     ASSERT_FALSE(recovered.is_null());
-    EXPECT_LT(positionOf(log, id, "action", "replace"), positionOf(log, id, "recovered"));
+    EXPECT_LT(positionOf(log, id, ev::kAction, "replace"), positionOf(log, id, ev::kRecovered));
     EXPECT_EQ(actionsOf(log, name), std::vector<std::string>{"replace"});
   }
-  EXPECT_NE(record(log, injectedId(log, "cold"), "action", "replace")["detail"].get<std::string>().find(
+  EXPECT_NE(record(log, injectedId(log, "cold"), ev::kAction, "replace")[fd::kDetail].get<std::string>().find(
                 "loaded at fault time"),
             std::string::npos);
-  EXPECT_NE(record(log, injectedId(log, "warm"), "action", "replace")["detail"].get<std::string>().find("(preloaded)"),
+  EXPECT_NE(record(log, injectedId(log, "warm"), ev::kAction, "replace")[fd::kDetail].get<std::string>().find(
+                "(preloaded)"),
             std::string::npos);
   EXPECT_TRUE(engine_->faultManager().stoppedComponents().empty());
 }
@@ -372,19 +378,19 @@ class HandlingFaultStop : public Handling {
     }
     std::vector<json> log = finish();
     std::set<std::string> logged_apps;
-    for (const auto& r : test::eventsOf(log, "state")) {
-      if (!r.contains("application")) continue;
-      EXPECT_EQ(r["from"], "running");
-      EXPECT_EQ(r["to"], "stopped");
-      EXPECT_TRUE(logged_apps.insert(r["application"]).second) << "stopped twice: " << r;
+    for (const auto& r : test::eventsOf(log, ev::kState)) {
+      if (!r.contains(fd::kApplication)) continue;
+      EXPECT_EQ(r[fd::kFrom], "running");
+      EXPECT_EQ(r[fd::kTo], "stopped");
+      EXPECT_TRUE(logged_apps.insert(r[fd::kApplication]).second) << "stopped twice: " << r;
     }
     EXPECT_EQ(logged_apps, applications);
     std::set<std::string> logged_components, logged_stop_apps;
-    for (const auto& r : test::eventsOf(log, "action")) {
-      if (r["action"] != "stop") continue;
-      EXPECT_EQ(r["outcome"], "ok") << r;
-      for (const auto& c : r["components"]) EXPECT_TRUE(logged_components.insert(c).second) << "listed twice: " << c;
-      for (const auto& a : r["applications"]) logged_stop_apps.insert(a);
+    for (const auto& r : test::eventsOf(log, ev::kAction)) {
+      if (r[fd::kAction] != "stop") continue;
+      EXPECT_EQ(r[fd::kOutcome], schema::kOk) << r;
+      for (const auto& c : r[fd::kComponents]) EXPECT_TRUE(logged_components.insert(c).second) << "listed twice: " << c;
+      for (const auto& a : r[fd::kApplications]) logged_stop_apps.insert(a);
     }
     EXPECT_EQ(logged_components, components);
     EXPECT_EQ(logged_stop_apps, applications);
@@ -394,10 +400,10 @@ class HandlingFaultStop : public Handling {
 
 TEST_F(HandlingFaultStop, AFaultOfBsPairStopsItsExecutorAndApplicationsBAndCWhileAAndDRun) {
   auto log = run("fig7/pair_b2.xml", {"B.b1", "B.b2", "B.a1", "C.a1", "C.c1"}, {"B", "C"});
-  json stop = record(log, injectedId(log, "B.b2"), "action", "stop");
+  json stop = record(log, injectedId(log, "B.b2"), ev::kAction, "stop");
   ASSERT_FALSE(stop.is_null());
-  EXPECT_EQ(stop["scope"], "executor");
-  EXPECT_EQ(record(log, injectedId(log, "B.b2"), "diagnosed")["severity"], "stop");
+  EXPECT_EQ(stop[fd::kScope], "executor");
+  EXPECT_EQ(record(log, injectedId(log, "B.b2"), ev::kDiagnosed)[fd::kSeverity], "stop");
 }
 
 TEST_F(HandlingFaultStop, ThePapersRedComponentsStopBAndCButAKeepsItsLastSensorAndDRuns) {
@@ -405,28 +411,28 @@ TEST_F(HandlingFaultStop, ThePapersRedComponentsStopBAndCButAKeepsItsLastSensorA
   auto log = run("fig7/paper.xml", {"A.b1", "A.b2", "B.b1", "B.b2", "B.a1", "C.a1", "C.c1"}, {"B", "C"});
   for (const std::string c : {"A.b1", "A.b2", "B.b1"}) {
     const std::uint64_t id = injectedId(log, c);
-    json diagnosed = record(log, id, "diagnosed");
+    json diagnosed = record(log, id, ev::kDiagnosed);
     ASSERT_FALSE(diagnosed.is_null()) << c;
-    EXPECT_EQ(diagnosed["rules"], "none (contained, not recovered)");
-    json stop = record(log, id, "action", "stop");
+    EXPECT_EQ(diagnosed[fd::kRules], "none (contained, not recovered)");
+    json stop = record(log, id, ev::kAction, "stop");
     ASSERT_FALSE(stop.is_null()) << c;
-    EXPECT_EQ(stop["scope"], "component");
+    EXPECT_EQ(stop[fd::kScope], "component");
   }
   // A's first faults stop nothing but the component; B's b1 takes the pair and C along.
-  json first = record(log, injectedId(log, "A.b1"), "action", "stop");
-  EXPECT_EQ(first["components"], json::array({"A.b1"}));
-  EXPECT_EQ(first["applications"], json::array());
-  json pair = record(log, injectedId(log, "B.b1"), "action", "stop");
-  EXPECT_EQ(std::set<std::string>(pair["applications"].begin(), pair["applications"].end()),
+  json first = record(log, injectedId(log, "A.b1"), ev::kAction, "stop");
+  EXPECT_EQ(first[fd::kComponents], json::array({"A.b1"}));
+  EXPECT_EQ(first[fd::kApplications], json::array());
+  json pair = record(log, injectedId(log, "B.b1"), ev::kAction, "stop");
+  EXPECT_EQ(std::set<std::string>(pair[fd::kApplications].begin(), pair[fd::kApplications].end()),
             (std::set<std::string>{"B", "C"}));
 }
 
 TEST_F(HandlingFaultStop, AFaultOfAsB3StopsTheSensorsTaskSoAAndDStopWhileBAndCRun) {
   auto log = run("fig7/sensors_b3.xml", {"A.b1", "A.b2", "A.b3", "A.a1", "D.a1", "D.c1"}, {"A", "D"});
-  json stop = record(log, injectedId(log, "A.b3"), "action", "stop");
+  json stop = record(log, injectedId(log, "A.b3"), ev::kAction, "stop");
   ASSERT_FALSE(stop.is_null());
-  EXPECT_EQ(stop["scope"], "executor");
-  EXPECT_EQ(record(log, injectedId(log, "A.b3"), "detected")["kind"], "error_code");
+  EXPECT_EQ(stop[fd::kScope], "executor");
+  EXPECT_EQ(record(log, injectedId(log, "A.b3"), ev::kDetected)[fd::kKind], "error_code");
 }
 
 // ---- 4. emergency stop ---------------------------------------------------------------------
@@ -461,30 +467,30 @@ TEST_F(Handling, AnEmergencyFaultStopsTheActuatorInNeutralUntilTheEmergencyIsCle
   const std::vector<json> log = finish();
 
   const std::uint64_t id = injectedId(log, "trigger");
-  EXPECT_EQ(record(log, id, "diagnosed")["severity"], "emergency");
-  EXPECT_EQ(record(log, id, "diagnosed")["handling"], "emergency");
-  std::vector<json> em = test::eventsOf(log, "emergency");
+  EXPECT_EQ(record(log, id, ev::kDiagnosed)[fd::kSeverity], "emergency");
+  EXPECT_EQ(record(log, id, ev::kDiagnosed)[fd::kHandling], "emergency");
+  std::vector<json> em = test::eventsOf(log, ev::kEmergency);
   ASSERT_EQ(em.size(), 2u);
-  EXPECT_EQ(em[0]["phase"], "latched");
-  EXPECT_NE(em[0]["by"].get<std::string>().find("trigger"), std::string::npos) << em[0];
-  EXPECT_EQ(em[1]["phase"], "cleared");
-  EXPECT_EQ(em[1]["by"], "test");
+  EXPECT_EQ(em[0][fd::kPhase], "latched");
+  EXPECT_NE(em[0][fd::kBy].get<std::string>().find("trigger"), std::string::npos) << em[0];
+  EXPECT_EQ(em[1][fd::kPhase], "cleared");
+  EXPECT_EQ(em[1][fd::kBy], "test");
   json estop;
-  for (const auto& r : test::eventsOf(log, "action"))
-    if (r["action"] == "emergency_stop") estop = r;
+  for (const auto& r : test::eventsOf(log, ev::kAction))
+    if (r[fd::kAction] == "emergency_stop") estop = r;
   ASSERT_FALSE(estop.is_null());
-  EXPECT_EQ(estop["outcome"], "ok");
-  std::set<std::string> ran(estop["components"].begin(), estop["components"].end());
+  EXPECT_EQ(estop[fd::kOutcome], schema::kOk);
+  std::set<std::string> ran(estop[fd::kComponents].begin(), estop[fd::kComponents].end());
   EXPECT_TRUE(ran.count("actuator") && ran.count("motor")) << estop;
   // Then as stop: the trigger (scope component) is stopped, nothing else.
   EXPECT_EQ(stopped, std::set<std::string>{"trigger"});
-  EXPECT_LT(positionOf(log, id, "detected"), positionOf(log, id, "action", "stop"));
+  EXPECT_LT(positionOf(log, id, ev::kDetected), positionOf(log, id, ev::kAction, "stop"));
   long latched_at = -1, cleared_at = -1;
   for (std::size_t i = 0; i < log.size(); ++i) {
-    if (log[i]["event"] == "emergency" && log[i]["phase"] == "latched") latched_at = static_cast<long>(i);
-    if (log[i]["event"] == "emergency" && log[i]["phase"] == "cleared") cleared_at = static_cast<long>(i);
+    if (log[i][fd::kEvent] == ev::kEmergency && log[i][fd::kPhase] == "latched") latched_at = static_cast<long>(i);
+    if (log[i][fd::kEvent] == ev::kEmergency && log[i][fd::kPhase] == "cleared") cleared_at = static_cast<long>(i);
   }
-  EXPECT_LT(positionOf(log, id, "detected"), latched_at);
+  EXPECT_LT(positionOf(log, id, ev::kDetected), latched_at);
   EXPECT_LT(latched_at, cleared_at);
 }
 
@@ -502,11 +508,11 @@ TEST_F(Handling, AnOperatorsEmergencyStopLatchesWithoutAFault) {
   EXPECT_TRUE(engine.clearEmergency("operator"));
   EXPECT_TRUE(waitFor([&] { return probeOr0("motor", "last_milli") >= 1000; }));
   const std::vector<json> log = finish();
-  EXPECT_TRUE(test::eventsOf(log, "detected").empty());
-  auto em = test::eventsOf(log, "emergency");
+  EXPECT_TRUE(test::eventsOf(log, ev::kDetected).empty());
+  auto em = test::eventsOf(log, ev::kEmergency);
   ASSERT_EQ(em.size(), 2u);
-  EXPECT_EQ(em[0]["by"], "operator");
-  EXPECT_EQ(em[1]["phase"], "cleared");
+  EXPECT_EQ(em[0][fd::kBy], "operator");
+  EXPECT_EQ(em[1][fd::kPhase], "cleared");
 }
 
 // ---- 5. escalation -------------------------------------------------------------------------
@@ -550,14 +556,14 @@ TEST_F(Handling, PastTheRestartIntensityAResetEscalatesToTheAlternativeThenToSto
   EXPECT_EQ(actionsOf(log, "flaky"), (std::vector<std::string>{"reset", "restore", "reset", "restore", "escalate",
                                                                "replace", "escalate", "stop"}));
   std::vector<std::string> escalations;
-  for (const auto& r : test::eventsOf(log, "action"))
-    if (r["action"] == "escalate" && r["component"] == "flaky") escalations.push_back(r["detail"]);
+  for (const auto& r : test::eventsOf(log, ev::kAction))
+    if (r[fd::kAction] == "escalate" && r[fd::kComponent] == "flaky") escalations.push_back(r[fd::kDetail]);
   ASSERT_EQ(escalations.size(), 2u);
   EXPECT_EQ(escalations[0], "reset → replace: more than 2 recoveries within 10000 ms");
   EXPECT_EQ(escalations[1].rfind("reset → stop", 0), 0u) << escalations[1];
-  for (const auto& r : test::eventsOf(log, "action")) {
-    if (r["action"] == "replace") {
-      EXPECT_EQ(r["replacement"], "TallyBackup");
+  for (const auto& r : test::eventsOf(log, ev::kAction)) {
+    if (r[fd::kAction] == "replace") {
+      EXPECT_EQ(r[fd::kReplacement], "TallyBackup");
     }
   }
   EXPECT_EQ(probeOr0("flaky", "resets"), 2) << "the primary was reset twice";
@@ -567,9 +573,9 @@ TEST_F(Handling, PastTheRestartIntensityAResetEscalatesToTheAlternativeThenToSto
   // Error and is not executed.
   int detected = 0, injected = 0;
   for (const auto& r : log) {
-    if (r.value("component", "") != "no_alt") continue;
-    detected += r["event"] == "detected";
-    injected += r["event"] == "injected" && r.value("detected", true);
+    if (r.value(fd::kComponent, "") != "no_alt") continue;
+    detected += r[fd::kEvent] == ev::kDetected;
+    injected += r[fd::kEvent] == ev::kInjected && r.value(fd::kDetected, true);
   }
   EXPECT_EQ(detected, 3);
   EXPECT_EQ(injected, 3);
@@ -613,9 +619,10 @@ TEST_F(Handling, CheckpointsTakenEveryCycleOnSeveralExecutorsAreNeverTornAndLose
   ASSERT_EQ(he.size(), 1u);
   EXPECT_EQ(he[0].actions, "replace");
   int resets = 0;
-  for (const auto& r : test::eventsOf(log, "action")) resets += r["action"] == "reset" && r["outcome"] == "ok";
+  for (const auto& r : test::eventsOf(log, ev::kAction))
+    resets += r[fd::kAction] == "reset" && r[fd::kOutcome] == schema::kOk;
   EXPECT_EQ(resets, 24);
-  EXPECT_EQ(test::eventsOf(log, "recovered").size(), 25u);
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 25u);
 }
 
 // ---- 7. hung callback ----------------------------------------------------------------------
@@ -630,10 +637,10 @@ TEST_F(Handling, AHungCallbackIsInterruptedAndTheComponentIsResetAndExecutesAgai
   const std::vector<json> log = finish();
 
   const std::uint64_t id = injectedId(log, "hanger");
-  json detected = record(log, id, "detected");
+  json detected = record(log, id, ev::kDetected);
   ASSERT_FALSE(detected.is_null());
-  EXPECT_EQ(detected["detector"], "watchdog");
-  EXPECT_NE(detected["detail"].get<std::string>().find("a callback has not returned"), std::string::npos);
+  EXPECT_EQ(detected[fd::kDetector], "watchdog");
+  EXPECT_NE(detected[fd::kDetail].get<std::string>().find("a callback has not returned"), std::string::npos);
   expectResetTrace(log, "hanger", id, "heartbeat");
   EXPECT_EQ(probeOr0("hanger", "resets"), 1);
   EXPECT_GT(probeOr0("hanger", "restored"), 0);

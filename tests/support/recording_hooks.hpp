@@ -1,4 +1,4 @@
-// Test support: RuntimeHooks that record every state change and fault, for assertions, and
+// Test support: runtime hooks and a fault sink that record every state change and fault, for assertions, and
 // helpers to name and wire components without profiles.
 // Thread-safety: records under a mutex; may be called from executor threads.
 #pragma once
@@ -24,7 +24,7 @@ struct StateRecord {
 
 /// Records, and contains a fault as the fault manager does for a component without rules: a
 /// component whose callback could not finish (signal, exception, error code, hang) goes to Error.
-class RecordingHooks : public runtime::RuntimeHooks {
+class RecordingHooks : public runtime::RunHooks, public runtime::FaultSink {
  public:
   void stateChanged(Component& c, State from, State to) override {
     std::lock_guard lock(mutex_);
@@ -58,11 +58,12 @@ class RecordingHooks : public runtime::RuntimeHooks {
   std::vector<FaultEvent> faults_;
 };
 
-/// Names `c` and attaches `hooks`, as the engine does.
-inline void manage(Component& c, const std::string& name, runtime::RuntimeHooks& hooks) {
+/// Names `c` and attaches `hooks` as its run hooks and fault sink, as the engine does.
+inline void manage(Component& c, const std::string& name, RecordingHooks& hooks) {
   auto& core = runtime::coreOf(c);
   core.instance_name = name;
   core.hooks = &hooks;
+  core.fault_sink = &hooks;
 }
 
 /// Connects an output port to an input port in-process; the connection is kept in `keep`.
@@ -71,6 +72,11 @@ inline void wire(detail::OutputPortBase& out, detail::InputPortBase& in,
   auto c = in.makeConnection();
   if (!out.attach(*c)) throw std::runtime_error("wire: type mismatch");
   keep.push_back(std::move(c));
+}
+
+/// Applies a queue policy and size as the runtime does from the profile.
+inline void configureQueue(detail::InputPortBase& in, detail::QueuePolicy policy, std::size_t size) {
+  in.configureQueue(policy, size);
 }
 
 /// Polls `pred` until true or `timeout` (generous: for behaviour, not for timing).

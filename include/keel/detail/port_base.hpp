@@ -4,7 +4,6 @@
 // Thread-safety: identity fields are immutable after construction.
 #pragma once
 
-#include <atomic>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -29,6 +28,8 @@ constexpr std::string_view toString(PortKind k) {
 
 class PortBase;
 class ConnectionBase;
+/// The runtime's access to what ports keep from their authors (src/runtime/port_access.hpp).
+struct PortAccess;
 
 /// Registers `port` with `owner` (defined in libkeel).
 void registerPort(Component* owner, PortBase* port);
@@ -54,14 +55,13 @@ class PortBase {
 
   /// Whether values can be range-checked (numbers and arrays of numbers).
   virtual bool numeric() const { return false; }
-  /// Sets the port's validity rule (the runtime, before start); null removes it.
-  void setValidity(const ValidityRule* rule) { validity_ = rule; }
-  const ValidityRule* validity() const { return validity_; }
 
  protected:
+  /// The port's validity rule (set by the runtime before start); null: none.
   const ValidityRule* validity_ = nullptr;
 
  private:
+  friend struct PortAccess;
   Component* owner_;
   std::string name_;
   PortKind kind_;
@@ -106,16 +106,14 @@ class OutputPortBase : public PortBase {
   /// Adds a connection; false if its type differs from this port's.
   virtual bool attach(ConnectionBase& connection) = 0;
 
+ private:
+  friend struct PortAccess;
   /// Fault injection (`out_of_range`): the next value pushed is replaced by `value` (every
-  /// element of an array). Only numeric data ports honour it.
-  void corruptNext(double value) {
-    corrupt_value_ = value;
-    corrupt_next_.store(true, std::memory_order_release);  // publishes corrupt_value_
+  /// element of an array). False if this port cannot carry it (only numeric data ports can).
+  virtual bool corruptNext(double value) {
+    (void)value;
+    return false;
   }
-
- protected:
-  std::atomic<bool> corrupt_next_{false};
-  double corrupt_value_ = 0;
 };
 
 }  // namespace keel::detail

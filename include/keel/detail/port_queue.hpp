@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <mutex>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "keel/detail/port_base.hpp"
@@ -56,13 +57,9 @@ class PortQueue {
     if (size_ == 0) return std::nullopt;
     std::optional<T> out;
     if (policy_ == QueuePolicy::Lifo) {
-      auto& slot = ring_[(head_ + size_ - 1) % ring_.size()];
-      out = std::move(slot);
-      slot.reset();
+      out = std::exchange(ring_[(head_ + size_ - 1) % ring_.size()], std::nullopt);
     } else {
-      auto& slot = ring_[head_];
-      out = std::move(slot);
-      slot.reset();
+      out = std::exchange(ring_[head_], std::nullopt);
       head_ = (head_ + 1) % ring_.size();
     }
     --size_;

@@ -1,8 +1,10 @@
 // Components for the tests of the runtime's hooks for a robot run: a Finisher that ends the run
-// (Component::endRun) after a number of executions or from its onStop, and a Driver that gets
-// the scenario's hardware faults (Component::onHardwareFault). Built into the test component
+// (RunControl::endRun) after a number of executions or from its onStop, and a Driver that gets
+// the scenario's hardware faults (keel::HardwareDriver::onHardwareFault). Built into the test component
 // library with the others.
 #include <keel/component.hpp>
+#include <keel/hardware_driver.hpp>
+#include <keel/run_control.hpp>
 
 #include <atomic>
 #include <chrono>
@@ -17,7 +19,7 @@ namespace itest {
 /// Ends the run after `end_after` executions (0: never), or from onStop with `end_on_stop`.
 /// The end's record is `event` with the members `fields` and "executions":N (when `fields` is
 /// not empty). A second call right after the first shows that only the first counts.
-class Finisher : public keel::Component {
+class Finisher : public keel::Component, public keel::RunControl {
  public:
   keel::ReturnCode onInitialize() override {
     end_after_ = property<int>("end_after", 0);
@@ -49,7 +51,7 @@ class Finisher : public keel::Component {
 /// A simulated hardware driver: prints every hardware fault it is given, with the ms since its
 /// onStart ("[driver] hardware fault 'motor_power_off left' at 101 ms"). It cannot apply
 /// `noise` (BadInput), and its board is unreachable for args "explode" (throws).
-class Driver : public keel::Component {
+class Driver : public keel::Component, public keel::HardwareDriver {
  public:
   keel::ReturnCode onStart() override {
     start_ns_.store(nowNs(), std::memory_order_release);

@@ -1,6 +1,7 @@
 // RunEndLatch and the record of a run's end (runtime/run_end): the first request wins and
 // wakes a waiter; the record holds keel's keys and the component's fields, or why not.
 #include "engine/run_end.hpp"
+#include "fault/log_schema.hpp"
 
 #include <gtest/gtest.h>
 
@@ -57,10 +58,9 @@ TEST(RunEndRecord, EmptyFieldsGiveJustKeelsKeys) {
 TEST(RunEndRecord, MalformedFieldsGiveAFieldsErrorNamingThem) {
   for (const char* bad : {R"("a":1,)", R"("a":1}, {"b":2)", R"({"a":1})", "a:1", R"("a":1 "b":2)"}) {
     const auto r = runEndRecord({"referee", "s", "mission", bad}, 7);
-    ASSERT_TRUE(r.contains("fields_error")) << bad;
-    EXPECT_EQ(r["fields_error"].get<std::string>().rfind(std::string("fields_json '") + bad +
-                                                             "' is not the members of a JSON object: ",
-                                                         0),
+    ASSERT_TRUE(r.contains(fault::schema::field::kFieldsError)) << bad;
+    EXPECT_EQ(r[fault::schema::field::kFieldsError].get<std::string>().rfind(
+                  std::string("fields_json '") + bad + "' is not the members of a JSON object: ", 0),
               0u)
         << r.dump();
     EXPECT_EQ(r.size(), 4u) << r.dump();  // t_ns, event, component, fields_error

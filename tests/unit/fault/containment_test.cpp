@@ -4,11 +4,9 @@
 #include "fault/containment.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <atomic>
 #include <chrono>
-#include <filesystem>
 #include <string>
 #include <thread>
 #include <vector>
@@ -19,7 +17,9 @@
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/invoke.hpp"
+#include "support/fake_host.hpp"
 #include "support/log_reader.hpp"
+#include "support/temp_log.hpp"
 
 namespace keel::fault {
 namespace {
@@ -56,36 +56,16 @@ class Actuator : public Component {
   bool under_lock = false;
 };
 
-class Host : public HandlingHost {
- public:
-  std::vector<Component*> all;
-  Component* find(std::string_view name) const override {
-    for (Component* c : all)
-      if (c->instanceName() == name) return c;
-    return nullptr;
-  }
-  std::vector<Component*> components() const override { return all; }
-  Result<Component*> createAlternative(ComponentHandling&, Component&) override { return fail("no alternative"); }
-  void switchTo(Component&, Component&) override {}
-  Result<std::string> abandonExecutor(Component&, Component*) override { return fail("not here"); }
-};
-
 /// Containment as the fault manager has it: its records in a fault log on a temporary file,
 /// the host's components, no dependency graph.
 struct Rig {
-  Rig() {
-    EXPECT_TRUE(log.open(path));
-    containment.attach(&host, nullptr);
-  }
-  ~Rig() { std::filesystem::remove(path); }
-  std::vector<json> read() const { return test::readLog(path); }
+  Rig() { containment.attach(&host, nullptr); }
+  std::vector<json> read() const { return file.read(); }
 
-  std::string path =
-      (std::filesystem::temp_directory_path() / ("keel_containment_" + std::to_string(::getpid()) + ".jsonl")).string();
-  FaultLog log;
-  FaultRecords records{log};
-  Host host;
-  Containment containment{records, [this](std::string_view n) { return host.find(n); }};
+  test::TempLog file{"keel_containment"};
+  FaultRecords records{file.log};
+  test::FakeHost host;
+  Containment containment{records, host.lookup()};
 };
 
 TEST(Containment, AnEmergencyStopRunsEveryComponentsOnEmergencyStopAndLatches) {

@@ -4,9 +4,7 @@
 #include "fault/fault_manager.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
 #include <functional>
 #include <mutex>
 #include <string>
@@ -16,7 +14,9 @@
 #include "fault/log_schema.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
+#include "support/fake_host.hpp"
 #include "support/log_reader.hpp"
+#include "support/temp_log.hpp"
 
 namespace keel::fault {
 namespace {
@@ -72,26 +72,22 @@ class Joint : public Component {
   std::vector<std::string> trace_;
 };
 
-class Host : public HandlingHost {
- public:
-  std::vector<Component*> all;
-  Component* find(std::string_view name) const override {
-    for (Component* c : all)
-      if (c->instanceName() == name) return c;
-    return nullptr;
-  }
-  std::vector<Component*> components() const override { return all; }
-  Result<Component*> createAlternative(ComponentHandling&, Component&) override { return fail("none"); }
-  void switchTo(Component&, Component&) override {}
-  Result<std::string> abandonExecutor(Component&, Component*) override { return fail("none"); }
-};
-
-/// A record in short: "detected", "state Error", "action reset", ...
+/// A record in short: its event ("detected"), with the state it went to ("state Error") or
+/// the action it took ("action reset").
 std::string shortly(const json& r) {
   const std::string event = r.value(fd::kEvent, "");
   if (event == ev::kState) return event + " " + r.value(fd::kTo, "");
   if (event == ev::kAction) return event + " " + r.value(fd::kAction, "");
   return event;
+}
+
+/// A `state` record to `to`, in short.
+std::string state(const std::string& to) { return std::string(ev::kState) + " " + to; }
+/// An `action` record of `what`, in short.
+std::string action(const std::string& what) { return std::string(ev::kAction) + " " + what; }
+/// The records of a fault reset and recovered, in short.
+std::vector<std::string> resetAndRecovered() {
+  return {ev::kDetected, state("Error"), ev::kDiagnosed, action("reset"), state("Active"), ev::kRecovered};
 }
 
 /// The records of fault `id`, in short, in the order they were written.
@@ -121,50 +117,31 @@ std::string detailOf(const std::vector<json>& log, std::uint64_t id, std::string
 /// `arm`, Active, whose role it handles (ComponentHandling set as the engine sets it).
 struct Rig {
   Rig() {
-    EXPECT_TRUE(log.open(path));
     runtime::setStateQuiet(arm, State::Active);
     host.all = {&arm};
     coreOf(arm).fault.handling = &handling;
   }
-  ~Rig() { std::filesystem::remove(path); }
 
   /// The role's policy: every kind of fault has `severity`; no alternative.
   void policy(Severity severity) {
     handling.rules.has_policy = true;
     handling.rules.severity.fill(severity);
   }
-  std::vector<json> read() const { return test::readLog(path); }
+  std::vector<json> read() const { return file.read(); }
 
-  std::string path = (std::filesystem::temp_directory_path() /
-                      ("keel_fault_manager_" + std::to_string(::getpid()) + ".jsonl"))
-                         .string();
-  FaultLog log;
+  test::TempLog file{"keel_fault_manager"};
   Joint arm{"arm"};
   ComponentHandling handling{Rules{}, "arm"};
-  Host host;
-  FaultManager manager{log, [this](std::string_view n) { return host.find(n); }};
+  test::FakeHost host;
+  FaultManager manager{file.log, host.lookup()};
 };
 
 FaultEvent segfault(const char* detail = "SIGSEGV in onExecute") { return FaultEvent(FaultKind::Signal, "", detail); }
 
-/// The runtime's hooks as the engine implements them, forwarding to the manager.
-class Hooks : public runtime::RuntimeHooks {
- public:
-  explicit Hooks(FaultManager& m) : manager_(m) {}
-  void stateChanged(Component&, State, State) override {}
-  void faultDetected(Component& c, const FaultEvent& f) override { manager_.onFault(c, f); }
-  void runPending(Component& c) override { manager_.runPending(c); }
-  void recovered(Component& c, std::int64_t t) override { manager_.recovered(c, t); }
-
- private:
-  FaultManager& manager_;
-};
-
 TEST(FaultManager, APassiveComponentFaultingInsideItsOwnCallbackIsResetAfterTheCallbackReturns) {
   Rig rig;
   rig.policy(Severity::Reset);
-  Hooks hooks(rig.manager);
-  coreOf(rig.arm).hooks = &hooks;
+  coreOf(rig.arm).fault_sink = &rig.manager;  // the runtime's fault sink, as the engine wires it
   rig.arm.during_execute = [&] { runtime::reportFault(rig.arm, FaultEvent(FaultKind::User, "", "noticed")); };
 
   (void)runtime::invoke(rig.arm, runtime::Callback::Execute);
@@ -188,8 +165,7 @@ TEST(FaultManager, WithoutAThreadAResetFaultIsLoggedFromDetectionToRecoveryUnder
   const auto detected = test::eventsOf(log, ev::kDetected);
   ASSERT_EQ(detected.size(), 1u);
   const auto id = detected[0][fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action reset",
-                                                          "state Active", "recovered"}));
+  EXPECT_EQ(recordsOf(log, id), resetAndRecovered());
   EXPECT_EQ(log.size(), 6u) << "every record of it carries its fault_id";
   EXPECT_EQ(rig.manager.recoveredCount(), 1u);
   ASSERT_TRUE(rig.manager.handling(id));
@@ -213,8 +189,7 @@ TEST(FaultManager, WithItsThreadAPassiveComponentIsResetThereAndLoggedTheSame) {
   const auto log = rig.read();
   ASSERT_FALSE(log.empty());
   const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action reset",
-                                                          "state Active", "recovered"}));
+  EXPECT_EQ(recordsOf(log, id), resetAndRecovered());
 }
 
 TEST(FaultManager, ASecondFaultWhileTheFirstIsBeingHandledIsOnlyLogged) {
@@ -235,10 +210,9 @@ TEST(FaultManager, ASecondFaultWhileTheFirstIsBeingHandledIsOnlyLogged) {
   ASSERT_NE(first, 0u);
   ASSERT_NE(second, 0u);
   EXPECT_NE(first, second);
-  EXPECT_EQ(recordsOf(log, second), (std::vector<std::string>{"detected", "diagnosed", "action ignore"}));
+  EXPECT_EQ(recordsOf(log, second), (std::vector<std::string>{ev::kDetected, ev::kDiagnosed, action("ignore")}));
   EXPECT_EQ(detailOf(log, second, "ignore"), "a fault of it is being handled");
-  EXPECT_EQ(recordsOf(log, first), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action reset",
-                                                             "state Active", "recovered"}));
+  EXPECT_EQ(recordsOf(log, first), resetAndRecovered());
   EXPECT_EQ(rig.manager.detectionCount(), 2u);
 }
 
@@ -270,7 +244,8 @@ TEST(FaultManager, AResetBeyondTheRestartIntensityEscalatesToAStop) {
   EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"});
   const auto log = rig.read();
   EXPECT_EQ(recordsOf(log, idOf(log, "second")),
-            (std::vector<std::string>{"detected", "state Error", "diagnosed", "action escalate", "action stop"}));
+            (std::vector<std::string>{ev::kDetected, state("Error"), ev::kDiagnosed, action("escalate"),
+                                      action("stop")}));
 }
 
 TEST(FaultManager, AnIgnoredFaultIsOnlyLoggedAndLeavesTheComponentActive) {
@@ -284,7 +259,7 @@ TEST(FaultManager, AnIgnoredFaultIsOnlyLoggedAndLeavesTheComponentActive) {
   const auto log = rig.read();
   ASSERT_FALSE(log.empty());
   const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "diagnosed", "action ignore"}));
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{ev::kDetected, ev::kDiagnosed, action("ignore")}));
   EXPECT_EQ(detailOf(log, id, "ignore"), "severity ignore: logged only");
 }
 
@@ -299,7 +274,8 @@ TEST(FaultManager, AComponentWithoutHandlingIsContainedInError) {
   const auto log = rig.read();
   ASSERT_FALSE(log.empty());
   const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{"detected", "state Error", "diagnosed", "action stop"}));
+  EXPECT_EQ(recordsOf(log, id),
+            (std::vector<std::string>{ev::kDetected, state("Error"), ev::kDiagnosed, action("stop")}));
   EXPECT_EQ(detailOf(log, id, "stop"), "contained: the component stays in Error");
 }
 
@@ -315,8 +291,9 @@ TEST(FaultManager, AStopSeverityFaultStopsTheComponentAndItsLaterFaultsAreOnlyLo
   EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"});
   const auto log = rig.read();
   EXPECT_EQ(recordsOf(log, idOf(log, "first")),
-            (std::vector<std::string>{"detected", "state Error", "diagnosed", "action stop"}));
-  EXPECT_EQ(recordsOf(log, idOf(log, "later")), (std::vector<std::string>{"detected", "diagnosed", "action ignore"}));
+            (std::vector<std::string>{ev::kDetected, state("Error"), ev::kDiagnosed, action("stop")}));
+  EXPECT_EQ(recordsOf(log, idOf(log, "later")),
+            (std::vector<std::string>{ev::kDetected, ev::kDiagnosed, action("ignore")}));
   EXPECT_EQ(detailOf(log, idOf(log, "later"), "ignore"), "the component is stopped");
 }
 
@@ -335,8 +312,8 @@ TEST(FaultManager, AnEmergencyFaultRunsEveryOnEmergencyStopThenStopsTheFaultyCom
   EXPECT_EQ(rig.manager.stoppedComponents(), std::set<std::string>{"arm"}) << "an emergency goes on as a stop";
   const auto log = rig.read();
   const auto id = log.front()[fd::kFaultId].get<std::uint64_t>();
-  EXPECT_EQ(recordsOf(log, id),
-            (std::vector<std::string>{"detected", "state Error", "diagnosed", "action emergency_stop", "action stop"}))
+  EXPECT_EQ(recordsOf(log, id), (std::vector<std::string>{ev::kDetected, state("Error"), ev::kDiagnosed,
+                                                          action("emergency_stop"), action("stop")}))
       << "the emergency stop is one of this fault's actions";
   const auto emergency = test::eventsOf(log, ev::kEmergency);
   ASSERT_EQ(emergency.size(), 1u);

@@ -4,9 +4,7 @@
 #include "fault/fault_records.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -14,6 +12,7 @@
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
+#include "support/temp_log.hpp"
 
 namespace keel::fault {
 namespace {
@@ -22,18 +21,6 @@ namespace ev = schema::event;
 namespace fd = schema::field;
 using nlohmann::json;
 using profile::Severity;
-
-/// A fault log on a temporary file, removed at the end of the test.
-struct LogFile {
-  LogFile() { EXPECT_TRUE(log.open(path)); }
-  ~LogFile() { std::filesystem::remove(path); }
-  std::vector<json> read() const { return test::readLog(path); }
-
-  std::string path = (std::filesystem::temp_directory_path() /
-                      ("keel_fault_records_" + std::to_string(::getpid()) + ".jsonl"))
-                         .string();
-  FaultLog log;
-};
 
 /// A fault of `who` detected at `t_ns` by the watchdog, diagnosed 1 ms later as `reset`.
 FaultReport reportOf(std::uint64_t id, const char* who, FaultKind kind, const char* detail, std::int64_t t_ns) {
@@ -57,7 +44,7 @@ std::vector<std::string> eventNames(const std::vector<json>& log) {
 }
 
 TEST(FaultRecords, ADetectionIsLoggedAsDetectedStateErrorAndDiagnosedSharingItsFaultId) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(7, "arm", FaultKind::Signal, "SIGSEGV in onExecute", t);
@@ -87,7 +74,7 @@ TEST(FaultRecords, ADetectionIsLoggedAsDetectedStateErrorAndDiagnosedSharingItsF
 }
 
 TEST(FaultRecords, AFaultThatDidNotMoveTheComponentToErrorHasNoStateRecord) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   FaultReport r = reportOf(3, "sonar", FaultKind::Range, "NaN", runtime::steadyNs());
   r.has_policy = false;
@@ -100,7 +87,7 @@ TEST(FaultRecords, AFaultThatDidNotMoveTheComponentToErrorHasNoStateRecord) {
 }
 
 TEST(FaultRecords, AnInjectedFaultIsLoggedAsInjectedBeforeItsDetectionWithTheSameId) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(12, "arm", FaultKind::Signal, "SIGSEGV", t);
@@ -119,7 +106,7 @@ TEST(FaultRecords, AnInjectedFaultIsLoggedAsInjectedBeforeItsDetectionWithTheSam
 }
 
 TEST(FaultRecords, TheDetectionIsWrittenOnceAndEachCallWritesOnlyTheNewActions) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(5, "arm", FaultKind::Exception, "boom", t);
@@ -152,7 +139,7 @@ TEST(FaultRecords, TheDetectionIsWrittenOnceAndEachCallWritesOnlyTheNewActions) 
 }
 
 TEST(FaultRecords, AFailedResetLeavesTheComponentInError) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(6, "arm", FaultKind::Exception, "boom", t);
@@ -168,7 +155,7 @@ TEST(FaultRecords, AFailedResetLeavesTheComponentInError) {
 }
 
 TEST(FaultRecords, ASuccessfulReplacementNamesTheAlternativesClass) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   class Backup : public Component {};
   Backup backup;
@@ -190,7 +177,7 @@ TEST(FaultRecords, ASuccessfulReplacementNamesTheAlternativesClass) {
 }
 
 TEST(FaultRecords, TheHandlingListsEveryActionAndFailsOnlyOnAFailedStep) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport ok = reportOf(1, "arm", FaultKind::Signal, "SIGSEGV", t);
@@ -219,7 +206,7 @@ TEST(FaultRecords, TheHandlingListsEveryActionAndFailsOnlyOnAFailedStep) {
 }
 
 TEST(FaultRecords, RecoveredCarriesTheLatencyFromTheDetection) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(4, "arm", FaultKind::Signal, "SIGSEGV", t);
@@ -238,7 +225,7 @@ TEST(FaultRecords, RecoveredCarriesTheLatencyFromTheDetection) {
 }
 
 TEST(FaultRecords, AnInjectionNeverDetectedIsLoggedAsInjectedWithDetectedFalse) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
 
@@ -255,7 +242,7 @@ TEST(FaultRecords, AnInjectionNeverDetectedIsLoggedAsInjectedWithDetectedFalse) 
 }
 
 TEST(FaultRecords, CountsGroupFaultsByComponentAndKindKeepingTheFirstDetail) {
-  LogFile file;
+  test::TempLog file;
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport a = reportOf(1, "arm", FaultKind::Signal, "first", t);

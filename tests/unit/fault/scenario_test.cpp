@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "support/temp_log.hpp"
+
 namespace keel::fault {
 namespace {
 
@@ -24,8 +26,7 @@ class ScenarioFile : public ::testing::Test {
     for (const auto& d : s.error()) got.push_back(d.str());
     return got;
   }
-  std::string path_ =
-      (std::filesystem::temp_directory_path() / ("keel_scenario_" + std::to_string(::getpid()) + ".xml")).string();
+  std::string path_ = test::tempPath("keel_scenario", ".xml");
 };
 
 TEST_F(ScenarioFile, ReadsEveryAttributeAndSortsByTime) {

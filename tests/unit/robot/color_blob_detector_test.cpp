@@ -43,8 +43,8 @@ class DetectorRig {
  public:
   DetectorRig() {
     test::manage(detector, "detector", hooks);
-    detector.image.configureQueue(detail::QueuePolicy::Fifo, 4);  // to see older frames skipped
-    probe.blob.configureQueue(detail::QueuePolicy::UFifo, 256);
+    test::configureQueue(detector.image, detail::QueuePolicy::Fifo, 4);  // to see older frames skipped
+    test::configureQueue(probe.blob, detail::QueuePolicy::UFifo, 256);
     test::wire(feeder.image, detector.image, keep_);
     test::wire(detector.blob, probe.blob, keep_);
   }
