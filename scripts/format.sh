@@ -30,38 +30,10 @@ cd "$root"
 third_party_re='^(third_party|external|vendor)/'
 
 # --- the clang-format to use -------------------------------------------------------------
-install_clang_format() {
-  if ! command -v apt-get >/dev/null 2>&1 || ! command -v dpkg-query >/dev/null 2>&1; then
-    echo "format.sh: no clang-format and not a Debian system; install clang-format (14) yourself" >&2
-    exit 1
-  fi
-  local as_root=()
-  if [[ $(id -u) -ne 0 ]]; then
-    if command -v sudo >/dev/null 2>&1; then
-      as_root=(sudo)
-    else
-      echo "format.sh: need root to install clang-format (run as root, or install sudo)" >&2
-      exit 1
-    fi
-  fi
-  echo "format.sh: installing clang-format" >&2
-  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update -qq >&2
-  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
-    apt-get install -y -qq --no-install-recommends clang-format >/dev/null
-}
-
-clang_format=${CLANG_FORMAT:-}
-if [[ -z "$clang_format" ]]; then
-  clang_format=$(command -v clang-format || true)
-  if [[ -z "$clang_format" ]]; then
-    install_clang_format
-    clang_format=$(command -v clang-format || true)
-    [[ -n "$clang_format" ]] || { echo "format.sh: clang-format still not found after installing" >&2; exit 1; }
-  fi
-fi
+# shellcheck source=lib/tool.sh
+source "$root/scripts/lib/tool.sh"
 # Pinned: every file below is formatted by this one binary.
-clang_format=$(command -v "$clang_format" || true)
-[[ -x "$clang_format" ]] || { echo "format.sh: ${CLANG_FORMAT:-clang-format} is not an executable" >&2; exit 1; }
+clang_format=$(keel_tool format.sh clang-format "${CLANG_FORMAT:-}")
 version=$("$clang_format" --version)
 # An option this clang-format does not know would otherwise show up as "every file unformatted".
 if ! err=$("$clang_format" --style=file --dump-config 2>&1 >/dev/null); then
@@ -91,7 +63,10 @@ fi
 jobs=$(nproc 2>/dev/null || echo 2)
 
 if ((check == 0)); then
-  printf '%s\0' "${files[@]}" | xargs -0 -n 16 -P "$jobs" "$clang_format" -i --style=file
+  if ! printf '%s\0' "${files[@]}" | xargs -0 -n 16 -P "$jobs" "$clang_format" -i --style=file; then
+    echo "format.sh: $clang_format failed" >&2
+    exit 2
+  fi
   echo "format.sh: formatted ${#files[@]} files with $version"
   exit 0
 fi
@@ -119,6 +94,10 @@ if [[ -n "$bad" ]]; then
   echo "format.sh: $n of ${#files[@]} files are not formatted ($version, $clang_format):" >&2
   printf '%s\n' "$bad" | sed 's/^/  /' >&2
   echo "format.sh: run scripts/format.sh to format them (with the same clang-format major version)" >&2
+  major=$(printf '%s\n' "$version" | sed -n 's/.*version \([0-9]*\)\..*/\1/p')
+  if [[ "$major" != 14 ]]; then
+    echo "format.sh: note: the tree is formatted with clang-format 14 (Debian 12); $major may lay out some code differently" >&2
+  fi
   exit 1
 fi
 echo "format.sh: ${#files[@]} files formatted ($version)"

@@ -1,0 +1,146 @@
+#!/usr/bin/env bash
+# Runs clang-tidy with the checks in .clang-tidy over keel's own sources under src/ (and, through
+# them, keel's headers), using the compile database of a build tree
+# (docs/decisions/0008-format-and-lint.md).
+#
+#   scripts/tidy.sh [BUILD_DIR]    default: build
+#
+# BUILD_DIR/compile_commands.json is written by CMake's configure step (CMAKE_EXPORT_COMPILE_COMMANDS
+# is on); when it is missing the tree is configured (not built): `cmake --preset default` for
+# build/, a plain Ninja configure otherwise. Every finding is printed once (a header's finding
+# once, not once per source including it, with the header's path under src/ rather than the
+# build tree's layers/ link), with a count per check; exit 1 on any finding (WarningsAsErrors:
+# '*'), or when clang-tidy fails on a file. clang-tidy is the one on PATH ($CLANG_TIDY overrides
+# it), installed with apt-get as scripts/deps.sh does when there is none (Debian 12: clang-tidy 14,
+# the version the check set is chosen for). Jobs: $KEEL_JOBS, else the number of cores.
+set -euo pipefail
+
+case "${1:-}" in
+  -h|--help) sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+esac
+(($# <= 1)) || { echo "usage: scripts/tidy.sh [BUILD_DIR]" >&2; exit 2; }
+
+root=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
+build_arg=${1:-build}
+# A relative BUILD_DIR is taken from where the script is run, else from the repository root.
+if [[ "$build_arg" = /* ]]; then
+  build=$build_arg
+elif [[ -d "$build_arg" ]]; then
+  build=$(cd "$build_arg" && pwd)
+else
+  build=$root/$build_arg
+fi
+
+# --- clang-tidy ---------------------------------------------------------------------------
+# shellcheck source=lib/tool.sh
+source "$root/scripts/lib/tool.sh"
+clang_tidy=$(keel_tool tidy.sh clang-tidy "${CLANG_TIDY:-}")
+version=$("$clang_tidy" --version | sed -n 's/^ *\(.*version [0-9.]*\).*/\1/p' | head -n 1)
+command -v python3 >/dev/null 2>&1 || { echo "tidy.sh: needs python3 (scripts/deps.sh installs it)" >&2; exit 1; }
+
+# --- the compile database -----------------------------------------------------------------
+db=$build/compile_commands.json
+if [[ ! -f "$db" ]]; then
+  command -v cmake >/dev/null 2>&1 || { echo "tidy.sh: no $db and no cmake to write it" >&2; exit 1; }
+  if [[ "$build" == "$root/build" ]]; then
+    echo "tidy.sh: no $db; configuring (cmake --preset default, no build)" >&2
+    (cd "$root" && cmake --preset default >/dev/null)
+  else
+    echo "tidy.sh: no $db; configuring (cmake -S $root -B $build -G Ninja, no build)" >&2
+    cmake -S "$root" -B "$build" -G Ninja >/dev/null
+  fi
+  [[ -f "$db" ]] || { echo "tidy.sh: configuring did not write $db" >&2; exit 1; }
+fi
+
+# keel's translation units under src/, as the database names them.
+mapfile -d '' files < <(python3 - "$db" "$root/src/" <<'PY'
+import json, os, sys
+db, src = sys.argv[1], os.path.realpath(sys.argv[2]) + os.sep
+seen = set()
+for entry in json.load(open(db)):
+    path = os.path.realpath(os.path.join(entry.get("directory", ""), entry["file"]))
+    if path.startswith(src) and path.endswith(".cpp") and path not in seen:
+        seen.add(path)
+for path in sorted(seen):
+    sys.stdout.write(path + "\0")
+PY
+)
+if ((${#files[@]} == 0)); then
+  echo "tidy.sh: $db lists no sources under $root/src/ (a build tree of another checkout?)" >&2
+  exit 1
+fi
+
+jobs=${KEEL_JOBS:-$(nproc 2>/dev/null || echo 2)}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+trap 'exit 130' INT TERM  # so that the EXIT trap cleans up
+
+echo "tidy.sh: $version on ${#files[@]} files of src/ ($db, -j$jobs)"
+start=$SECONDS
+# One output file per translation unit, so that parallel runs never interleave. GCC-only warning
+# options in the database (sanitizer presets) are not clang-tidy's business.
+printf '%s\0' "${files[@]}" | xargs -0 -n 1 -P "$jobs" sh -c '
+  name=$(printf "%s" "$4" | tr "/" "_")
+  if ! "$0" -p "$1" --quiet --use-color=false --extra-arg=-Wno-unknown-warning-option "$4" \
+       >"$3/$name.out" 2>"$3/$name.err"; then
+    echo "$4" >>"$3/$name.failed"
+  fi' "$clang_tidy" "$build" "$root" "$out"
+
+# Findings, each once, with paths relative to the root and the layers/ links resolved to src/.
+python3 - "$out" "$root" "$build" <<'PY'
+import collections, glob, os, re, sys
+out, root, build = sys.argv[1], sys.argv[2], sys.argv[3]
+head = re.compile(r"^(/[^:]+):(\d+):(\d+): (warning|error): (.*?)(?: \[([^\]]+)\])?$")
+def rel(path):
+    real = os.path.realpath(path)  # build/layers/<layer>/<layer> → src/<layer>
+    return os.path.relpath(real, root) if real.startswith(root + os.sep) else real
+findings, order = {}, []
+for name in sorted(glob.glob(os.path.join(out, "*.out"))):
+    block = None
+    for line in open(name, errors="replace"):
+        line = line.rstrip("\n")
+        m = head.match(line)
+        if m:
+            path, ln, col, _, msg, checks = m.groups()
+            checks = [c for c in (checks or "clang-diagnostic").split(",") if c != "-warnings-as-errors"]
+            key = (rel(path), int(ln), int(col), msg)
+            block = None
+            if key not in findings:
+                block = findings[key] = {"checks": checks, "lines": []}
+                order.append(key)
+        elif block is not None and not re.match(r"^\d+ (warnings?|errors?) generated", line):
+            block["lines"].append(line)
+per_check = collections.Counter()
+for key in sorted(order):
+    f = findings[key]
+    path, ln, col, msg = key
+    print(f"{path}:{ln}:{col}: {msg} [{','.join(f['checks'])}]")
+    for l in f["lines"]:
+        print("    " + l)
+    per_check.update(f["checks"])
+if per_check:
+    print("\nfindings per check:")
+    for check, n in per_check.most_common():
+        print(f"  {n:4d}  {check}")
+open(os.path.join(out, "count"), "w").write(str(len(order)))
+PY
+
+count=$(cat "$out/count")
+failed=$(cat "$out"/*.failed 2>/dev/null | sort || true)
+elapsed=$((SECONDS - start))
+if [[ -n "$failed" && "$count" == 0 ]]; then
+  # clang-tidy failed without a finding to show for it: show what it said.
+  for f in $failed; do
+    name=$(printf '%s' "$f" | tr '/' '_')
+    echo "tidy.sh: clang-tidy failed on ${f#"$root"/}:" >&2
+    grep -v -E '^[0-9]+ warnings? generated|^Suppressed [0-9]+ warnings|^Use -header-filter|^Use -system-headers' \
+      "$out/$name.err" | sed 's/^/    /' >&2 || true
+  done
+  echo "tidy.sh: failed ($version, ${elapsed} s)" >&2
+  exit 1
+fi
+if ((count > 0)); then
+  echo "tidy.sh: $count finding(s) in ${#files[@]} files ($version, ${elapsed} s)" >&2
+  exit 1
+fi
+echo "tidy.sh: no findings in ${#files[@]} files ($version, ${elapsed} s)"
