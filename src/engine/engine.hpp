@@ -1,8 +1,8 @@
-// The engine carries a plan out (ARCHITECTURE.md "How data flows", step 3): load libraries and
+// The engine carries a plan out (docs/architecture.md, "How a run goes"): load libraries and
 // create instances, check their ports against the profiles, initialize, connect, start the
 // executors; at the end stop and destroy everything in reverse order. It is the runtime's
 // runtime::RunHooks (state changes reach the fault log from here, endRun ends the run); the
-// runtime's faults go to the fault manager, the runtime's runtime::FaultSink, without a stop here.
+// runtime's faults go straight to the fault manager, which is the runtime's runtime::FaultSink.
 // Thread-safety: build/start/stop from one thread; hooks are called from executor threads.
 #pragma once
 

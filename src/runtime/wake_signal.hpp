@@ -4,15 +4,11 @@
 // Thread-safety: any number of notifiers, one waiter.
 #pragma once
 
-#include <linux/futex.h>
-#include <sys/syscall.h>
-#include <unistd.h>
-
 #include <atomic>
-#include <cerrno>
 #include <chrono>
 #include <cstdint>
-#include <ctime>
+
+#include "runtime/futex.hpp"
 
 namespace keel::runtime {
 
@@ -22,7 +18,7 @@ class WakeSignal {
 
   void notify() {
     if (pending_.exchange(1, std::memory_order_seq_cst) == 0 && sleeping_.load(std::memory_order_seq_cst) != 0) {
-      syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&pending_), FUTEX_WAKE_PRIVATE, 1, nullptr, nullptr, 0);
+      futexWake(pending_, 1, FutexScope::Process);
     }
   }
 
@@ -37,24 +33,13 @@ class WakeSignal {
   bool wait(const Clock::time_point* deadline) {
     for (;;) {
       if (consume()) return true;
-      timespec ts{};
-      if (deadline) {
-        auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline->time_since_epoch());
-        if (*deadline <= Clock::now()) return consume();
-        ts.tv_sec = static_cast<time_t>(ns.count() / 1'000'000'000);
-        ts.tv_nsec = static_cast<long>(ns.count() % 1'000'000'000);
-      }
+      if (deadline && *deadline <= Clock::now()) return consume();
       sleeping_.store(1, std::memory_order_seq_cst);
-      if (pending_.load(std::memory_order_seq_cst) == 0) {
-        // Absolute CLOCK_MONOTONIC timeout (FUTEX_WAIT_BITSET without FUTEX_CLOCK_REALTIME).
-        syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&pending_), FUTEX_WAIT_BITSET_PRIVATE, 0,
-                deadline ? &ts : nullptr, nullptr, FUTEX_BITSET_MATCH_ANY);
-      }
+      if (pending_.load(std::memory_order_seq_cst) == 0) futexWait(pending_, 0, deadline, FutexScope::Process);
       sleeping_.store(0, std::memory_order_relaxed);
     }
   }
 
-  static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t));
   std::atomic<std::uint32_t> pending_{0};
   std::atomic<std::uint32_t> sleeping_{0};
 };

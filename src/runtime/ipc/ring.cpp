@@ -1,17 +1,13 @@
 #include "runtime/ipc/ring.hpp"
 
 #include <fmt/format.h>
-#include <linux/futex.h>
-#include <sys/syscall.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
-#include <climits>
 #include <cstring>
-#include <ctime>
 #include <new>
 
+#include "runtime/futex.hpp"
 #include "runtime/ipc/robust_mutex.hpp"
 
 namespace keel::runtime::ipc {
@@ -55,7 +51,6 @@ struct SlotHeader {
 static_assert(std::atomic<std::uint64_t>::is_always_lock_free && std::atomic<std::uint32_t>::is_always_lock_free,
               "atomics shared between processes must be lock-free (address-free)");
 static_assert(std::atomic_ref<std::uint64_t>::is_always_lock_free);
-static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t), "a futex word is 32 bits");
 static_assert(sizeof(SlotHeader) % 8 == 0);
 
 constexpr std::size_t roundUp(std::size_t n, std::size_t to) { return (n + to - 1) / to * to; }
@@ -87,21 +82,20 @@ void loadWords(void* to, std::uint64_t* from, std::size_t bytes) {
   }
 }
 
-// Shared futexes (not FUTEX_*_PRIVATE): the word is in memory mapped by several processes.
-void futexWait(std::atomic<std::uint32_t>& word, std::uint32_t expected, std::chrono::nanoseconds timeout) {
-  const auto ns = timeout.count();
-  const timespec ts{static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
-  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAIT, expected, &ts, nullptr, 0);
-}
-void futexWakeAll(std::atomic<std::uint32_t>& word) {
-  syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), FUTEX_WAKE, INT_MAX, nullptr, nullptr, 0);
-}
-
 Result<void> checkSizes(const std::string& name, std::size_t sample_size, std::size_t slots) {
   if (sample_size == 0 || sample_size > kMaxSize)
     return fail(fmt::format("ring '{}': a sample of {} bytes; it must be 1..{}", name, sample_size, kMaxSize));
   if (slots == 0 || slots > kMaxSize || !std::has_single_bit(slots))
     return fail(fmt::format("ring '{}': {} slots; the count must be a power of two, 1..{}", name, slots, kMaxSize));
+  return {};
+}
+
+/// Whether a region of `bytes` holds the ring's header and `slots` slots of `sample_size`.
+Result<void> checkRegion(const std::string& name, std::size_t bytes, std::size_t sample_size, std::size_t slots) {
+  const std::size_t needed = RingBuffer::bytesFor(sample_size, slots);
+  if (bytes < needed)
+    return fail(fmt::format("ring '{}': {} slots of {} bytes need {} bytes, the region has {}", name, slots,
+                            sample_size, needed, bytes));
   return {};
 }
 
@@ -120,9 +114,7 @@ Result<RingBuffer> RingBuffer::create(const std::string& name, std::size_t sampl
 
 Result<RingBuffer> RingBuffer::create(SharedMemory region, std::size_t sample_size, std::size_t slots) {
   if (auto sizes = checkSizes(region.name(), sample_size, slots); !sizes) return sizes.error();
-  if (region.size() < bytesFor(sample_size, slots))
-    return fail(fmt::format("ring '{}': {} slots of {} bytes need {} bytes, the region has {}", region.name(), slots,
-                            sample_size, bytesFor(sample_size, slots), region.size()));
+  if (auto fits = checkRegion(region.name(), region.size(), sample_size, slots); !fits) return fits.error();
   auto* header = new (region.data()) RingHeader();
   header->magic = kMagic;
   header->version = kVersion;
@@ -148,9 +140,7 @@ Result<RingBuffer> RingBuffer::attach(SharedMemory region, std::size_t sample_si
   if (size != sample_size)
     return fail(fmt::format("ring '{}' carries samples of {} bytes, this side expects {}", name, size, sample_size));
   if (auto sizes = checkSizes(name, size, slots); !sizes) return sizes.error();
-  if (region.size() < bytesFor(size, slots))
-    return fail(fmt::format("ring '{}': {} slots of {} bytes need {} bytes, the region has {}", name, slots, size,
-                            bytesFor(size, slots), region.size()));
+  if (auto fits = checkRegion(name, region.size(), size, slots); !fits) return fits.error();
   return RingBuffer(std::move(region), sample_size, slots);
 }
 
@@ -207,7 +197,7 @@ Result<PushStatus> RingBuffer::push(std::uint32_t epoch, const void* sample) {
   std::atomic_thread_fence(std::memory_order_seq_cst);
   if (header_->sleepers.load(std::memory_order_relaxed) != 0) {
     header_->wake.fetch_add(1, std::memory_order_release);
-    futexWakeAll(header_->wake);
+    futexWakeAll(header_->wake, FutexScope::Shared);
   }
   return PushStatus::Written;
 }
@@ -282,8 +272,7 @@ bool RingReader::wait(std::chrono::nanoseconds timeout) {
     header_->sleepers.fetch_add(1, std::memory_order_seq_cst);
     std::atomic_thread_fence(std::memory_order_seq_cst);  // announce, then the last look
     const bool ready = available();
-    const auto left = deadline - Clock::now();
-    if (!ready && left > Clock::duration::zero()) futexWait(header_->wake, word, left);
+    if (!ready && Clock::now() < deadline) futexWait(header_->wake, word, &deadline, FutexScope::Shared);
     header_->sleepers.fetch_sub(1, std::memory_order_release);
     if (ready || available()) return true;
     if (Clock::now() >= deadline) return false;
