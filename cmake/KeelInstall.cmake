@@ -21,8 +21,9 @@ file(RELATIVE_PATH _keel_bin_to_lib "/${CMAKE_INSTALL_BINDIR}" "/${CMAKE_INSTALL
 set_target_properties(keel PROPERTIES INSTALL_RPATH "$ORIGIN")
 set_target_properties(keel_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_lib}"
                                           EXPORT_NAME cli)
+set_target_properties(keel_host PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_lib}" EXPORT_NAME host)
 
-install(TARGETS keel keel_cli
+install(TARGETS keel keel_cli keel_host
   EXPORT keelTargets
   RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT keel_runtime
   LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT keel_runtime

@@ -40,6 +40,7 @@ std::string detectorOf(runtime::InjectKind kind) {
     case runtime::InjectKind::OutOfRange: return "range";
     case runtime::InjectKind::Hang:
     case runtime::InjectKind::StallHeartbeat: return "watchdog";
+    case runtime::InjectKind::Kill: return "process";
     case runtime::InjectKind::None: break;
   }
   return "none";

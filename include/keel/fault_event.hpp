@@ -22,6 +22,7 @@ enum class FaultKind : std::uint8_t {
   Vote,       // N-version disagreement
   User,       // raised by a component
   Remote,     // a peer process/host lost
+  Process,    // the component's OS process died (<process>): any signal, kill -9, exit
 };
 
 constexpr std::string_view toString(FaultKind k) {
@@ -36,6 +37,7 @@ constexpr std::string_view toString(FaultKind k) {
     case FaultKind::Vote: return "vote";
     case FaultKind::User: return "user";
     case FaultKind::Remote: return "remote";
+    case FaultKind::Process: return "process";
   }
   return "?";
 }

@@ -19,6 +19,7 @@
 #include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -169,6 +170,13 @@ int runProfile(const RunOptions& o) {
     }
     eo.scenario = std::move(*scenario);
   }
+  // Component processes plan the same run from the same arguments (docs/isolation.md).
+  eo.host_launch.args.push_back(std::filesystem::absolute(o.profile).string());
+  for (const auto& text : o.sets) eo.host_launch.args.insert(eo.host_launch.args.end(), {"--set", text});
+  if (!o.inject.empty())
+    eo.host_launch.args.insert(eo.host_launch.args.end(), {"--inject", std::filesystem::absolute(o.inject).string()});
+  if (!o.log.empty())
+    eo.host_launch.args.insert(eo.host_launch.args.end(), {"--log", std::filesystem::absolute(o.log).string()});
   auto engine = engine::Engine::create(std::move(*planned), eo);
   if (!engine) {
     std::cerr << engine.error().message << '\n';

@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <iostream>
 
+#include <unistd.h>
+
 #include "runtime/checkpoint.hpp"
 #include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
@@ -19,7 +21,11 @@ Engine::Engine(EngineOptions options)
     : options_(std::move(options)), loader_(options_.search_path),
       fault_manager_(log_, [this](std::string_view name) { return find(name); }) {}
 
-Engine::~Engine() { shutdown(); }
+Engine::~Engine() {
+  shutdown();
+  supervisor_.reset();  // its threads report to the fault manager: gone before it is
+  if (holds_supervisor_lock_) (void)session_->supervisor().unlock();
+}
 
 Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOptions options) {
   auto planned = plan::planProfiles(std::move(set));
@@ -30,19 +36,33 @@ Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOp
 
 Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, EngineOptions options) {
   std::unique_ptr<Engine> engine(new Engine(std::move(options)));
-  engine->planned_ = std::move(planned);
-  if (!engine->options_.log_path.empty()) {
-    if (auto r = engine->log_.open(engine->options_.log_path); !r) return r.error();
+  Engine* e = engine.get();
+  e->planned_ = std::move(planned);
+  ProcessHost* host = e->options_.host;
+  if (!e->options_.log_path.empty()) {
+    auto opened = host ? e->log_.join(e->options_.log_path, host->session().logEpoch().load())
+                       : e->log_.open(e->options_.log_path);
+    if (!opened) return opened.error();
   }
-  nlohmann::json load = fault::schema::engine("load");
-  load[fault::schema::field::kProfile] = engine->set().root;
-  load[fault::schema::field::kInstances] = engine->planned_.plan.instances.size();
-  for (const auto& s : engine->options_.property_settings) load[fault::schema::field::kSet].push_back(s.text);
-  engine->log_.write(std::move(load));
-  if (auto r = engine->instantiate(); !r) return r.error();
-  engine->setUpHandling();
-  if (engine->options_.scenario) {
-    Engine* e = engine.get();
+  if (!host) {
+    nlohmann::json load = fault::schema::engine("load");
+    load[fault::schema::field::kProfile] = e->set().root;
+    load[fault::schema::field::kInstances] = e->planned_.plan.instances.size();
+    for (const auto& s : e->options_.property_settings) load[fault::schema::field::kSet].push_back(s.text);
+    e->log_.write(std::move(load));
+  }
+  if (auto r = e->setUpProcesses(); !r) return r.error();
+  if (auto r = e->instantiate(); !r) return r.error();
+  e->setUpHandling();
+  if (e->options_.scenario) {
+    // Each process injects into its own components; keel run also kills component processes.
+    auto& faults = e->options_.scenario->faults;
+    std::erase_if(faults, [e](const fault::ScheduledFault& f) {
+      const plan::PlannedInstance* pi = e->planned_.plan.find(f.component);
+      if (pi == nullptr) return e->options_.host != nullptr;  // keel run reports it
+      const bool kill = !f.hardware && f.kind == runtime::InjectKind::Kill;
+      return e->options_.host ? (!e->isLocal(*pi) || kill) : (!e->isLocal(*pi) && !kill);
+    });
     e->injector_ = std::make_unique<fault::Injector>(
         *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_,
         [e](const std::string& m) { e->warn(m); });
@@ -54,6 +74,41 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
     if (auto r = e->injector_->check([e](const std::string& m) { e->warn(m); }, passive); !r) return r.error();
   }
   return engine;
+}
+
+const std::string& Engine::myProcess() const {
+  static const std::string keel_run;
+  return options_.host ? options_.host->role().process : keel_run;
+}
+
+bool Engine::isLocal(const plan::PlannedInstance& pi) const { return pi.process == myProcess(); }
+
+Result<void> Engine::setUpProcesses() {
+  const plan::Plan& plan = planned_.plan;
+  if (ProcessHost* host = options_.host) {
+    fault_manager_.shareIds(&host->session().faultIds());
+    log_.tag(fault::schema::field::kPid, ::getpid());  // one log for the run: whose record
+    return {};
+  }
+  if (plan.processes.empty()) return {};
+  auto session = runtime::ipc::Session::create(sessionShape(plan));
+  if (!session) return session.error();
+  session_.emplace(std::move(*session));
+  // Held by this (the main) thread for the whole run: its release by death tells every host.
+  if (auto locked = session_->supervisor().lock(); !locked) return locked.error();
+  holds_supervisor_lock_ = true;
+  session_->logEpoch().store(log_.epoch(), std::memory_order_release);
+  fault_manager_.shareIds(&session_->faultIds());
+  std::vector<runtime::ipc::SharedMemory> rings;
+  const std::vector<std::size_t> crossing = crossingConnections(plan);
+  for (std::size_t k = 0; k < crossing.size(); ++k) {
+    auto ring = runtime::ipc::SharedMemory::createUnsized(fmt::format("keel-ring-{}", k));
+    if (!ring) return ring.error();
+    rings.push_back(std::move(*ring));
+  }
+  supervisor_ = std::make_unique<ProcessSupervisor>(
+      plan, *session_, std::move(rings), options_.host_launch, [this](const std::string& m) { warn(m); }, log_);
+  return {};
 }
 
 Component* Engine::find(std::string_view instance) const {
@@ -69,6 +124,8 @@ void Engine::warn(const std::string& message) {
 
 void Engine::buildExecutors() {
   for (const auto& pe : planned_.plan.executors) {
+    const plan::PlannedInstance* first = planned_.plan.find(pe.members.front());
+    if (first && !isLocal(*first)) continue;  // runs in its component process
     runtime::ExecutorConfig cfg;
     cfg.name = pe.name;
     cfg.kind = pe.periodic ? runtime::ExecutorKind::Periodic : runtime::ExecutorKind::Aperiodic;
@@ -89,8 +146,32 @@ void Engine::buildExecutors() {
   }
 }
 
+Result<void> Engine::takeRoleAsHost() {
+  ProcessHost& host = *options_.host;
+  if (host.role().standby) log_.write(fault::schema::host(host.role().process, ::getpid(), "standby"));
+  auto died = host.takeRole();  // a standby sleeps here
+  if (!died) return died.error();
+  if (host.stopRequested()) return {};
+  std::size_t restored = 0;
+  if (*died || host.role().respawn) {
+    for (auto& inst : instances_) restored += runtime::restoreSharedCheckpoint(runtime::coreOf(*inst.component)) != 0;
+  }
+  nlohmann::json rec = fault::schema::host(host.role().process, ::getpid(),
+                                           host.role().respawn ? "respawned"
+                                           : *died             ? "took_over"
+                                                               : "starting");
+  rec["restored"] = restored;
+  log_.write(std::move(rec));
+  return crossings_.takeOver();
+}
+
 Result<void> Engine::start() {
   runtime::installSignalHandlers();
+  if (supervisor_) {
+    supervisor_->setReport(
+        [this](Component& proxy, const FaultEvent& fault) { fault_manager_.onFault(proxy, fault, "supervisor"); });
+    if (auto r = supervisor_->launch(); !r) return r;
+  }
   for (auto& inst : instances_) {
     if (runtime::transition(*inst.component, Transition::Initialize)) continue;
     const auto& w = inst.plan->where;
@@ -98,8 +179,17 @@ Result<void> Engine::start() {
                             inst.plan->name));
   }
   if (auto r = connect(); !r) return r;
+  if (supervisor_) {
+    if (auto r = supervisor_->waitReady(options_.host_start_timeout); !r) return r;
+  }
   if (auto r = preloadAlternatives(); !r) return r;
   fault_manager_.start();
+  if (options_.host) {
+    if (auto r = takeRoleAsHost(); !r) return r;
+    if (options_.host->stopRequested()) return {};  // stopped while standing by
+  } else if (auto r = crossings_.takeOver(); !r) {
+    return r;
+  }
   buildExecutors();
   for (auto& inst : instances_) {
     if (inst.executor) continue;  // passive: started here, under its lock
@@ -113,6 +203,11 @@ Result<void> Engine::start() {
     if (held) cpu_latency_ = std::move(*held);
     else warn(held.error().message);
   }
+  if (options_.host) {  // the first good cycle of any of them tells keel run the process runs
+    for (auto& inst : instances_)
+      if (inst.executor) runtime::coreOf(*inst.component).fault.recovering_id.store(HostFaultSink::kFirstRun);
+  }
+  crossings_.start();
   std::size_t executors = 0;
   {
     std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
@@ -121,6 +216,11 @@ Result<void> Engine::start() {
   }
   started_ = true;
   startDetectors();
+  if (options_.host) {
+    options_.host->becameActive();
+    log_.write(fault::schema::host(myProcess(), ::getpid(), "active"));
+    return {};
+  }
   nlohmann::json started = fault::schema::engine("started");
   started[fault::schema::field::kExecutors] = executors;
   if (cpu_latency_.held()) started[fault::schema::field::kCpuDmaLatencyUs] = cpu_latency_.microseconds();
@@ -155,6 +255,7 @@ void Engine::shutdown() {
     runtime::coreOf(*inst.active()).injection.release_hang.store(true);
   }
   for (auto& ex : executors_) ex->requestStop();
+  crossings_.stop();  // no more values from other processes into components that stop
   std::vector<const runtime::Executor*> abandoned;
   for (auto& ex : executors_) {
     if (!ex->abandoned() && ex->join(options_.stop_timeout)) continue;
@@ -186,8 +287,9 @@ void Engine::shutdown() {
     for (auto& alt : alternatives_)  // alternatives still standing by
       if (alt->state() != State::Destroyed && !stuck(*alt)) runtime::transition(*alt, Transition::Destroy);
   }
-  cpu_latency_ = runtime::CpuLatencyRequest();  // the CPUs may sleep again
-  if (started_) log_.write(fault::schema::engine("stopped"));
+  if (supervisor_) supervisor_->stop(options_.stop_timeout);  // hosts the proxies' onStop did not stop
+  cpu_latency_ = runtime::CpuLatencyRequest();                // the CPUs may sleep again
+  if (started_ && !options_.host) log_.write(fault::schema::engine("stopped"));
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
@@ -213,6 +315,12 @@ void Engine::endRun(Component& c, std::string_view summary, std::string_view eve
                         {fault::schema::field::kComponent, end.component},
                         {fault::schema::field::kSummary, end.summary}};
   log_.write(std::move(rec));
+}
+
+bool Engine::clearEmergency(std::string_view by) {
+  const bool cleared = fault_manager_.clearEmergency(by);
+  if (cleared && supervisor_) supervisor_->clearEmergency();
+  return cleared;
 }
 
 std::vector<const runtime::Executor*> Engine::executors() const {

@@ -19,6 +19,9 @@
 #include <unordered_map>
 #include <vector>
 
+#include "engine/crossing.hpp"
+#include "engine/process_host.hpp"
+#include "engine/process_supervisor.hpp"
 #include "engine/run_end.hpp"
 #include "fault/dependency_graph.hpp"
 #include "fault/fault_log.hpp"
@@ -51,6 +54,12 @@ struct EngineOptions {
   /// Hold the CPUs' wake-up latency at this many µs while running (keel run --cpu-dma-latency;
   /// src/runtime/cpu_latency.hpp). Not permitted: a warning, and the run goes on without it.
   std::optional<std::int32_t> cpu_dma_latency_us;
+  /// keel run: how to start the component processes of the plan's <process>es (docs/isolation.md).
+  HostLaunch host_launch{defaultHostExecutable(), {}};
+  /// keel-host: this engine runs the components of one <process> only (src/host); null in keel run.
+  ProcessHost* host = nullptr;
+  /// How long connections between processes wait for their ring, and keel run for its hosts.
+  std::chrono::milliseconds host_start_timeout{10000};
 };
 
 /// One running instance and what the plan says of it.
@@ -102,11 +111,13 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   /// Every component in service, for detectors that scan them and the fault manager.
   std::vector<Component*> components() const override;
   const fault::DependencyGraph* graph() const { return graph_ ? &*graph_ : nullptr; }
+  /// keel run's supervisor of the component processes; null without <process>.
+  ProcessSupervisor* supervisor() const { return supervisor_.get(); }
 
   /// Emergency stop from outside (an operator, `keel run`'s console): logged with `by`.
   std::vector<std::string> emergencyStop(std::string_view by) { return fault_manager_.emergencyStop(by); }
-  /// Clears a latched emergency (the explicit call SPEC §2 asks for); false if none was latched.
-  bool clearEmergency(std::string_view by) { return fault_manager_.clearEmergency(by); }
+  /// Clears a latched emergency (an operator's explicit call); false if none was latched.
+  bool clearEmergency(std::string_view by);
 
   /// A component ended the run (RunControl::endRun; the first call wins). The run's owner
   /// (`keel run`) waits for it and then stops as at the end of its duration; shutdown() logs
@@ -139,6 +150,11 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   void buildExecutors();
   void startDetectors();
   void warn(const std::string& message);
+  /// Whether `pi` runs in this engine's process (keel run's own, or the host's <process>).
+  bool isLocal(const plan::PlannedInstance& pi) const;
+  const std::string& myProcess() const;
+  Result<void> setUpProcesses();  // create(): the session, the rings, the supervisor (keel run)
+  Result<void> takeRoleAsHost();  // start(), in a host: the role lock, a takeover's restore
 
   EngineOptions options_;
   plan::PlannedProfiles planned_;  // the plan, and the profiles it points into
@@ -150,6 +166,12 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   // any thread): find() is on the fault manager's path, once per stopped component.
   std::unordered_map<std::string_view, const Instance*> by_name_;
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
+  // Process isolation (declared before what uses them: destroyed after).
+  std::optional<runtime::ipc::Session> session_;  // keel run's, when the plan has <process>es
+  bool holds_supervisor_lock_ = false;
+  std::unique_ptr<ProcessSupervisor> supervisor_;
+  std::unique_ptr<HostFaultSink> host_sink_;
+  Crossings crossings_;
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;
   std::mutex create_mutex_;                               // one alternative created at a time (any thread)

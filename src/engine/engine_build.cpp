@@ -2,6 +2,9 @@
 // connecting them. Every mismatch is an error naming the profile's file:line.
 #include <fmt/format.h>
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <filesystem>
 
 #include "engine/engine.hpp"
@@ -72,6 +75,20 @@ Result<void> Engine::instantiate() {
       instances_.push_back(std::move(inst));
       continue;
     }
+    if (!isLocal(pi)) {
+      if (options_.host) continue;  // runs in another component process
+      Instance inst;                // keel run: the proxy of a component in a process of its own
+      inst.plan = &pi;
+      inst.component = supervisor_->makeProxy(pi);
+      detail::ComponentCore& core = runtime::coreOf(*inst.component);
+      core.instance_name = pi.name;
+      core.class_name = cp.name;
+      core.hooks = nullptr;  // its component's states are logged by the process that runs it
+      core.fault_sink = &fault_manager_;
+      inst.current->store(inst.component.get(), std::memory_order_release);
+      instances_.push_back(std::move(inst));
+      continue;
+    }
     auto inst = makeInstance(pi);
     if (!inst) {
       errors += inst.error().message;
@@ -108,6 +125,11 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   core.class_name = cp.name;
   core.hooks = this;
   core.fault_sink = &fault_manager_;
+  if (ProcessHost* host = options_.host) {
+    if (!host_sink_) host_sink_ = std::make_unique<HostFaultSink>(fault_manager_, *host);
+    core.fault_sink = host_sink_.get();
+    if (auto i = checkpointIndex(planned_.plan, pi.name)) core.checkpoints.shared = &host->session().checkpoint(*i);
+  }
   for (const auto& [k, v] : pi.properties) core.properties[k] = v;
   if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
   if (auto r = checkPorts(inst); !r) return r.error();
@@ -188,7 +210,12 @@ Result<void> Engine::connect() {
     return c ? runtime::coreOf(*c).findPort(e.port) : nullptr;
   };
   std::string errors;
-  for (const auto& pc : planned_.plan.connections) {
+  const std::vector<std::size_t> crossing = crossingConnections(planned_.plan);
+  for (std::size_t i = 0; i < planned_.plan.connections.size(); ++i) {
+    const plan::PlannedConnection& pc = planned_.plan.connections[i];
+    if (std::find(crossing.begin(), crossing.end(), i) != crossing.end()) continue;  // below
+    const plan::PlannedInstance* a = planned_.plan.find(pc.source.component);
+    if (a && !isLocal(*a)) continue;  // both ends in another process (the plan keeps services in one)
     detail::PortBase* src = port(pc.source);
     detail::PortBase* dst = port(pc.target);
     if (!src || !dst) {
@@ -213,6 +240,18 @@ Result<void> Engine::connect() {
       errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n", at(pc.where),
                             pc.source.component, pc.source.port, toString(src->kind()), src->typeName(),
                             pc.target.component, pc.target.port, toString(dst->kind()), dst->typeName());
+  }
+  if (!crossing.empty()) {
+    runtime::ipc::Session& session = options_.host ? options_.host->session() : *session_;
+    auto fds = options_.host ? options_.host->takeRingDescriptors() : supervisor_->ringDescriptors();
+    // A writer fenced by a takeover is a host that was declared dead: it leaves at once.
+    auto fenced = [] { ::_exit(kExitFenced); };
+    auto made = crossings_.connect(
+        planned_.plan, myProcess(), session, std::move(fds), [this](std::string_view n) { return find(n); },
+        options_.host_start_timeout, fenced, [this](const std::string& m) { warn(m); });
+    if (!made) errors += made.error().message + '\n';
+    for (const Crossings::End& end : crossings_.ends())
+      wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
   }
   if (!errors.empty()) {
     errors.pop_back();

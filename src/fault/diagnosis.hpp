@@ -20,10 +20,14 @@ namespace keel::fault {
 /// Fault ids: one per fault, never 0; the injector takes one per injection.
 class FaultIds {
  public:
-  std::uint64_t next() { return next_.fetch_add(1, std::memory_order_relaxed); }
+  std::uint64_t next() { return counter_->fetch_add(1, std::memory_order_relaxed); }
+  /// Counts in `shared` instead (a word in memory the run's processes share, starting at 1),
+  /// so that ids are unique in the one log they write. Before any fault.
+  void share(std::atomic<std::uint64_t>* shared) { counter_ = shared ? shared : &next_; }
 
  private:
   std::atomic<std::uint64_t> next_{1};
+  std::atomic<std::uint64_t>* counter_ = &next_;
 };
 
 /// Builds the report of `fault`, found by `reporter` (`detector` names who found it in the log;

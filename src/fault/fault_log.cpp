@@ -24,11 +24,23 @@ Result<void> FaultLog::open(const std::string& path) {
   return {};
 }
 
+Result<void> FaultLog::join(const std::string& path, std::int64_t epoch_ns) {
+  int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd < 0) return fail(fmt::format("cannot open log '{}': {}", path, std::generic_category().message(errno)));
+  fd_ = fd;
+  epoch_ns_ = epoch_ns;
+  return {};
+}
+
+void FaultLog::tag(std::string key, nlohmann::json value) { tags_[std::move(key)] = std::move(value); }
+
 std::int64_t FaultLog::now() const { return steadyNs() - epoch_ns_; }
 
 void FaultLog::write(nlohmann::json record) {
   if (fd_ < 0) return;
   if (!record.contains("t_ns")) record["t_ns"] = now();
+  for (const auto& [key, value] : tags_.items())
+    if (!record.contains(key)) record[key] = value;
   std::string line = record.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   line += '\n';
   std::lock_guard lock(mutex_);

@@ -24,17 +24,24 @@ class FaultLog {
 
   /// Opens (truncates) `path`. Without a successful open, write() does nothing.
   Result<void> open(const std::string& path);
+  /// Appends to the log at `path` another process opened (keel run's, from a component
+  /// process), with that log's epoch: one log for the run.
+  Result<void> join(const std::string& path, std::int64_t epoch_ns);
   bool enabled() const { return fd_ >= 0; }
+  std::int64_t epoch() const { return epoch_ns_; }
 
   /// ns since the log's epoch (the engine's start) for a steady-clock time in ns.
   std::int64_t sinceStart(std::int64_t steady_ns) const { return steady_ns - epoch_ns_; }
   std::int64_t now() const;
 
   void write(nlohmann::json record);
+  /// Adds `key: value` to every record written from now on (that has no `key`).
+  void tag(std::string key, nlohmann::json value);
 
  private:
   std::int64_t epoch_ns_;
   int fd_ = -1;
+  nlohmann::json tags_ = nlohmann::json::object();  // set before any other thread writes
   std::mutex mutex_;
 };
 

@@ -225,7 +225,10 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
     queue_.enqueue(HandlingItem::Type::Report, r, !awaits_recovery);
   }
   // A passive component has no next step of its own: it is back as soon as it is Active.
-  if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr) recovered(*recovering, steadyNs());
+  if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr) {
+    const std::int64_t at = coreOf(*recovering).fault.recovered_at_ns.exchange(0, std::memory_order_acq_rel);
+    recovered(*recovering, at != 0 ? at : steadyNs());
+  }
 }
 
 void FaultManager::recovered(Component& c, std::int64_t t_ns) {

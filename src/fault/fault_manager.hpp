@@ -64,6 +64,8 @@ class FaultManager final : public runtime::FaultSink {
 
   /// A new fault id (the injector takes one per injection).
   std::uint64_t nextId() { return ids_.next(); }
+  /// Fault ids come from `shared` (the run's processes share one counter); before start.
+  void shareIds(std::atomic<std::uint64_t>* shared) { ids_.share(shared); }
 
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
   /// reporter itself). `detector` names who found it in the log (default: the reporter).

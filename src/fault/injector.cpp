@@ -36,10 +36,17 @@ Result<void> Injector::check(const Warn& warn, const std::function<bool(std::str
       errors += fmt::format("{}: fault: component '{}' has no numeric output data port{}\n", at, f.component,
                             f.port.empty() ? "" : fmt::format(" '{}'", f.port));
     }
+    if (f.kind == InjectKind::Kill && dynamic_cast<runtime::ProcessTarget*>(c) == nullptr) {
+      errors += fmt::format(
+          "{}: fault: kill needs '{}' in a process of its own (<process> in its <subcomponent>); it runs in keel "
+          "run's\n",
+          at, f.component);
+      continue;
+    }
     if ((f.kind == InjectKind::Hang || f.kind == InjectKind::StallHeartbeat) && core.watch.heartbeat_ns == 0)
       warn(fmt::format("{}: fault: '{}' has no <heartbeat> in its fault_policy: this {} will not be detected", at,
                        f.component, f.kind_name));
-    if (passive(f.component) && f.kind != InjectKind::OutOfRange)
+    if (passive(f.component) && f.kind != InjectKind::OutOfRange && f.kind != InjectKind::Kill)
       warn(fmt::format("{}: fault: '{}' is passive (never executed): this {} will not fire", at, f.component,
                        f.kind_name));
   }

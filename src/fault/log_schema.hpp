@@ -27,6 +27,7 @@ inline constexpr char kEmergency[] = "emergency";         // the emergency latch
 inline constexpr char kEngine[] = "engine";               // the run's phases: load, started, stopping, stopped
 inline constexpr char kWarning[] = "warning";             // something the run goes on without
 inline constexpr char kEndRequested[] = "end_requested";  // a component asked to end the run
+inline constexpr char kHost[] = "host";                   // a component process (<process>) changed state
 }  // namespace event
 
 /// Field names.
@@ -66,6 +67,8 @@ inline constexpr char kInstances[] = "instances";                 // engine `loa
 inline constexpr char kSet[] = "set";                             // engine `load`: keel run --set
 inline constexpr char kExecutors[] = "executors";                 // engine `started`
 inline constexpr char kCpuDmaLatencyUs[] = "cpu_dma_latency_us";  // engine `started`
+inline constexpr char kProcess[] = "process";                     // `host`: the <process> name
+inline constexpr char kPid[] = "pid";                             // `host`: its OS process id
 }  // namespace field
 
 /// `outcome` values.
@@ -139,6 +142,11 @@ inline nlohmann::json emergency(std::string_view phase, std::string_view by) {
 
 inline nlohmann::json engine(std::string_view phase) {
   return {{field::kEvent, event::kEngine}, {field::kPhase, phase}};
+}
+
+/// A host process of `process` changed state: loading, standby, active, exited, died, failed.
+inline nlohmann::json host(std::string_view process, long pid, std::string_view state) {
+  return {{field::kEvent, event::kHost}, {field::kProcess, process}, {field::kPid, pid}, {field::kPhase, state}};
 }
 
 inline nlohmann::json warning(std::string_view message) {

@@ -16,7 +16,7 @@
 
 namespace keel::fault {
 
-inline constexpr std::size_t kFaultKinds = static_cast<std::size_t>(FaultKind::Remote) + 1;
+inline constexpr std::size_t kFaultKinds = static_cast<std::size_t>(FaultKind::Process) + 1;
 
 /// The steps of handling, in escalation order (SPEC §3: reset → replace → stop → emergency).
 enum class Step : std::uint8_t { Ignore, Reset, Replace, Stop, Emergency, Done };
@@ -25,7 +25,8 @@ using profile::toString;  // Severity, Scope
 
 /// Kinds after which a component cannot simply go on (its callback did not finish).
 constexpr bool stopsTheComponent(FaultKind k) {
-  return k == FaultKind::Signal || k == FaultKind::Exception || k == FaultKind::ErrorCode || k == FaultKind::Heartbeat;
+  return k == FaultKind::Signal || k == FaultKind::Exception || k == FaultKind::ErrorCode ||
+         k == FaultKind::Heartbeat || k == FaultKind::Process;
 }
 
 struct Rules {

@@ -16,7 +16,7 @@ using profile::Diagnostic;
 using profile::Diagnostics;
 
 constexpr const char* kKinds =
-    "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range; "
+    "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range, kill; "
     "hardware: sensor_unplugged, sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise";
 constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck",   "sensor_ok",
                                                "motor_power_off",  "motor_power_on", "noise"};

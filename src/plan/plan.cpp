@@ -2,7 +2,9 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <set>
+#include <tuple>
 
 #include "plan/fault_manager_profile.hpp"
 
@@ -37,7 +39,7 @@ class Planner {
 
   void addTasks(const std::string& prefix, const std::vector<profile::Task>& tasks) {
     for (const auto& t : tasks) {
-      PlannedExecutor ex{prefix + t.name, true, t.period_ms, t.priority, t.policy, {}};
+      PlannedExecutor ex{prefix + t.name, true, t.period_ms, t.priority, t.policy, {}, t.where};
       for (const auto& m : t.members) {
         for (const auto& inst : membersOf(prefix + m)) {
           ex.members.push_back(inst);
@@ -52,15 +54,21 @@ class Planner {
     for (const auto& d : deps) plan_.depends.push_back({prefix + d.source, prefix + d.target, d.where});
   }
 
-  Plan finish(std::string name) {
+  Result<Plan> finish(std::string name) {
     addFaultManagerIfConnected();
     for (const auto& inst : plan_.instances) {
       const auto& e = inst.profile->execution;
       if (in_task_.count(inst.name) || e.type == profile::ExecutionType::Passive) continue;
-      plan_.executors.push_back(
-          {inst.name, e.type == profile::ExecutionType::Periodic, e.period_ms, e.priority, e.policy, {inst.name}});
+      plan_.executors.push_back({inst.name,
+                                 e.type == profile::ExecutionType::Periodic,
+                                 e.period_ms,
+                                 e.priority,
+                                 e.policy,
+                                 {inst.name},
+                                 inst.where});
     }
     plan_.name = std::move(name);
+    if (auto r = groupProcesses(); !r) return r.error();
     return std::move(plan_);
   }
 
@@ -74,6 +82,68 @@ class Planner {
       plan_.instances.push_back(std::move(inst));
       return;
     }
+  }
+
+  // The processes and what may not cross between them: an executor runs in one process, and a
+  // service call is a function call (a port of data or events crosses through shared memory).
+  Result<void> groupProcesses() {
+    std::string errors;
+    auto at = [](const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); };
+    for (const auto& [name, spec] : process_specs_) {
+      (void)name;
+      PlannedProcess p{spec.name, spec.standby, {}, spec.where};
+      for (const auto& inst : plan_.instances)
+        if (inst.process == spec.name) p.members.push_back(inst.name);
+      plan_.processes.push_back(std::move(p));
+    }
+    std::sort(plan_.processes.begin(), plan_.processes.end(), [](const auto& a, const auto& b) {
+      return std::tie(a.where.file, a.where.line) < std::tie(b.where.file, b.where.line);
+    });
+    auto processOf = [this](const std::string& instance) {
+      const PlannedInstance* i = plan_.find(instance);
+      return i ? i->process : std::string();
+    };
+    auto where = [](const std::string& process) {
+      return process.empty() ? std::string("keel run's own process") : "process '" + process + "'";
+    };
+    for (const auto& ex : plan_.executors) {
+      for (const auto& m : ex.members) {
+        if (processOf(m) == processOf(ex.members.front())) continue;
+        errors += fmt::format("{}: task '{}' runs '{}' ({}) and '{}' ({}): a task's members run in one process\n",
+                              at(ex.where), ex.name, ex.members.front(), where(processOf(ex.members.front())), m,
+                              where(processOf(m)));
+        break;
+      }
+    }
+    for (const auto& c : plan_.connections) {
+      if (c.type != profile::PortType::Service) continue;
+      const std::string a = processOf(c.source.component), b = processOf(c.target.component);
+      if (a == b) continue;
+      errors += fmt::format(
+          "{}: port_connection {}.{} -> {}.{}: a service call cannot cross processes ('{}' runs in {}, '{}' in "
+          "{}); put both in one <process>, or connect them by data or event ports\n",
+          at(c.where), c.source.component, c.source.port, c.target.component, c.target.port, c.source.component,
+          where(a), c.target.component, where(b));
+    }
+    errors += process_errors_;
+    if (!errors.empty()) {
+      errors.pop_back();
+      return fail(errors);
+    }
+    return {};
+  }
+
+  // Records `spec` (qualified by `prefix`) as the process of `instance`, checking it says what
+  // earlier mentions of the same process said.
+  std::string noteProcess(const std::string& prefix, const profile::ProcessSpec& spec) {
+    profile::ProcessSpec q = spec;
+    q.name = prefix + spec.name;
+    auto [it, inserted] = process_specs_.emplace(q.name, q);
+    if (!inserted && it->second.standby != q.standby)
+      process_errors_ += fmt::format("{}:{}: process '{}' has standby=\"{}\" here but \"{}\" at {}:{}\n", q.where.file,
+                                     q.where.line, q.name, q.standby, it->second.standby, it->second.where.file,
+                                     it->second.where.line);
+    return q.name;
   }
 
   Result<void> addComponentRoot(const profile::ComponentProfile& cp) {
@@ -97,6 +167,7 @@ class Planner {
       for (const auto& [k, p] : sub.property_overrides) inst.properties[k] = p.value;
       inst.policy = sub.fault_policy;
       inst.application = app;
+      if (sub.process) inst.process = noteProcess(prefix, *sub.process);
       inst.where = sub.where;
       plan_.instances.push_back(std::move(inst));
       members_[name] = {name};
@@ -110,8 +181,10 @@ class Planner {
     std::size_t first = plan_.instances.size();
     if (auto r = addPackage(name + ".", app, comp.subcomponents, comp.connections); !r) return r;
     std::vector<std::string> inner;
+    const std::string process = sub.process ? noteProcess(prefix, *sub.process) : std::string();
     for (std::size_t i = first; i < plan_.instances.size(); ++i) {
       if (!plan_.instances[i].policy) plan_.instances[i].policy = sub.fault_policy;
+      if (plan_.instances[i].process.empty()) plan_.instances[i].process = process;
       inner.push_back(plan_.instances[i].name);
     }
     members_[name] = inner;
@@ -138,6 +211,8 @@ class Planner {
   ExportMap exports_;
   std::map<std::string, std::vector<std::string>> members_;
   std::set<std::string> in_task_;
+  std::map<std::string, profile::ProcessSpec> process_specs_;  // by qualified name
+  std::string process_errors_;
 };
 
 }  // namespace
@@ -145,6 +220,12 @@ class Planner {
 const PlannedInstance* Plan::find(std::string_view instance) const {
   for (const auto& i : instances)
     if (i.name == instance) return &i;
+  return nullptr;
+}
+
+const PlannedProcess* Plan::findProcess(std::string_view process) const {
+  for (const auto& p : processes)
+    if (p.name == process) return &p;
   return nullptr;
 }
 

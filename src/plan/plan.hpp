@@ -26,7 +26,16 @@ struct PlannedInstance {
   std::map<std::string, PropertyValue, std::less<>> properties;  // defaults + overrides
   std::optional<profile::FaultPolicy> policy;
   std::string application;  // system profiles: the application it belongs to
+  std::string process;      // qualified name of its <process>; empty: keel run's own process
   profile::Where where;     // its <subcomponent>
+};
+
+/// A component process (<process name standby>): the instances it hosts, in plan order.
+struct PlannedProcess {
+  std::string name;  // qualified as instances are: "app.name" in a system, "composite.name" inside one
+  int standby = 0;
+  std::vector<std::string> members;
+  profile::Where where;  // the first <process> naming it
 };
 
 struct PlannedConnection {
@@ -43,6 +52,7 @@ struct PlannedExecutor {
   int priority = 0;
   profile::SchedPolicy policy = profile::SchedPolicy::Other;
   std::vector<std::string> members;  // in execution order
+  profile::Where where;              // its <task>; for an instance's own executor, its <subcomponent>
 };
 
 struct Plan {
@@ -51,8 +61,10 @@ struct Plan {
   std::vector<PlannedConnection> connections;
   std::vector<PlannedExecutor> executors;
   std::vector<profile::Depends> depends;  // qualified names
+  std::vector<PlannedProcess> processes;  // in order of first mention
 
   const PlannedInstance* find(std::string_view instance) const;
+  const PlannedProcess* findProcess(std::string_view process) const;
 };
 
 /// Makes the plan for the root of `set` (a package, a system, or a single component).

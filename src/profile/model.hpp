@@ -163,11 +163,21 @@ struct Connection {
 /// A subcomponent's reference is either an atomic component or a composite.
 struct CompositeProfile;
 
+constexpr int kMaxStandby = 8;  // per process: each is a whole process kept ready
+
+/// <process name=".." standby="N"/> of a subcomponent: the OS process it runs in (docs/isolation.md).
+struct ProcessSpec {
+  std::string name;  // subcomponents naming the same process share it
+  int standby = 0;   // preloaded standby processes kept ready
+  Where where;
+};
+
 struct Subcomponent {
   std::string name;                                    // instance name, unique within its package/composite
   std::string reference;                               // resolved absolute path of the referenced profile
   std::map<std::string, Property> property_overrides;  // typed against the component profile
   std::optional<FaultPolicy> fault_policy;
+  std::optional<ProcessSpec> process;  // none: keel run's own process
   Where where;
 };
 

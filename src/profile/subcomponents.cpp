@@ -3,6 +3,8 @@
 // referenced component once it is loaded.
 #include <fmt/format.h>
 
+#include <cctype>
+
 #include "profile/field_reader.hpp"
 #include "profile/parsers.hpp"
 
@@ -46,6 +48,36 @@ std::map<std::string, Property> readOverrides(Ctx& ctx, pugi::xml_node node, con
   return out;
 }
 
+// A process name becomes part of diagnostics, of the host's command line and of its memfds'
+// names: letters, digits, '_', '-' and '.', as instance names.
+bool processNameOk(std::string_view name) {
+  if (name.empty() || name.size() > 64) return false;
+  for (char c : name)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') return false;
+  return true;
+}
+
+std::optional<ProcessSpec> readProcess(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
+  readChildren(ctx, node, {}, {"name", "standby"});
+  ProcessSpec p;
+  p.where = ctx.where(node);
+  const auto name = requiredAttribute(ctx, node, "name");
+  if (!name) return std::nullopt;
+  if (!processNameOk(*name)) {
+    ctx.error(node, fmt::format("<process> of {}: name '{}' is not a process name (1 to 64 letters, digits, "
+                                "'_', '-' or '.')",
+                                owner, *name));
+    return std::nullopt;
+  }
+  p.name = *name;
+  if (auto standby = attribute(node, "standby")) {
+    const auto n = readIntIn(ctx, node, *standby, "standby of <process> of " + owner, 0, kMaxStandby);
+    if (!n) return std::nullopt;
+    p.standby = *n;
+  }
+  return p;
+}
+
 void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& out) {
   Subcomponent s;
   s.where = ctx.where(node);
@@ -62,6 +94,7 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
                  }},
                 {"properties", [&](pugi::xml_node n) { s.property_overrides = readOverrides(ctx, n, owner); }},
                 {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
+                {"process", [&](pugi::xml_node n) { s.process = readProcess(ctx, n, owner); }},
                 {"id", {}},
                 {"version", {}},
                 {"node_id", {}},

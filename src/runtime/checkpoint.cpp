@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cstring>
 #include <mutex>
+#include <vector>
+
+#include "runtime/ipc/session.hpp"
 
 namespace keel::runtime {
 
@@ -17,6 +20,20 @@ void takeCheckpoint(detail::ComponentCore& core, std::int64_t now_ns) {
   core.checkpoints.t_ns = now_ns;
   ++core.checkpoints.count;
   core.checkpoints.next_ns = now_ns + core.checkpoints.period_ns;
+  if (core.checkpoints.shared) ipc::publishCheckpoint(*core.checkpoints.shared, core.checkpoints.copies, now_ns);
+}
+
+std::int64_t restoreSharedCheckpoint(detail::ComponentCore& core) {
+  if (!core.checkpoints.shared) return 0;
+  std::vector<std::size_t> lengths;
+  for (const CriticalRegion& r : core.critical) lengths.push_back(r.len);
+  {
+    std::lock_guard lock(core.checkpoints.mutex);
+    auto t = ipc::readCheckpoint(*core.checkpoints.shared, lengths, core.checkpoints.copies);
+    if (!t) return 0;
+    core.checkpoints.t_ns = *t;
+  }
+  return restoreCheckpoint(core);
 }
 
 std::int64_t restoreCheckpoint(detail::ComponentCore& core) {

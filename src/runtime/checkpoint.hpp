@@ -25,6 +25,11 @@ inline void checkpointIfDue(detail::ComponentCore& core, std::int64_t now_ns) {
 /// taken); the memory is then left as it is.
 std::int64_t restoreCheckpoint(detail::ComponentCore& core);
 
+/// In a component process taking over (or respawned): loads the checkpoint the process before
+/// it published in shared memory (CheckpointStore::shared), then restores it as above. 0 when
+/// there is none, or it has other regions than this component registered.
+std::int64_t restoreSharedCheckpoint(detail::ComponentCore& core);
+
 /// Copies `from`'s last checkpoint into `to`'s critical memory, region by region in the order
 /// they were registered, each up to the shorter length. Returns how many regions were copied.
 std::size_t copyCheckpoint(detail::ComponentCore& from, detail::ComponentCore& to);

@@ -19,6 +19,9 @@
 
 namespace keel::runtime {
 class Executor;
+namespace ipc {
+struct CheckpointArea;
+}
 
 /// Where the runtime reports faults: the runtime's own interface to the fault layer, which
 /// implements it (fault::FaultManager). Called on executor threads and detectors' threads.
@@ -79,6 +82,7 @@ struct WatchCell {
 /// thread at cycle boundaries, read by recovery (same thread) or an alternative (any thread).
 struct CheckpointStore {
   std::int64_t period_ns = 0;                  // <checkpoint period>; 0: only at start
+  ipc::CheckpointArea* shared = nullptr;       // in a component process: also published there
   std::int64_t next_ns = 0;                    // its executor's thread only
   std::mutex mutex;                            // guards the three below
   std::vector<std::vector<std::byte>> copies;  // one copy per critical region
@@ -94,6 +98,9 @@ struct FaultCell {
   std::atomic<bool> interrupt{false};           // interrupt the running (hung) callback
   std::atomic<std::uint64_t> recovering_id{0};  // recovered: after the next good onExecute
   std::atomic<bool> emergency{false};           // the emergency is latched (containment)
+  // A passive stand-in for a component running in another process (keel run's proxy): when
+  // that component ran again after its reset (steady ns), the `recovered` moment; 0: on return.
+  std::atomic<std::int64_t> recovered_at_ns{0};
 };
 }  // namespace keel::runtime
 

@@ -22,6 +22,7 @@ constexpr std::pair<std::string_view, InjectKind> kNames[] = {
     {"hang", InjectKind::Hang},
     {"stall_heartbeat", InjectKind::StallHeartbeat},
     {"out_of_range", InjectKind::OutOfRange},
+    {"kill", InjectKind::Kill},
 };
 
 void markManifested(detail::ComponentCore& core) {
@@ -75,6 +76,12 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
       detail::OutputPortBase* p = corruptiblePort(c, args.port);
       return p != nullptr && detail::PortAccess::corruptNext(*p, args.value);
     }
+    case InjectKind::Kill: {
+      auto* target = dynamic_cast<ProcessTarget*>(&c);
+      if (target == nullptr) return false;
+      markManifested(core);
+      return target->signalProcess(SIGKILL);
+    }
     case InjectKind::StallHeartbeat:
       markManifested(core);
       core.injection.stalled_until_ns.store(args.duration_ns > 0 ? steadyNs() + args.duration_ns
@@ -99,6 +106,7 @@ ReturnCode fire(Component& c, InjectKind kind) {
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       return ReturnCode::Ok;
     case InjectKind::StallHeartbeat:  // applied by arm()
+    case InjectKind::Kill:
     case InjectKind::OutOfRange:
     case InjectKind::None: break;
   }

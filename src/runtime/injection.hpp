@@ -24,6 +24,16 @@ enum class InjectKind : std::uint8_t {
   Hang,            // onExecute never returns (until interrupted)
   StallHeartbeat,  // the component is not executed any more (its heartbeat stops)
   OutOfRange,      // the next value pushed on a numeric output port is out of range
+  Kill,            // SIGKILL to the component's process (components in a <process> only)
+};
+
+/// What a component standing for a whole component process offers (keel run's proxy of an
+/// instance in a <process>): `kill` injections reach its process through it.
+class ProcessTarget {
+ public:
+  virtual ~ProcessTarget() = default;
+  /// Sends `signal` to the process now active for this component; false when there is none.
+  virtual bool signalProcess(int signal) = 0;
 };
 
 std::optional<InjectKind> parseInjectKind(std::string_view name);
@@ -35,9 +45,10 @@ struct InjectArgs {
   std::int64_t duration_ns = 0;  // StallHeartbeat: how long (0 = for ever)
 };
 
-/// Arms `kind` on `c` with the log's `fault_id`. StallHeartbeat takes effect at once (the
-/// executor skips the component); the others fire at its next onExecute or push. Returns
-/// false if `kind` cannot apply to `c` (OutOfRange without a numeric output data port).
+/// Arms `kind` on `c` with the log's `fault_id`. StallHeartbeat and Kill take effect at once
+/// (the executor skips the component; its process is killed); the others fire at its next
+/// onExecute or push. Returns false if `kind` cannot apply to `c` (OutOfRange without a
+/// numeric output data port, Kill on a component that is not a ProcessTarget).
 bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs& args = {});
 
 /// The output data port OutOfRange would corrupt, or null.

@@ -4,6 +4,7 @@
 // Thread-safety: identity fields are immutable after construction.
 #pragma once
 
+#include <cstddef>
 #include <memory>
 #include <string>
 #include <string_view>
@@ -28,6 +29,27 @@ constexpr std::string_view toString(PortKind k) {
 
 class PortBase;
 class ConnectionBase;
+
+/// Where the bytes of values go when a connection crosses processes: the transport's side of
+/// a port whose type is trivially copyable (keel's process isolation; src/runtime/ipc).
+class ByteSink {
+ public:
+  virtual ~ByteSink() = default;
+  /// One value: byteSize() bytes at `value`, aligned for the port's type.
+  virtual void deliverBytes(const void* value) = 0;
+};
+
+/// The in-process connection behind a transport's end (an inlet delivering into an input
+/// port, an outlet an output port sends to): what the runtime re-points when a component is
+/// replaced.
+class ByteEnd {
+ public:
+  virtual ~ByteEnd() = default;
+  virtual ConnectionBase& connection() = 0;
+};
+
+/// Values arriving as bytes, delivered into an input port.
+class ByteInlet : public ByteSink, public ByteEnd {};
 /// The runtime's access to what ports keep from their authors (src/runtime/port_access.hpp).
 struct PortAccess;
 
@@ -55,6 +77,13 @@ class PortBase {
 
   /// Whether values can be range-checked (numbers and arrays of numbers).
   virtual bool numeric() const { return false; }
+  /// Whether values can cross to another process as bytes (a trivially copyable type), and
+  /// how many bytes one is; 0 for a port that cannot (service ports, other types).
+  std::size_t byteSize() const { return byte_size_; }
+
+ protected:
+  /// Set by the typed ports: sizeof(T) when T is trivially copyable.
+  std::size_t byte_size_ = 0;
 
  protected:
   /// The port's validity rule (set by the runtime before start); null: none.
@@ -97,6 +126,9 @@ class InputPortBase : public PortBase {
   virtual std::unique_ptr<ConnectionBase> makeConnection() = 0;
   /// Points an existing connection at this port (component replacement); false on type mismatch.
   virtual bool retarget(ConnectionBase& connection) = 0;
+  /// A way in for values from another process: a sink of bytes that delivers each value as a
+  /// connection from an output port of this process would. Null when byteSize() is 0.
+  virtual std::unique_ptr<ByteInlet> makeByteInlet() = 0;
 };
 
 /// Output side: attaches to connections of the same type.
@@ -105,6 +137,9 @@ class OutputPortBase : public PortBase {
   using PortBase::PortBase;
   /// Adds a connection; false if its type differs from this port's.
   virtual bool attach(ConnectionBase& connection) = 0;
+  /// Adds a connection whose values go to `sink` as bytes (to another process); it must live
+  /// as long as the port sends. Null when byteSize() is 0.
+  virtual std::unique_ptr<ByteEnd> attachBytes(ByteSink& sink) = 0;
 
  private:
   friend struct PortAccess;

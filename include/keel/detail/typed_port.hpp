@@ -8,7 +8,9 @@
 
 #include <cstddef>
 #include <memory>
+#include <new>
 #include <string>
+#include <type_traits>
 #include <typeindex>
 #include <typeinfo>
 #include <utility>
@@ -28,7 +30,9 @@ class QueuedInput : public Base, private Sink<T> {
  protected:
   QueuedInput(Component* owner, std::string name, PortKind kind, std::size_t capacity)
       : Base(owner, std::move(name), kind, PortDirection::Input, typeid(T), ::keel::typeName<T>()),
-        queue_(capacity, QueuePolicy::Fifo) {}
+        queue_(capacity, QueuePolicy::Fifo) {
+    if constexpr (std::is_trivially_copyable_v<T>) this->byte_size_ = sizeof(T);
+  }
 
   PortQueue<T> queue_;
 
@@ -46,6 +50,21 @@ class QueuedInput : public Base, private Sink<T> {
     static_cast<Connection<T>&>(c).retarget(this);
     return true;
   }
+  std::unique_ptr<ByteInlet> makeByteInlet() override {
+    if constexpr (std::is_trivially_copyable_v<T>) {
+      // The bytes were copied into storage aligned for T: for a trivially copyable type that
+      // makes a T there (an implicit-lifetime type), read in place.
+      struct Inlet final : ByteInlet {
+        explicit Inlet(Sink<T>* sink) : to(sink) {}
+        void deliverBytes(const void* value) override { to.send(*std::launder(static_cast<const T*>(value))); }
+        ConnectionBase& connection() override { return to; }
+        Connection<T> to;
+      };
+      return std::make_unique<Inlet>(static_cast<Sink<T>*>(this));
+    } else {
+      return nullptr;
+    }
+  }
 };
 
 /// An output port that sends values of type T to every connected input.
@@ -57,7 +76,9 @@ class Fanout : public OutputPortBase {
 
  protected:
   Fanout(Component* owner, std::string name, PortKind kind)
-      : OutputPortBase(owner, std::move(name), kind, PortDirection::Output, typeid(T), ::keel::typeName<T>()) {}
+      : OutputPortBase(owner, std::move(name), kind, PortDirection::Output, typeid(T), ::keel::typeName<T>()) {
+    if constexpr (std::is_trivially_copyable_v<T>) this->byte_size_ = sizeof(T);
+  }
 
   void sendAll(const T& value) const {
     for (const Connection<T>* c : connections_) c->send(value);
@@ -68,6 +89,23 @@ class Fanout : public OutputPortBase {
     if (connection.type() != std::type_index(typeid(T))) return false;
     connections_.push_back(static_cast<Connection<T>*>(&connection));
     return true;
+  }
+  std::unique_ptr<ByteEnd> attachBytes(ByteSink& sink) override {
+    if constexpr (std::is_trivially_copyable_v<T>) {
+      struct Outlet final : ByteEnd, Sink<T> {
+        explicit Outlet(ByteSink& s) : bytes(s), from(this) {}
+        void deliver(const T& value) override { bytes.deliverBytes(&value); }
+        ConnectionBase& connection() override { return from; }
+        ByteSink& bytes;
+        Connection<T> from;
+      };
+      auto outlet = std::make_unique<Outlet>(sink);
+      connections_.push_back(&outlet->from);
+      return outlet;
+    } else {
+      (void)sink;
+      return nullptr;
+    }
   }
 
   std::vector<const Connection<T>*> connections_;

@@ -210,6 +210,11 @@ Result<PushStatus> RingBuffer::push(std::uint32_t epoch, const void* sample) {
   return PushStatus::Written;
 }
 
+void RingBuffer::wakeReaders() {
+  header_->wake.fetch_add(1, std::memory_order_release);
+  futexWakeAll(header_->wake, FutexScope::Shared);
+}
+
 std::uint32_t RingBuffer::epoch() const { return header_->epoch.load(std::memory_order_acquire); }
 std::uint64_t RingBuffer::written() const { return header_->head.load(std::memory_order_acquire); }
 std::uint32_t RingBuffer::sleepingReaders() const { return header_->sleepers.load(std::memory_order_acquire); }
@@ -283,6 +288,7 @@ bool RingReader::wait(std::chrono::nanoseconds timeout) {
     if (!ready && Clock::now() < deadline) futexWait(header_->wake, word, &deadline, FutexScope::Shared);
     header_->sleepers.fetch_sub(1, std::memory_order_release);
     if (ready || available()) return true;
+    if (header_->wake.load(std::memory_order_acquire) != word) return false;  // wakeReaders()
     if (Clock::now() >= deadline) return false;
   }
 }

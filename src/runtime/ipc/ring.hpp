@@ -83,6 +83,10 @@ class RingBuffer {
   /// Writes one sample of sampleSize() bytes, if `epoch` is still the ring's.
   Result<PushStatus> push(std::uint32_t epoch, const void* sample);
 
+  /// Wakes every reader asleep in wait() (which returns, perhaps with nothing to read): how a
+  /// reader's own process stops its reading thread.
+  void wakeReaders();
+
   std::uint32_t epoch() const;            // the current writer's, 0 before the first takeOver
   std::uint64_t written() const;          // samples committed so far
   std::uint32_t sleepingReaders() const;  // readers that announced they sleep in wait()
@@ -117,9 +121,13 @@ class RingReader {
   /// Copies the newest sample into `out`, if newer than the last read; older unread ones are
   /// dropped. `out` may be written even when nothing is returned.
   std::optional<SampleInfo> latest(void* out);
-  /// Sleeps until a sample is there to read or `timeout` (at most a year) passed; true when one
-  /// is there. The only call of a reader that may enter the kernel.
+  /// Sleeps until a sample is there to read, `timeout` (at most a year) passed or wakeReaders()
+  /// was called; true when a sample is there. The only call of a reader that may enter the kernel.
   bool wait(std::chrono::nanoseconds timeout);
+
+  /// Moves the cursor to sample `next` (a reader taking over from another resumes where that
+  /// one stopped); one older than the ring still holds is skipped over by the next pop().
+  void seek(std::uint64_t next) { next_ = next; }
 
   std::uint64_t dropped() const { return dropped_; }  // samples lapped or skipped by latest()
   std::uint64_t next() const { return next_; }        // index of the next sample to read

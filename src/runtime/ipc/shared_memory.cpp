@@ -43,18 +43,53 @@ Result<SharedMemory> SharedMemory::create(const std::string& name, std::size_t s
 }
 
 Result<SharedMemory> SharedMemory::adopt(int fd, const std::string& name) {
-  SharedMemory m;  // owns fd from here: closed on every return below that does not hand it on
+  SharedMemory m = adoptUnmapped(fd, name);  // owns fd from here: closed with m on an error
+  if (auto r = m.map(); !r) return r.error();
+  return m;
+}
+
+Result<SharedMemory> SharedMemory::createUnsized(const std::string& name) {
+  SharedMemory m;
+  m.name_ = name;
+  m.fd_ = ::memfd_create(name.c_str(), MFD_CLOEXEC | MFD_ALLOW_SEALING);
+  if (m.fd_ < 0) return fail(fmt::format("cannot create shared memory '{}': memfd_create: {}", name, errnoText(errno)));
+  return m;
+}
+
+SharedMemory SharedMemory::adoptUnmapped(int fd, const std::string& name) {
+  SharedMemory m;
   m.fd_ = fd;
   m.name_ = name;
-  struct stat st {};
-  if (::fstat(fd, &st) != 0)
-    return fail(fmt::format("cannot map shared memory '{}' (fd {}): fstat: {}", name, fd, errnoText(errno)));
-  if (st.st_size <= 0) return fail(fmt::format("cannot map shared memory '{}' (fd {}): it is empty", name, fd));
-  const auto size = static_cast<std::size_t>(st.st_size);
-  m.data_ = mapShared(fd, size);
-  if (!m.data_) return fail(fmt::format("cannot map shared memory '{}' (fd {}): mmap: {}", name, fd, errnoText(errno)));
-  m.size_ = size;
   return m;
+}
+
+Result<void> SharedMemory::sizeTo(std::size_t size) {
+  const auto why = [&](const char* step, int err) {
+    return fail(fmt::format("cannot size shared memory '{}' to {} bytes: {}: {}", name_, size, step, errnoText(err)));
+  };
+  if (size == 0 || data_) return fail(fmt::format("cannot size shared memory '{}': mapped already, or size 0", name_));
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0) return why("fstat", errno);
+  if (st.st_size != 0) return fail(fmt::format("cannot size shared memory '{}': it has a size already", name_));
+  if (::ftruncate(fd_, static_cast<off_t>(size)) != 0) return why("ftruncate", errno);
+  if (::fcntl(fd_, F_ADD_SEALS, F_SEAL_SHRINK | F_SEAL_GROW | F_SEAL_SEAL) != 0) return why("sealing its size", errno);
+  data_ = mapShared(fd_, size);
+  if (!data_) return why("mmap", errno);
+  size_ = size;
+  return {};
+}
+
+Result<void> SharedMemory::map() {
+  if (data_) return {};
+  struct stat st {};
+  if (::fstat(fd_, &st) != 0)
+    return fail(fmt::format("cannot map shared memory '{}' (fd {}): fstat: {}", name_, fd_, errnoText(errno)));
+  if (st.st_size <= 0) return fail(fmt::format("cannot map shared memory '{}' (fd {}): it is empty", name_, fd_));
+  const auto size = static_cast<std::size_t>(st.st_size);
+  data_ = mapShared(fd_, size);
+  if (!data_) return fail(fmt::format("cannot map shared memory '{}' (fd {}): mmap: {}", name_, fd_, errnoText(errno)));
+  size_ = size;
+  return {};
 }
 
 SharedMemory::~SharedMemory() { release(); }

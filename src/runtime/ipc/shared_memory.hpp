@@ -24,6 +24,15 @@ class SharedMemory {
   /// Maps the region behind `fd` (inherited from the process that created it), whole. Takes
   /// ownership of `fd` in every case: it is closed with the region, or at once on an error.
   static Result<SharedMemory> adopt(int fd, const std::string& name = "inherited");
+  /// A region with no size yet, mapped nowhere: the side that learns the size gives it one
+  /// with sizeTo() (a port's ring: keel run creates it, the writer's process sizes it).
+  static Result<SharedMemory> createUnsized(const std::string& name);
+  /// Takes ownership of `fd` without mapping it (an inherited region that may not be sized yet).
+  static SharedMemory adoptUnmapped(int fd, const std::string& name = "inherited");
+  /// Sizes an unsized region (sealing it) and maps it; an error when it has a size already.
+  Result<void> sizeTo(std::size_t size);
+  /// Maps an adoptUnmapped() region, whole; an error while it has no size.
+  Result<void> map();
 
   SharedMemory() = default;  // maps nothing
   ~SharedMemory();

@@ -45,6 +45,7 @@ const Constant kEvents[] = {
     {"kEngine", ev::kEngine},
     {"kWarning", ev::kWarning},
     {"kEndRequested", ev::kEndRequested},
+    {"kHost", ev::kHost},
 };
 
 const Constant kFields[] = {
@@ -83,6 +84,8 @@ const Constant kFields[] = {
     {"kSet", fd::kSet},
     {"kExecutors", fd::kExecutors},
     {"kCpuDmaLatencyUs", fd::kCpuDmaLatencyUs},
+    {"kProcess", fd::kProcess},
+    {"kPid", fd::kPid},
 };
 
 /// The values of `outcome` (schema::kOk, schema::kFailed).

@@ -62,16 +62,17 @@ TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
 </fault_scenario>)"));
   ASSERT_FALSE(s);
   const std::string f = path_;
-  EXPECT_EQ(problems(s), (std::vector<std::string>{
-                             f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
-                             f + ":3: <fault>: attribute 'component' is required",
-                             f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
-                                 "throw, error_code, hang, stall_heartbeat, out_of_range; hardware: sensor_unplugged, "
-                                 "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise)",
-                             f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
-                                 "value, duration, repeat, every, args)",
-                             f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",
-                         }));
+  EXPECT_EQ(problems(s),
+            (std::vector<std::string>{
+                f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
+                f + ":3: <fault>: attribute 'component' is required",
+                f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
+                    "throw, error_code, hang, stall_heartbeat, out_of_range, kill; hardware: sensor_unplugged, "
+                    "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise)",
+                f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
+                    "value, duration, repeat, every, args)",
+                f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",
+            }));
 }
 
 TEST_F(ScenarioFile, RejectsAnotherRootElement) {

@@ -1,0 +1,82 @@
+// Connections between processes (docs/isolation.md, "Ports across processes"). Each data or
+// event connection whose two ends run in different processes goes through a ring
+// (runtime/ipc/ring.hpp) in a memfd that keel run creates empty: the process of the output port
+// sizes it (it knows sizeof(T)) and writes into it through an outlet attached to that port; the
+// process of the input port waits for it to be laid out, then reads it on a pump thread that
+// delivers each value into the input port as an in-process connection would (its queue policy,
+// its validity rule). One copy into the ring, one out of it.
+// A writer whose ring was taken over (a standby became the active) is refused its next push: it
+// was fenced, and the host it runs in exits at once (never two writers).
+// Thread-safety: connect/takeOver/stop from the engine's thread; pushes from the output's
+// component thread; each pump is a thread of its own.
+#pragma once
+
+#include <atomic>
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "keel/component.hpp"
+#include "keel/result.hpp"
+#include "plan/plan.hpp"
+#include "runtime/ipc/ring.hpp"
+#include "runtime/ipc/session.hpp"
+
+namespace keel::engine {
+
+/// The data and event connections of `plan` whose ends run in different processes, as indices
+/// into plan.connections: index i of this list is the connection's ring index in the session.
+std::vector<std::size_t> crossingConnections(const plan::Plan& plan);
+
+/// The ring's slot count for a connection: the input queue's size, rounded up to a power of
+/// two, at least 64 (the pump drains the ring into the queue, which applies the policy).
+std::size_t ringSlots(const plan::Plan& plan, const plan::PlannedConnection& c);
+
+class Crossings {
+ public:
+  using Find = std::function<Component*(std::string_view instance)>;
+  using Fenced = std::function<void()>;  // this process's writer was fenced by a takeover
+  using Warn = std::function<void(const std::string&)>;
+
+  Crossings();
+  ~Crossings();
+  Crossings(const Crossings&) = delete;
+  Crossings& operator=(const Crossings&) = delete;
+
+  /// Sets up this process's ends of the crossing connections: `process` is this process's
+  /// name (empty: keel run), `fds` each ring's memfd by ring index (owned from here). Writers are
+  /// attached (not yet writing: takeOver); readers wait up to `wait` for their ring to be laid
+  /// out, then read it once start() is called. Errors name the connection's file:line.
+  Result<void> connect(const plan::Plan& plan, const std::string& process, runtime::ipc::Session& session,
+                       std::map<std::size_t, int> fds, const Find& find, std::chrono::milliseconds wait, Fenced fenced,
+                       Warn warn);
+  /// Makes this process the writer of every ring it writes (at its start, or at a takeover).
+  Result<void> takeOver();
+  /// Starts the pumps (after the components are initialised).
+  void start();
+  /// Stops and joins the pumps; writers stay attached (a late push is harmless).
+  void stop();
+
+  /// The in-process connections behind the ends, for a component's replacement.
+  struct End {
+    detail::ConnectionBase* connection;
+    detail::PortBase* port;  // the local port
+    bool output;
+  };
+  std::vector<End> ends() const;
+
+  /// Values a reader lost because its pump fell a whole ring behind.
+  std::uint64_t dropped() const;
+
+ private:
+  struct Writer;
+  struct Reader;
+  std::vector<std::unique_ptr<Writer>> writers_;
+  std::vector<std::unique_ptr<Reader>> readers_;
+};
+
+}  // namespace keel::engine

@@ -1,0 +1,215 @@
+#include "engine/process_host.hpp"
+
+#include <fmt/format.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+
+#include "engine/crossing.hpp"
+#include "runtime/clock.hpp"
+#include "runtime/futex.hpp"
+
+namespace keel::engine {
+namespace {
+
+namespace ipc = runtime::ipc;
+
+std::uint64_t fnv1a(std::string_view text, std::uint64_t h = 0xcbf29ce484222325ULL) {
+  for (char c : text) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 0x100000001b3ULL;
+  }
+  return h;
+}
+
+}  // namespace
+
+ipc::SessionShape sessionShape(const plan::Plan& plan) {
+  ipc::SessionShape s;
+  s.processes = plan.processes.size();
+  std::uint64_t h = fnv1a(plan.name);
+  for (const auto& p : plan.processes) h = fnv1a(p.name + '\n', h);
+  for (const auto& i : plan.instances) {
+    h = fnv1a(i.name + '@' + i.process + '\n', h);
+    s.checkpoints += !i.process.empty();
+  }
+  const auto crossing = crossingConnections(plan);
+  s.rings = crossing.size();
+  for (std::size_t k : crossing) {
+    const auto& c = plan.connections[k];
+    h = fnv1a(fmt::format("{}.{}>{}.{}\n", c.source.component, c.source.port, c.target.component, c.target.port), h);
+  }
+  s.plan_hash = h;
+  return s;
+}
+
+std::optional<std::size_t> checkpointIndex(const plan::Plan& plan, std::string_view instance) {
+  std::size_t n = 0;
+  for (const auto& i : plan.instances) {
+    if (i.process.empty()) continue;
+    if (i.name == instance) return n;
+    ++n;
+  }
+  return std::nullopt;
+}
+
+ProcessHost::ProcessHost(ipc::Session session, HostRole role, std::size_t index)
+    : session_(std::move(session)), role_(std::move(role)), index_(index) {}
+
+Result<std::unique_ptr<ProcessHost>> ProcessHost::open(const plan::Plan& plan, HostRole role) {
+  std::size_t index = plan.processes.size();
+  for (std::size_t i = 0; i < plan.processes.size(); ++i)
+    if (plan.processes[i].name == role.process) index = i;
+  const int fd = role.session_fd;
+  if (index == plan.processes.size()) {
+    ::close(fd);
+    return fail(fmt::format("the profile has no <process name=\"{}\">", role.process));
+  }
+  if (role.slot >= ipc::kHostSlots) {
+    ::close(fd);
+    return fail(fmt::format("host slot {} is out of range", role.slot));
+  }
+  auto session = ipc::Session::adopt(fd, sessionShape(plan));
+  if (!session) return session.error();
+  return std::unique_ptr<ProcessHost>(new ProcessHost(std::move(*session), std::move(role), index));
+}
+
+ProcessHost::~ProcessHost() {
+  // The watchers sleep for the life of the process; the process ends with _exit (leave()).
+  if (supervisor_watcher_.joinable()) supervisor_watcher_.detach();
+  if (signal_watcher_.joinable()) signal_watcher_.detach();
+}
+
+Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
+  // Orphan backstop: SIGTERM when the thread that started this process ends; if keel run died
+  // before this line, getppid() says so now.
+  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (role_.parent != 0 && ::getppid() != role_.parent) return fail("keel run ended before this host started");
+  // A core dump of a host would delay every death notice by its writing (decision 0011).
+  const rlimit no_core{0, 0};
+  ::setrlimit(RLIMIT_CORE, &no_core);
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGTERM);
+  sigaddset(&stop, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);  // for every thread from here: the signal watcher takes them
+
+  auto life = slot().life.lock();
+  if (!life) return fail("life lock: " + life.error().message);
+  has_life_ = true;
+  slot().pid.store(::getpid(), std::memory_order_release);
+  ipc::publishState(block(), slot(), ipc::HostState::Loading);
+
+  supervisor_lost_ = std::move(supervisor_lost);
+  supervisor_watcher_ = std::thread([this] {
+    auto locked = session_.supervisor().lock();  // held by keel run's main thread while it lives
+    (void)locked;  // whatever it says, keel run is gone (or broke its lock): stop the actuators
+    supervisorLost();
+  });
+  signal_watcher_ = std::thread([this, stop] {
+    for (;;) {
+      int sig = 0;
+      if (sigwait(&stop, &sig) != 0) continue;
+      if (role_.parent != 0 && ::getppid() != role_.parent) supervisorLost();  // PDEATHSIG
+      if (!active_.load(std::memory_order_acquire)) ::_exit(0);                // a standby has nothing running
+      signalled_.store(true, std::memory_order_release);
+      block().command.fetch_add(0, std::memory_order_acq_rel);
+      runtime::futexWakeAll(block().command, runtime::FutexScope::Shared);
+    }
+  });
+  return {};
+}
+
+void ProcessHost::supervisorLost() {
+  // Both watchers may get here (the robust wake and PDEATHSIG): the first runs the emergency
+  // stop, the other waits for it; then the process ends.
+  std::call_once(lost_once_, [this] {
+    if (active_.load(std::memory_order_acquire) && supervisor_lost_) supervisor_lost_();
+  });
+  ::_exit(kExitSupervisorLost);
+}
+
+void ProcessHost::failed(const std::string& message) {
+  ipc::HostSlot& s = slot();
+  const std::size_t n = std::min(message.size(), sizeof s.message);
+  std::memcpy(s.message, message.data(), n);
+  s.message_len.store(static_cast<std::uint32_t>(n), std::memory_order_release);
+  ipc::publishState(block(), s, ipc::HostState::Failed);
+}
+
+Result<bool> ProcessHost::takeRole() {
+  if (role_.standby) ipc::publishState(block(), slot(), ipc::HostState::Standby);
+  auto locked = block().role.lock();  // a standby sleeps here until the active dies or leaves
+  if (locked && *locked == ipc::LockStatus::OwnerDied) slot().woke_ns.store(runtime::steadyNs());
+  if (!locked) return fail("role lock: " + locked.error().message);
+  has_role_ = true;
+  return *locked == ipc::LockStatus::OwnerDied;
+}
+
+bool ProcessHost::stopRequested() {
+  return signalled_.load(std::memory_order_acquire) ||
+         session_.process(index_).command.load(std::memory_order_acquire) ==
+             static_cast<std::uint32_t>(ipc::Command::Stop);
+}
+
+void ProcessHost::becameActive() {
+  slot().active_ns.store(runtime::steadyNs(), std::memory_order_release);
+  active_.store(true, std::memory_order_release);
+  ipc::publishState(block(), slot(), ipc::HostState::Active);
+}
+
+void ProcessHost::ranOnce(std::int64_t t_ns) {
+  std::int64_t none = 0;
+  if (!slot().first_run_ns.compare_exchange_strong(none, t_ns, std::memory_order_acq_rel)) return;
+  block().changes.fetch_add(1, std::memory_order_acq_rel);
+  runtime::futexWakeAll(block().changes, runtime::FutexScope::Shared);
+}
+
+void ProcessHost::serve(const std::function<void()>& emergency, const std::function<void()>& clear) {
+  auto command = [this] { return static_cast<ipc::Command>(block().command.load(std::memory_order_acquire)); };
+  ipc::Command last = ipc::Command::Run;
+  for (;;) {
+    if (signalled_.load(std::memory_order_acquire)) return;
+    const std::uint32_t word = block().command.load(std::memory_order_acquire);
+    const ipc::Command now = command();
+    if (now == ipc::Command::Stop) return;
+    if (now != last) {
+      if (now == ipc::Command::Emergency) {
+        emergency();
+        block().emergencies_done.fetch_add(1, std::memory_order_acq_rel);
+        block().changes.fetch_add(1, std::memory_order_acq_rel);
+        runtime::futexWakeAll(block().changes, runtime::FutexScope::Shared);
+      } else if (last == ipc::Command::Emergency) {
+        clear();
+      }
+      last = now;
+      continue;
+    }
+    runtime::futexWait(block().command, word, nullptr, runtime::FutexScope::Shared);
+  }
+}
+
+void HostFaultSink::recovered(Component& c, std::int64_t t_ns) {
+  std::uint64_t first = kFirstRun;
+  if (runtime::coreOf(c).fault.recovering_id.compare_exchange_strong(first, 0, std::memory_order_acq_rel)) {
+    host_.ranOnce(t_ns);
+    return;
+  }
+  manager_.recovered(c, t_ns);
+}
+
+void ProcessHost::leave() {
+  active_.store(false, std::memory_order_release);
+  if (has_role_) (void)block().role.unlock();  // the next standby wakes, sees the stop and leaves
+  has_role_ = false;
+  ipc::publishState(block(), slot(), ipc::HostState::Exited);
+  if (has_life_) (void)slot().life.unlock();
+  has_life_ = false;
+}
+
+}  // namespace keel::engine

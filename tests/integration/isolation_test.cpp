@@ -1,0 +1,203 @@
+// Process isolation as a user runs it (docs/isolation.md): `keel run` with components in
+// processes of their own — real processes, real kills. Values cross in order and whole; each
+// way a process dies is a `process` fault handled by its policy (a standby takes over, or a
+// respawn); a port type that cannot cross is refused; when keel run itself is killed, the
+// actuators it left are stopped and no process stays behind.
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <set>
+#include <sstream>
+
+#include "fault/log_schema.hpp"
+#include "support/log_reader.hpp"
+#include "support/process.hpp"
+#include "support/temp_log.hpp"
+
+namespace keel {
+namespace {
+
+namespace ev = fault::schema::event;
+namespace fd = fault::schema::field;
+using namespace std::chrono_literals;
+
+std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/isolation/" + name; }
+
+struct Report {  // PatternCheck's counts
+  std::uint64_t received = 0, gaps = 0, back = 0, torn = 0, last = 0;
+};
+
+Report readReport(const std::string& path) {
+  Report r;
+  std::istringstream(test::slurp(path)) >> r.received >> r.gaps >> r.back >> r.torn >> r.last;
+  return r;
+}
+
+std::vector<nlohmann::json> hostRecords(const std::vector<nlohmann::json>& log, const std::string& phase) {
+  std::vector<nlohmann::json> out;
+  for (const auto& r : test::eventsOf(log, ev::kHost))
+    if (r.value(fd::kPhase, "") == phase) out.push_back(r);
+  return out;
+}
+
+std::vector<nlohmann::json> processFaults(const std::vector<nlohmann::json>& log) {
+  std::vector<nlohmann::json> out;
+  for (const auto& r : test::eventsOf(log, ev::kDetected))
+    if (r.value(fd::kKind, "") == "process") out.push_back(r);
+  return out;
+}
+
+/// Whether `pid` is gone (or a zombie nobody reaped yet: it runs nothing).
+bool gone(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  if (!stat) return true;
+  std::string line;
+  std::getline(stat, line);
+  const auto paren = line.rfind(')');
+  return paren != std::string::npos && paren + 2 < line.size() && line[paren + 2] == 'Z';
+}
+
+class Isolation : public ::testing::Test {
+ protected:
+  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  void TearDown() override {
+    for (const auto& f : {log_, report_, scenario_, trace_}) std::filesystem::remove(f);
+  }
+  void writeScenario(const std::string& faults) {
+    std::ofstream(scenario_) << "<?xml version=\"1.0\"?>\n<fault_scenario>\n" << faults << "</fault_scenario>\n";
+  }
+  // Names of this test's own: a host of an earlier test still ending must not write here.
+  static std::string unique(const std::string& stem) {
+    static int n = 0;
+    return test::tempPath(stem + std::to_string(++n));
+  }
+  std::string log_ = unique("keel_iso_log");
+  std::string report_ = unique("keel_iso_report");
+  std::string scenario_ = unique("keel_iso_scenario") + ".xml";
+  std::string trace_ = unique("keel_iso_trace");
+};
+
+TEST_F(Isolation, ValuesCrossProcessesWholeInOrderAndWithoutLoss) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("stream.xml"), "--duration", "1.5", "--log", log_, "--set",
+                             "checker.report=" + report_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Report got = readReport(report_);
+  EXPECT_GT(got.received, 300u);  // a sample every 2 ms for 1.5 s, on a busy machine
+  EXPECT_EQ(got.torn, 0u);
+  EXPECT_EQ(got.gaps, 0u);
+  EXPECT_EQ(got.back, 0u);
+  EXPECT_EQ(got.last, got.received) << "every sample from the first on";
+  const auto log = test::readLog(log_);
+  EXPECT_TRUE(processFaults(log).empty());
+  ASSERT_EQ(hostRecords(log, "active").size(), 1u);
+  EXPECT_EQ(hostRecords(log, "standby").size(), 1u);
+  EXPECT_EQ(hostRecords(log, "exited").size(), 2u) << "the active and its standby, stopped with the run";
+}
+
+TEST_F(Isolation, AKilledProcessIsTakenOverByItsStandbyWithItsCheckpointAndAFreshStandbyFollows) {
+  writeScenario(
+      "  <fault at=\"400\" component=\"source\" kind=\"kill\"/>\n"
+      "  <fault at=\"900\" component=\"source\" kind=\"kill\"/>\n");
+  auto r = test::runProcess({KEEL_CLI, "run", profile("stream.xml"), "--duration", "1.5", "--log", log_, "--inject",
+                             scenario_, "--set", "checker.report=" + report_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto log = test::readLog(log_);
+  const auto faults = processFaults(log);
+  ASSERT_EQ(faults.size(), 2u);
+  for (const auto& f : faults) {
+    EXPECT_EQ(f.value(fd::kDetector, ""), "supervisor");
+    EXPECT_NE(f.value(fd::kDetail, "").find("killed by signal 9 (SIGKILL)"), std::string::npos) << f.dump();
+  }
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 2u);
+  const auto took_over = hostRecords(log, "took_over");
+  ASSERT_EQ(took_over.size(), 2u) << "the preloaded standby took over each time, not a respawn";
+  EXPECT_TRUE(hostRecords(log, "respawned").empty());
+  for (const auto& t : took_over) EXPECT_EQ(t.value("restored", 0), 1) << t.dump();
+  EXPECT_NE(took_over[0].value(fd::kPid, 0L), took_over[1].value(fd::kPid, 0L));
+  EXPECT_EQ(hostRecords(log, "died").size(), 2u);
+  const Report got = readReport(report_);
+  EXPECT_EQ(got.torn, 0u);
+  EXPECT_EQ(got.gaps, 0u) << "the standby resumed after the last checkpoint";
+  EXPECT_LE(got.back, 2u) << "at most the sample sent after the last checkpoint, once per kill";
+}
+
+// The ways a process dies outside keel's guard, without a standby: keel run respawns it once
+// (intensity 1), and the second death escalates to a stop.
+class IsolationDeath : public Isolation, public ::testing::WithParamInterface<std::pair<const char*, const char*>> {};
+
+TEST_P(IsolationDeath, IsAProcessFaultWithItsCauseRespawnedOnceThenStopped) {
+  const auto [how, detail] = GetParam();
+  auto r = test::runProcess({KEEL_CLI, "run", profile("doomed.xml"), "--duration", "1.2", "--log", log_, "--set",
+                             std::string("doomed.how=") + how, "--set", "doomed.after_ms=250", "--set",
+                             "checker.report=" + report_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto log = test::readLog(log_);
+  const auto faults = processFaults(log);
+  ASSERT_EQ(faults.size(), 2u) << r.out;
+  EXPECT_NE(faults[0].value(fd::kDetail, "").find(detail), std::string::npos) << faults[0].dump();
+  EXPECT_EQ(hostRecords(log, "respawned").size(), 1u);
+  bool reset_ok = false, escalated = false;
+  for (const auto& a : test::eventsOf(log, ev::kAction)) {
+    if (a.value(fd::kFaultId, 0) == faults[0].value(fd::kFaultId, 0) && a.value(fd::kAction, "") == "reset")
+      reset_ok = a.value(fd::kOutcome, "") == "ok";
+    if (a.value(fd::kFaultId, 0) == faults[1].value(fd::kFaultId, 0) && a.value(fd::kAction, "") == "escalate")
+      escalated = true;
+  }
+  EXPECT_TRUE(reset_ok);
+  EXPECT_TRUE(escalated) << "the second death within the period is one reset too many";
+}
+
+INSTANTIATE_TEST_SUITE_P(Causes, IsolationDeath,
+                         ::testing::Values(std::pair{"segfault", "killed by signal 11 (SIGSEGV)"},
+                                           std::pair{"abort", "killed by signal 6 (SIGABRT)"},
+                                           std::pair{"exit", "exited with status 3"}));
+
+TEST_F(Isolation, APortTypeThatCannotCrossIsRefusedWithTheConnectionsLine) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("wrong_crossing.xml"), "--duration", "0.2"});
+  EXPECT_EQ(r.status, 1);
+  EXPECT_NE(r.err.find("wrong_crossing.xml:16: port_connection summer.milestones -> events.events: a value of "
+                       "type 'keel::Event' cannot cross processes"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST_F(Isolation, WhenKeelRunIsKilledTheActuatorsStopAndNoProcessStaysBehind) {
+  const pid_t keel = fork();
+  if (keel == 0) {
+    if (!freopen("/dev/null", "w", stdout)) _exit(126);
+    execl(KEEL_CLI, KEEL_CLI, "run", profile("brake.xml").c_str(), "--log", log_.c_str(), "--set",
+          ("brake.trace=" + trace_).c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Until the active host runs and its standby is ready.
+  std::set<long> hosts;
+  long active = 0;
+  for (int i = 0; i < 200 && (active == 0 || hosts.size() < 2); ++i) {
+    std::this_thread::sleep_for(50ms);
+    for (const auto& r : test::eventsOf(test::readLog(log_), ev::kHost)) {
+      hosts.insert(r.value(fd::kPid, 0L));
+      if (r.value(fd::kPhase, "") == "active") active = r.value(fd::kPid, 0L);
+    }
+  }
+  ASSERT_NE(active, 0);
+  ASSERT_EQ(hosts.size(), 2u);
+  ::kill(keel, SIGKILL);
+  int status = 0;
+  ::waitpid(keel, &status, 0);
+  bool all_gone = false;
+  for (int i = 0; i < 100 && !all_gone; ++i) {
+    std::this_thread::sleep_for(20ms);
+    all_gone = true;
+    for (long pid : hosts) all_gone &= gone(pid);
+  }
+  EXPECT_TRUE(all_gone) << "a component process outlived keel run";
+  EXPECT_EQ(test::slurp(trace_), "emergency " + std::to_string(active) + "\n")
+      << "the active host ran its actuator's onEmergencyStop, once; the standby never drove\n"
+      << test::slurp(log_);
+}
+
+}  // namespace
+}  // namespace keel
