@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <mutex>
 
@@ -48,6 +49,16 @@ ipc::SessionShape sessionShape(const plan::Plan& plan) {
   return s;
 }
 
+std::int64_t processHeartbeatNs(const plan::Plan& plan, std::string_view process) {
+  std::int64_t shortest = 0;
+  for (const auto& i : plan.instances) {
+    if (i.process != process || !i.policy || !i.policy->heartbeat_timeout_ms) continue;
+    const auto ns = static_cast<std::int64_t>(*i.policy->heartbeat_timeout_ms * 1e6);
+    if (shortest == 0 || ns < shortest) shortest = ns;
+  }
+  return shortest;
+}
+
 std::optional<std::size_t> checkpointIndex(const plan::Plan& plan, std::string_view instance) {
   std::size_t n = 0;
   for (const auto& i : plan.instances) {
@@ -82,6 +93,7 @@ Result<std::unique_ptr<ProcessHost>> ProcessHost::open(const plan::Plan& plan, H
 ProcessHost::~ProcessHost() {
   // The watchers sleep for the life of the process; the process ends with _exit (leave()).
   if (supervisor_watcher_.joinable()) supervisor_watcher_.detach();
+  if (beat_.joinable()) beat_.detach();
   if (signal_watcher_.joinable()) signal_watcher_.detach();
 }
 
@@ -158,9 +170,21 @@ bool ProcessHost::stopRequested() {
 }
 
 void ProcessHost::becameActive() {
-  slot().active_ns.store(runtime::steadyNs(), std::memory_order_release);
+  const std::int64_t now = runtime::steadyNs();
+  slot().beat_ns.store(now, std::memory_order_release);
+  slot().active_ns.store(now, std::memory_order_release);
   active_.store(true, std::memory_order_release);
   ipc::publishState(block(), slot(), ipc::HostState::Active);
+  if (beat_period_ns_ > 0 && !beat_.joinable()) {
+    // A thread of its own: it stops only when the whole process does (SIGSTOP, a freeze);
+    // a hung component callback is the host's own watchdog's business.
+    beat_ = std::thread([this] {
+      for (;;) {
+        std::this_thread::sleep_for(std::chrono::nanoseconds(beat_period_ns_));
+        slot().beat_ns.store(runtime::steadyNs(), std::memory_order_release);
+      }
+    });
+  }
 }
 
 void ProcessHost::ranOnce(std::int64_t t_ns) {

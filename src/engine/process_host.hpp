@@ -49,6 +49,10 @@ struct HostRole {
 
 /// The session's shape for `plan` (what its indices index), as keel run and every host make it.
 runtime::ipc::SessionShape sessionShape(const plan::Plan& plan);
+/// The heartbeat timeout of `process` as a whole: the shortest <heartbeat timeout> of its
+/// components' policies (0: none, the process is not watched for hangs).
+std::int64_t processHeartbeatNs(const plan::Plan& plan, std::string_view process);
+
 /// The checkpoint index of `instance` in the session (instances in processes, in plan order).
 std::optional<std::size_t> checkpointIndex(const plan::Plan& plan, std::string_view instance);
 
@@ -56,6 +60,8 @@ class ProcessHost {
  public:
   /// Maps the session keel run handed over and checks it was made for `plan`.
   static Result<std::unique_ptr<ProcessHost>> open(const plan::Plan& plan, HostRole role);
+  /// Beats every `period` once active (keel run kills a process whose beat stops: a hang).
+  void setHeartbeat(std::int64_t period_ns) { beat_period_ns_ = period_ns; }
   ~ProcessHost();
   ProcessHost(const ProcessHost&) = delete;
   ProcessHost& operator=(const ProcessHost&) = delete;
@@ -104,6 +110,8 @@ class ProcessHost {
   std::atomic<bool> signalled_{false};  // SIGTERM/SIGINT: stop
   std::thread supervisor_watcher_;
   std::thread signal_watcher_;
+  std::thread beat_;  // while active, when the process has a heartbeat
+  std::int64_t beat_period_ns_ = 0;
 };
 
 /// A host's components report here: their first good cycle after the host became active is

@@ -14,8 +14,10 @@
 #include <filesystem>
 #include <future>
 #include <system_error>
+#include <utility>
 
 #include "engine/crossing.hpp"
+#include "engine/process_host.hpp"
 #include "fault/log_schema.hpp"
 #include "fault/rules.hpp"
 #include "runtime/clock.hpp"
@@ -74,8 +76,10 @@ struct ProcessSupervisor::Group {
   bool takes_over = false;  // every member's `process` faults are reset: standbys take over by themselves
   int standby = 0;          // standbys to keep ready
 
-  mutable std::mutex mutex;  // guards the slots' bookkeeping below
+  mutable std::mutex mutex;       // guards the slots' bookkeeping below
+  std::int64_t heartbeat_ns = 0;  // the process's (processHeartbeatNs); 0: not watched
   std::array<pid_t, ipc::kHostSlots> pids{};
+  std::array<std::string, ipc::kHostSlots> hung{};  // why a host was killed as hung
   std::array<bool, ipc::kHostSlots> used{};
   std::vector<std::thread> watchers;
   std::mutex recover_mutex;  // one recovery at a time
@@ -133,6 +137,7 @@ ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& sessi
       g->takes_over &= rules.severityOf(FaultKind::Process) == profile::Severity::Reset;
     }
     g->standby = g->takes_over ? g->plan->standby : 0;
+    g->heartbeat_ns = processHeartbeatNs(plan, g->plan->name);
     if (g->plan->standby > 0 && !g->takes_over)
       warn_(
           fmt::format("{}:{}: process '{}': standby=\"{}\" has no effect: a standby takes over when the "
@@ -294,7 +299,12 @@ void ProcessSupervisor::watch(Group& g, std::size_t slot, pid_t pid) {
   const HostState was = stateOf(s);
   ::waitpid(pid, &status, 0);
   if (locked) (void)s.life.unlock();
-  died(g, slot, was, t, describeStatus(status));
+  std::string why = describeStatus(status);
+  {
+    std::lock_guard lock(g.mutex);
+    if (!g.hung[slot].empty()) why = std::exchange(g.hung[slot], {});
+  }
+  died(g, slot, was, t, why);
 }
 
 void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int64_t t_ns, const std::string& detail) {
@@ -377,8 +387,31 @@ Result<void> ProcessSupervisor::waitReady(std::chrono::milliseconds within) {
     errors.pop_back();
     return fail(errors);
   }
-  for (auto& g : groups_) topUpStandbys(*g);
+  for (auto& g : groups_) {
+    topUpStandbys(*g);
+    if (g->heartbeat_ns > 0) beat_watchers_.emplace_back([this, p = g.get()] { watchBeats(*p); });
+  }
   return {};
+}
+
+void ProcessSupervisor::watchBeats(Group& g) {
+  const auto period = std::chrono::nanoseconds(g.heartbeat_ns / 4);
+  std::unique_lock lock(beat_mutex_);
+  while (!beat_cv_.wait_for(lock, period, [this] { return stopping_.load(std::memory_order_acquire); })) {
+    if (g.stopped.load(std::memory_order_acquire)) continue;
+    const std::int64_t now = runtime::steadyNs();
+    std::lock_guard slots(g.mutex);
+    for (std::size_t i = 0; i < ipc::kHostSlots; ++i) {
+      const ipc::HostSlot& s = g.block->slots[i];
+      if (!g.used[i] || g.pids[i] <= 0 || stateOf(s) != HostState::Active || !g.hung[i].empty()) continue;
+      const std::int64_t silent = now - s.beat_ns.load(std::memory_order_acquire);
+      if (silent <= g.heartbeat_ns) continue;
+      // Killed before anyone else writes its ports: its standby takes over from a dead writer.
+      g.hung[i] = fmt::format("hung: no heartbeat for {:.1f} ms (heartbeat timeout {:.1f} ms), killed", silent / 1e6,
+                              g.heartbeat_ns / 1e6);
+      ::kill(g.pids[i], SIGKILL);
+    }
+  }
 }
 
 std::map<std::size_t, int> ProcessSupervisor::ringDescriptors() const {
@@ -492,7 +525,12 @@ void ProcessSupervisor::stopGroup(Group& g, std::chrono::milliseconds within) {
 }
 
 void ProcessSupervisor::stop(std::chrono::milliseconds within) {
-  if (stopping_.exchange(true)) return;
+  {
+    std::lock_guard lock(beat_mutex_);
+    if (stopping_.exchange(true)) return;
+  }
+  beat_cv_.notify_all();
+  for (auto& w : beat_watchers_) w.join();
   for (auto& g : groups_) stopGroup(*g, within);
   for (auto& g : groups_) {
     std::vector<std::thread> watchers;

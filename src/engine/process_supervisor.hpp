@@ -96,6 +96,7 @@ class ProcessSupervisor {
   void stopGroup(Group& g, std::chrono::milliseconds within);
   void emergency(Group& g);
   void topUpStandbys(Group& g);
+  void watchBeats(Group& g);  // a thread per process with a heartbeat: kills a hung host
   Result<void> waitState(Group& g, std::size_t slot, std::chrono::milliseconds within);
 
   const plan::Plan& plan_;
@@ -108,6 +109,11 @@ class ProcessSupervisor {
   std::vector<std::unique_ptr<Group>> groups_;
   std::atomic<bool> stopping_{false};
   std::vector<std::pair<Group*, std::size_t>> launched_;  // launch()'s active hosts
+
+  // The heartbeat watchers wait on this until stop().
+  std::mutex beat_mutex_;
+  std::condition_variable beat_cv_;
+  std::vector<std::thread> beat_watchers_;
 
   // The spawner thread and its queue of jobs.
   std::mutex spawn_mutex_;

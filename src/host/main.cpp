@@ -75,6 +75,7 @@ int run(Args& a) {
     return 2;
   }
   ProcessHost& host = **opened;
+  host.setHeartbeat(keel::engine::processHeartbeatNs(planned->plan, a.role.process) / 4);
   std::atomic<Engine*> running{nullptr};
   auto entered = host.enter([&running] {
     if (Engine* e = running.load(std::memory_order_acquire)) e->emergencyStop("keel run lost");

@@ -155,6 +155,18 @@ INSTANTIATE_TEST_SUITE_P(Causes, IsolationDeath,
                                            std::pair{"abort", "killed by signal 6 (SIGABRT)"},
                                            std::pair{"exit", "exited with status 3"}));
 
+TEST_F(Isolation, AProcessThatStopsWholeIsKilledOnItsHeartbeatAndItsStandbyTakesOver) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("hung.xml"), "--duration", "0.8", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto log = test::readLog(log_);
+  const auto faults = processFaults(log);
+  ASSERT_FALSE(faults.empty()) << r.out;
+  EXPECT_NE(faults[0].value(fd::kDetail, "").find("hung: no heartbeat for"), std::string::npos) << faults[0].dump();
+  // Stopped at 250 ms, silent for the 100 ms timeout (checked every 25 ms): killed by ~400 ms.
+  EXPECT_GE(hostRecords(log, "took_over").size(), 1u);
+  EXPECT_FALSE(test::eventsOf(log, ev::kRecovered).empty());
+}
+
 TEST_F(Isolation, APortTypeThatCannotCrossIsRefusedWithTheConnectionsLine) {
   auto r = test::runProcess({KEEL_CLI, "run", profile("wrong_crossing.xml"), "--duration", "0.2"});
   EXPECT_EQ(r.status, 1);

@@ -60,6 +60,7 @@ struct HostSlot {
   std::atomic<std::int32_t> pid{0};
   std::atomic<std::int64_t> active_ns{0};     // when it became active (steady ns)
   std::atomic<std::int64_t> woke_ns{0};       // when it took the role from a dead holder
+  std::atomic<std::int64_t> beat_ns{0};       // its heartbeat while active (processHeartbeatNs)
   std::atomic<std::int64_t> first_run_ns{0};  // its first successful onExecute once active
   std::atomic<std::uint32_t> restored{0};     // instances whose checkpoint it restored
   std::atomic<std::uint32_t> message_len{0};  // of `message`, written before state Failed
