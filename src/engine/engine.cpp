@@ -88,6 +88,8 @@ Result<void> Engine::setUpProcesses() {
   if (ProcessHost* host = options_.host) {
     fault_manager_.shareIds(&host->session().faultIds());
     log_.tag(fault::schema::field::kPid, ::getpid());  // one log for the run: whose record
+    log_.share(host->session().log(), runtime::ipc::logParticipant(host->processIndex(), host->role().slot),
+               logParticipants(plan));
     return {};
   }
   if (plan.processes.empty()) return {};
@@ -98,6 +100,7 @@ Result<void> Engine::setUpProcesses() {
   if (auto locked = session_->supervisor().lock(); !locked) return locked.error();
   holds_supervisor_lock_ = true;
   session_->logEpoch().store(log_.epoch(), std::memory_order_release);
+  log_.share(session_->log(), runtime::ipc::logParticipant(std::nullopt, 0), logParticipants(plan));
   fault_manager_.shareIds(&session_->faultIds());
   std::vector<runtime::ipc::SharedMemory> rings;
   const std::vector<std::size_t> crossing = crossingConnections(plan);

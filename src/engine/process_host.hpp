@@ -53,6 +53,11 @@ runtime::ipc::SessionShape sessionShape(const plan::Plan& plan);
 /// components' policies (0: none, the process is not watched for hangs).
 std::int64_t processHeartbeatNs(const plan::Plan& plan, std::string_view process);
 
+/// How many processes write the run's log (stages in the session's log arena).
+inline std::size_t logParticipants(const plan::Plan& plan) {
+  return 1 + plan.processes.size() * runtime::ipc::kHostSlots;
+}
+
 /// The checkpoint index of `instance` in the session (instances in processes, in plan order).
 std::optional<std::size_t> checkpointIndex(const plan::Plan& plan, std::string_view instance);
 

@@ -311,6 +311,7 @@ void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int
   ipc::HostSlot& s = g.block->slots[slot];
   const pid_t pid = s.pid.load(std::memory_order_acquire);
   const bool clean = was == HostState::Exited;
+  log_.repair(ipc::logParticipant(g.index, slot));  // a line it had not finished writing
   nlohmann::json rec = fault::schema::host(g.plan->name, pid,
                                            clean                      ? "exited"
                                            : was == HostState::Failed ? "failed"

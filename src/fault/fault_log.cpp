@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 #include <cstring>
@@ -25,7 +26,7 @@ Result<void> FaultLog::open(const std::string& path) {
 }
 
 Result<void> FaultLog::join(const std::string& path, std::int64_t epoch_ns) {
-  int fd = ::open(path.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC);  // at reserved offsets (share): not O_APPEND
   if (fd < 0) return fail(fmt::format("cannot open log '{}': {}", path, std::generic_category().message(errno)));
   fd_ = fd;
   epoch_ns_ = epoch_ns;
@@ -33,6 +34,69 @@ Result<void> FaultLog::join(const std::string& path, std::int64_t epoch_ns) {
 }
 
 void FaultLog::tag(std::string key, nlohmann::json value) { tags_[std::move(key)] = std::move(value); }
+
+void FaultLog::share(runtime::ipc::LogArena& arena, std::size_t participant, std::size_t participants) {
+  std::lock_guard lock(mutex_);
+  if (fd_ >= 0 && participant == 0) {
+    // pwrite ignores the offset on an O_APPEND descriptor: write at offsets from here on.
+    ::fcntl(fd_, F_SETFL, ::fcntl(fd_, F_GETFL) & ~O_APPEND);
+    arena.tail.store(static_cast<std::uint64_t>(::lseek(fd_, 0, SEEK_END)), std::memory_order_release);
+  }
+  arena_ = &arena;
+  participant_ = participant;
+  participants_ = participants;
+}
+
+namespace {
+void pwriteAll(int fd, const char* p, std::size_t n, std::uint64_t offset) {
+  while (n > 0) {
+    const ssize_t w = ::pwrite(fd, p, n, static_cast<off_t>(offset));
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) return;  // disk full or closed: the run goes on, the log stops
+    p += w;
+    n -= static_cast<std::size_t>(w);
+    offset += static_cast<std::uint64_t>(w);
+  }
+}
+}  // namespace
+
+void FaultLog::writeShared(const std::string& line) {
+  runtime::ipc::LogStage& stage = runtime::ipc::logStage(*arena_, participant_);
+  const bool staged = line.size() <= runtime::ipc::kLogStageBytes;
+  if (staged) {
+    std::memcpy(stage.line, line.data(), line.size());
+    stage.length.store(static_cast<std::uint32_t>(line.size()), std::memory_order_release);
+  }
+  auto locked = arena_->lock.lock();
+  if (!locked) return;
+  if (*locked == runtime::ipc::LockStatus::OwnerDied) {
+    // Its holder died reserving: the stage that names the tail was reserved, the tail not moved
+    // yet. Move it past that line (the survivor that repairs the dead writer writes it there).
+    const std::uint64_t tail = arena_->tail.load(std::memory_order_acquire);
+    for (std::size_t i = 0; i < participants_; ++i) {
+      const runtime::ipc::LogStage& s = runtime::ipc::logStage(*arena_, i);
+      if (s.offset.load(std::memory_order_acquire) == tail)
+        arena_->tail.store(tail + s.length.load(std::memory_order_acquire), std::memory_order_release);
+    }
+  }
+  const std::uint64_t at = arena_->tail.load(std::memory_order_acquire);
+  if (staged) stage.offset.store(at, std::memory_order_release);  // before the tail moves
+  arena_->tail.store(at + line.size(), std::memory_order_release);
+  (void)arena_->lock.unlock();
+  pwriteAll(fd_, line.data(), line.size(), at);
+  if (staged) stage.offset.store(runtime::ipc::kNoOffset, std::memory_order_release);
+}
+
+void FaultLog::repair(std::size_t participant) {
+  if (!arena_ || fd_ < 0 || participant >= participants_) return;
+  runtime::ipc::LogStage& stage = runtime::ipc::logStage(*arena_, participant);
+  const std::uint64_t at = stage.offset.load(std::memory_order_acquire);
+  if (at == runtime::ipc::kNoOffset) return;
+  const std::size_t n = std::min<std::size_t>(stage.length.load(std::memory_order_acquire),
+                                              runtime::ipc::kLogStageBytes);
+  pwriteAll(fd_, stage.line, n, at);
+  stage.offset.store(runtime::ipc::kNoOffset, std::memory_order_release);
+}
 
 std::int64_t FaultLog::now() const { return steadyNs() - epoch_ns_; }
 
@@ -44,6 +108,7 @@ void FaultLog::write(nlohmann::json record) {
   std::string line = record.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   line += '\n';
   std::lock_guard lock(mutex_);
+  if (arena_) return writeShared(line);
   const char* p = line.data();
   std::size_t left = line.size();
   while (left > 0) {

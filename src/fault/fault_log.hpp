@@ -12,6 +12,7 @@
 
 #include "keel/result.hpp"
 #include "runtime/clock.hpp"
+#include "runtime/ipc/session.hpp"
 
 namespace keel::fault {
 
@@ -27,6 +28,12 @@ class FaultLog {
   /// Appends to the log at `path` another process opened (keel run's, from a component
   /// process), with that log's epoch: one log for the run.
   Result<void> join(const std::string& path, std::int64_t epoch_ns);
+  /// From now on every line goes to an offset reserved in `arena`, staged in `participant`'s
+  /// stage first (keel run calls this once with the log open; the arena's tail starts at the
+  /// file's end). What a dead writer left staged is written again by repair().
+  void share(runtime::ipc::LogArena& arena, std::size_t participant, std::size_t participants);
+  /// Writes again the line `participant` (a dead process) had staged and not finished.
+  void repair(std::size_t participant);
   bool enabled() const { return fd_ >= 0; }
   std::int64_t epoch() const { return epoch_ns_; }
 
@@ -41,6 +48,10 @@ class FaultLog {
  private:
   std::int64_t epoch_ns_;
   int fd_ = -1;
+  runtime::ipc::LogArena* arena_ = nullptr;  // shared: lines at reserved offsets
+  std::size_t participant_ = 0;
+  std::size_t participants_ = 0;  // this process's count, not the shared one: a scribble stays in bounds
+  void writeShared(const std::string& line);
   nlohmann::json tags_ = nlohmann::json::object();  // set before any other thread writes
   std::mutex mutex_;
 };

@@ -38,7 +38,7 @@ static_assert(std::atomic<std::uint64_t>::is_always_lock_free && std::atomic<std
 constexpr std::size_t roundUp(std::size_t n) { return (n + kLine - 1) / kLine * kLine; }
 
 struct Layout {
-  std::size_t processes, rings, checkpoints, total;
+  std::size_t processes, rings, checkpoints, log, total;
 };
 
 Layout layoutOf(const SessionShape& s) {
@@ -46,7 +46,8 @@ Layout layoutOf(const SessionShape& s) {
   l.processes = roundUp(sizeof(SessionHeader));
   l.rings = l.processes + roundUp(sizeof(ProcessBlock)) * s.processes;
   l.checkpoints = l.rings + sizeof(RingWord) * s.rings;
-  l.total = l.checkpoints + roundUp(sizeof(CheckpointArea)) * s.checkpoints;
+  l.log = l.checkpoints + roundUp(sizeof(CheckpointArea)) * s.checkpoints;
+  l.total = l.log + roundUp(sizeof(LogArena)) + roundUp(sizeof(LogStage)) * (1 + s.processes * kHostSlots);
   return l;
 }
 
@@ -91,6 +92,11 @@ Result<Session> Session::create(const SessionShape& shape) {
   for (std::size_t i = 0; i < shape.rings; ++i) new (base + l.rings + sizeof(RingWord) * i) RingWord();
   for (std::size_t i = 0; i < shape.checkpoints; ++i)
     new (base + l.checkpoints + roundUp(sizeof(CheckpointArea)) * i) CheckpointArea();
+  auto* arena = new (base + l.log) LogArena();
+  if (auto r = arena->lock.init(); !r) return r.error();
+  arena->stage_count = 1 + shape.processes * kHostSlots;
+  for (std::size_t i = 0; i < arena->stage_count; ++i)
+    new (base + l.log + roundUp(sizeof(LogArena)) + roundUp(sizeof(LogStage)) * i) LogStage();
   return Session(std::move(*memory), shape);
 }
 
@@ -122,6 +128,18 @@ ProcessBlock& Session::process(std::size_t i) {
 std::atomic<std::uint32_t>& Session::ringReady(std::size_t i) {
   if (i >= shape_.rings) std::abort();
   return std::launder(reinterpret_cast<RingWord*>(memory_.data() + layoutOf(shape_).rings))[i].ready;
+}
+
+LogArena& Session::log() { return *std::launder(reinterpret_cast<LogArena*>(memory_.data() + layoutOf(shape_).log)); }
+
+LogStage& logStage(LogArena& arena, std::size_t i) {
+  if (i >= arena.stage_count) std::abort();  // an index from the plan: a bug, not input
+  return *std::launder(reinterpret_cast<LogStage*>(reinterpret_cast<std::byte*>(&arena) + roundUp(sizeof(LogArena)) +
+                                                   roundUp(sizeof(LogStage)) * i));
+}
+
+std::size_t logParticipant(std::optional<std::size_t> process, std::size_t slot) {
+  return process ? 1 + *process * kHostSlots + slot : 0;
 }
 
 std::atomic<std::uint64_t>& Session::ringConsumed(std::size_t i) {

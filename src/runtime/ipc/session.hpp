@@ -95,6 +95,31 @@ bool publishCheckpoint(CheckpointArea& area, const std::vector<std::vector<std::
 std::optional<std::int64_t> readCheckpoint(const CheckpointArea& area, const std::vector<std::size_t>& lengths,
                                            std::vector<std::vector<std::byte>>& copies);
 
+/// The run's one log, written by every process (decision 0011 §6): each line goes to an offset
+/// reserved under a robust lock, after it was staged here, in the writer's own stage; a line
+/// whose writer died before it was whole on disk is written again from its stage by a survivor.
+inline constexpr std::size_t kLogStageBytes = 4096;  // longer lines are written, not staged
+inline constexpr std::uint64_t kNoOffset = ~std::uint64_t{0};
+
+struct LogStage {
+  std::atomic<std::uint64_t> offset{kNoOffset};  // reserved for the staged line; none: nothing pending
+  std::atomic<std::uint32_t> length{0};
+  char line[kLogStageBytes];
+};
+
+struct LogArena {
+  RobustMutex lock;                    // held while a reservation is made
+  std::atomic<std::uint64_t> tail{0};  // the end of the last reservation
+  std::uint64_t stage_count = 0;       // written once, at creation
+};
+
+/// Stage `i` of `arena` (they follow it in the session: [0] keel run's, then kHostSlots per
+/// process, logParticipant()); `i` below arena.stage_count.
+LogStage& logStage(LogArena& arena, std::size_t i);
+
+/// A log participant's stage index: keel run (process index none) or a host's slot.
+std::size_t logParticipant(std::optional<std::size_t> process, std::size_t slot);
+
 struct SessionShape {
   std::size_t processes = 0;
   std::size_t rings = 0;        // connections between processes
@@ -119,6 +144,7 @@ class Session {
   /// a reader taking over resumes.
   std::atomic<std::uint64_t>& ringConsumed(std::size_t i);
   CheckpointArea& checkpoint(std::size_t i);
+  LogArena& log();  // stages for 1 + processes × kHostSlots participants
   const SessionShape& shape() const { return shape_; }
   const SharedMemory& memory() const { return memory_; }
 
