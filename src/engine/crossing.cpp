@@ -107,7 +107,7 @@ Crossings::~Crossings() { stop(); }
 
 Result<void> Crossings::connect(const plan::Plan& plan, const std::string& process, ipc::Session& session,
                                 std::map<std::size_t, int> fds, const Find& find, std::chrono::milliseconds wait,
-                                Fenced fenced, Warn warn) {
+                                const Fenced& fenced, const Warn& warn) {
   std::string errors;
   const std::vector<std::size_t> crossing = crossingConnections(plan);
   const auto deadline = std::chrono::steady_clock::now() + wait;

@@ -52,8 +52,8 @@ class Crossings {
   /// attached (not yet writing: takeOver); readers wait up to `wait` for their ring to be laid
   /// out, then read it once start() is called. Errors name the connection's file:line.
   Result<void> connect(const plan::Plan& plan, const std::string& process, runtime::ipc::Session& session,
-                       std::map<std::size_t, int> fds, const Find& find, std::chrono::milliseconds wait, Fenced fenced,
-                       Warn warn);
+                       std::map<std::size_t, int> fds, const Find& find, std::chrono::milliseconds wait,
+                       const Fenced& fenced, const Warn& warn);
   /// Makes this process the writer of every ring it writes (at its start, or at a takeover).
   Result<void> takeOver();
   /// Starts the pumps (after the components are initialised).

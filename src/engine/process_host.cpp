@@ -98,9 +98,11 @@ ProcessHost::~ProcessHost() {
 }
 
 Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
-  // Orphan backstop: SIGTERM when the thread that started this process ends; if keel run died
-  // before this line, getppid() says so now.
-  ::prctl(PR_SET_PDEATHSIG, SIGTERM);
+  // Orphan backstop: SIGUSR2 when the thread that started this process ends. That thread lives
+  // as long as keel run's supervisor, so the signal means keel run is dying (it comes as its
+  // threads die, while getppid() may still name it). If keel run died before this line,
+  // getppid() says so now.
+  ::prctl(PR_SET_PDEATHSIG, SIGUSR2);
   if (role_.parent != 0 && ::getppid() != role_.parent) return fail("keel run ended before this host started");
   // A core dump of a host would delay every death notice by its writing (decision 0011).
   const rlimit no_core{0, 0};
@@ -109,6 +111,7 @@ Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
   sigemptyset(&stop);
   sigaddset(&stop, SIGTERM);
   sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGUSR2);
   pthread_sigmask(SIG_BLOCK, &stop, nullptr);  // for every thread from here: the signal watcher takes them
 
   auto life = slot().life.lock();
@@ -127,8 +130,8 @@ Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
     for (;;) {
       int sig = 0;
       if (sigwait(&stop, &sig) != 0) continue;
-      if (role_.parent != 0 && ::getppid() != role_.parent) supervisorLost();  // PDEATHSIG
-      if (!active_.load(std::memory_order_acquire)) ::_exit(0);                // a standby has nothing running
+      if (sig == SIGUSR2 || (role_.parent != 0 && ::getppid() != role_.parent)) supervisorLost();
+      if (!active_.load(std::memory_order_acquire)) ::_exit(0);  // a standby has nothing running
       signalled_.store(true, std::memory_order_release);
       block().command.fetch_add(0, std::memory_order_acq_rel);
       runtime::futexWakeAll(block().command, runtime::FutexScope::Shared);

@@ -24,8 +24,6 @@
 #include "runtime/futex.hpp"
 #include "runtime/injection.hpp"
 
-extern char** environ;
-
 namespace keel::engine {
 namespace {
 
@@ -183,8 +181,10 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
   // The child's descriptors: the session at 3, then the rings. Copies above every target first,
   // so that no dup2 overwrites a source another one still needs.
   std::vector<int> sources{session_.memory().fd()};
+  sources.reserve(1 + g.rings.size());
   for (std::size_t k : g.rings) sources.push_back(rings_[k].fd());
   std::vector<int> high;
+  high.reserve(sources.size());
   for (int fd : sources)
     high.push_back(::fcntl(fd, F_DUPFD_CLOEXEC, kFirstChildFd + 64 + static_cast<int>(sources.size())));
   std::vector<std::string> args;
@@ -197,6 +197,7 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
   if (standby) args.emplace_back("--standby");
   if (respawn) args.emplace_back("--respawn");
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
 
@@ -212,6 +213,7 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
   sigaddset(&defaults, SIGINT);
   sigaddset(&defaults, SIGTERM);
   sigaddset(&defaults, SIGPIPE);
+  sigaddset(&defaults, SIGUSR2);
   posix_spawnattr_setsigmask(&attr, &none);
   posix_spawnattr_setsigdefault(&attr, &defaults);
   posix_spawnattr_setpgroup(&attr, 0);
@@ -224,7 +226,8 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
     if (fd >= 0) ::close(fd);
   if (rc != 0) {
     ipc::HostSlot& s = g.block->slots[slot];
-    const std::string why = fmt::format("cannot start '{}': {}", launch_.executable, std::strerror(rc));
+    const std::string why = fmt::format("cannot start '{}': {}", launch_.executable,
+                                        std::generic_category().message(rc));
     const std::size_t n = std::min(why.size(), sizeof s.message);
     std::memcpy(s.message, why.data(), n);
     s.message_len.store(static_cast<std::uint32_t>(n), std::memory_order_release);
@@ -240,7 +243,7 @@ pid_t ProcessSupervisor::spawn(Group& g, std::size_t slot, bool standby, bool re
   auto result = started.get_future();
   {
     std::lock_guard lock(spawn_mutex_);
-    spawn_jobs_.push_back([&] { started.set_value(spawnNow(g, slot, standby, respawn)); });
+    spawn_jobs_.emplace_back([&] { started.set_value(spawnNow(g, slot, standby, respawn)); });
   }
   spawn_cv_.notify_all();
   return result.get();
@@ -343,7 +346,7 @@ void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int
   } else if (was == HostState::Standby || was == HostState::Loading) {
     warn_(fmt::format("process '{}': a standby host (pid {}) {}; starting another", g.plan->name, pid, detail));
     std::lock_guard lock(spawn_mutex_);  // from the spawner thread: this watcher must not block on it
-    spawn_jobs_.push_back([this, &g] { topUpStandbys(g); });
+    spawn_jobs_.emplace_back([this, &g] { topUpStandbys(g); });
     spawn_cv_.notify_all();
   }
 }
@@ -475,13 +478,13 @@ Result<std::int64_t> ProcessSupervisor::recover(Group& g) {
   }
   {
     std::lock_guard lock(spawn_mutex_);
-    spawn_jobs_.push_back([this, &g] { topUpStandbys(g); });
+    spawn_jobs_.emplace_back([this, &g] { topUpStandbys(g); });
   }
   spawn_cv_.notify_all();
   return s.first_run_ns.load(std::memory_order_acquire);
 }
 
-void ProcessSupervisor::emergency(Group& g) {
+void ProcessSupervisor::emergency(Group& g) const {
   const std::uint32_t before = g.block->emergencies_done.load(std::memory_order_acquire);
   ipc::publishCommand(*g.block, ipc::Command::Emergency);
   const auto deadline = Clock::now() + kEmergencyWait;

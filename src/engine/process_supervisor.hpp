@@ -94,7 +94,7 @@ class ProcessSupervisor {
   void died(Group& g, std::size_t slot, runtime::ipc::HostState was, std::int64_t t_ns, const std::string& detail);
   Result<std::int64_t> recover(Group& g);  // a proxy's reset: when the new host ran (0: not yet)
   void stopGroup(Group& g, std::chrono::milliseconds within);
-  void emergency(Group& g);
+  void emergency(Group& g) const;
   void topUpStandbys(Group& g);
   void watchBeats(Group& g);  // a thread per process with a heartbeat: kills a hung host
   Result<void> waitState(Group& g, std::size_t slot, std::chrono::milliseconds within);

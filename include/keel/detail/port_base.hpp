@@ -84,8 +84,6 @@ class PortBase {
  protected:
   /// Set by the typed ports: sizeof(T) when T is trivially copyable.
   std::size_t byte_size_ = 0;
-
- protected:
   /// The port's validity rule (set by the runtime before start); null: none.
   const ValidityRule* validity_ = nullptr;
 

@@ -31,9 +31,9 @@
 
 namespace keel::runtime::ipc {
 
-inline constexpr std::size_t kHostSlots = 12;               // per process: active, standbys, replacements
-inline constexpr std::size_t kCheckpointBytes = 64 * 1024;  // per instance and buffer
-inline constexpr std::size_t kHostMessageBytes = 1024;      // a host's error text
+inline constexpr std::size_t kHostSlots = 12;                            // per process: active, standbys, replacements
+inline constexpr std::size_t kCheckpointBytes = std::size_t{64} * 1024;  // per instance and buffer
+inline constexpr std::size_t kHostMessageBytes = 1024;                   // a host's error text
 
 enum class HostState : std::uint32_t {
   Free,      // no process in this slot
