@@ -13,6 +13,7 @@
 #include <cstring>
 #include <filesystem>
 #include <future>
+#include <memory>
 #include <system_error>
 #include <utility>
 
@@ -79,8 +80,12 @@ struct ProcessSupervisor::Group {
   std::array<pid_t, ipc::kHostSlots> pids{};
   std::array<std::string, ipc::kHostSlots> hung{};  // why a host was killed as hung
   std::array<bool, ipc::kHostSlots> used{};
-  std::vector<std::thread> watchers;
-  std::mutex recover_mutex;  // one recovery at a time
+  struct Watcher {
+    std::thread thread;
+    std::shared_ptr<std::atomic<bool>> done;  // its host died and it reported it
+  };
+  std::vector<Watcher> watchers;  // finished ones are joined when the next host starts
+  std::mutex recover_mutex;       // one recovery at a time
   std::atomic<bool> stopped{false};
 };
 
@@ -274,7 +279,18 @@ Result<std::size_t> ProcessSupervisor::launchHost(Group& g, bool standby, bool r
   s.pid.store(pid, std::memory_order_release);
   std::lock_guard lock(g.mutex);
   g.pids[slot] = pid;
-  g.watchers.emplace_back([this, &g, slot, pid] { watch(g, slot, pid); });
+  // A campaign of kills starts thousands of hosts: join the watchers whose host is gone.
+  std::erase_if(g.watchers, [](Group::Watcher& w) {
+    if (!w.done->load(std::memory_order_acquire)) return false;
+    w.thread.join();
+    return true;
+  });
+  auto done = std::make_shared<std::atomic<bool>>(false);
+  g.watchers.push_back({std::thread([this, &g, slot, pid, done] {
+                          watch(g, slot, pid);
+                          done->store(true, std::memory_order_release);
+                        }),
+                        done});
   return slot;
 }
 
@@ -537,13 +553,13 @@ void ProcessSupervisor::stop(std::chrono::milliseconds within) {
   for (auto& w : beat_watchers_) w.join();
   for (auto& g : groups_) stopGroup(*g, within);
   for (auto& g : groups_) {
-    std::vector<std::thread> watchers;
+    std::vector<Group::Watcher> watchers;
     {
       std::lock_guard lock(g->mutex);
       watchers.swap(g->watchers);
     }
     for (auto& w : watchers)
-      if (w.joinable()) w.join();
+      if (w.thread.joinable()) w.thread.join();
   }
 }
 

@@ -95,7 +95,9 @@ void Injector::run(std::int64_t t0_ns) {
                 {schema::field::kFaultId, id},
                 {schema::field::kComponent, s.fault->component},
                 {schema::field::kKind, s.fault->kind_name}});
-    runtime::arm(*c, s.fault->kind, id, args);
+    if (!runtime::arm(*c, s.fault->kind, id, args) && s.fault->kind == runtime::InjectKind::Kill)
+      warn_(fmt::format("kill of '{}' at {} ms: no process of it was running then (it was being replaced)",
+                        s.fault->component, s.fault->at_ms));
   }
 }
 

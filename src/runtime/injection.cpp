@@ -79,8 +79,10 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
     case InjectKind::Kill: {
       auto* target = dynamic_cast<ProcessTarget*>(&c);
       if (target == nullptr) return false;
-      markManifested(core);
-      return target->signalProcess(SIGKILL);
+      markManifested(core);  // before the signal: its death may be detected at once
+      if (target->signalProcess(SIGKILL)) return true;
+      core.injection.injected_id.store(0, std::memory_order_release);  // no process to kill now
+      return false;
     }
     case InjectKind::StallHeartbeat:
       markManifested(core);
