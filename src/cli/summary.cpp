@@ -21,6 +21,11 @@ void printSummary(std::ostream& out, const engine::Engine& engine, double ran_s)
     const std::uint64_t executions = core.executions.load() +
                                      (&c != inst.component.get() ? first.executions.load() : 0);
     const std::uint64_t faults = core.faults.load() + (&c != inst.component.get() ? first.faults.load() : 0);
+    if (!inst.plan->process.empty()) {  // runs in a component process: its counts are that process's
+      fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", name, toString(c.state()), "-", faults, "-",
+                 "process:" + inst.plan->process);
+      continue;
+    }
     fmt::print(out, "{:<28} {:<9} {:>10} {:>7} {:>9} {:>9}\n", name, toString(c.state()), executions, faults,
                core.deadline_overruns.load(), core.executor.load() ? core.executor.load()->config().name : "passive");
   }

@@ -89,6 +89,7 @@ TEST_F(Isolation, ValuesCrossProcessesWholeInOrderAndWithoutLoss) {
   auto r = test::runProcess({KEEL_CLI, "run", profile("stream.xml"), "--duration", "1.5", "--log", log_, "--set",
                              "checker.report=" + report_});
   ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("process:source"), std::string::npos) << "the summary names where it ran\n" << r.out;
   const Report got = readReport(report_);
   EXPECT_GT(got.received, 300u);  // a sample every 2 ms for 1.5 s, on a busy machine
   EXPECT_EQ(got.torn, 0u);
