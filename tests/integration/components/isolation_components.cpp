@@ -92,7 +92,10 @@ class Doomed : public keel::Component {
   keel::ReturnCode onStart() override {
     std::thread([how = how_, after = after_ms_] {
       std::this_thread::sleep_for(std::chrono::milliseconds(after));
-      if (how == "segfault") *static_cast<volatile int*>(nullptr) = 1;  // NOLINT: the point
+      if (how == "segfault") {  // page 0 is never mapped; not null, which UBSan would stop first
+        volatile std::uintptr_t addr = 0x10;
+        *reinterpret_cast<volatile int*>(addr) = 1;  // NOLINT(performance-no-int-to-ptr): the point
+      }
       if (how == "abort") std::abort();
       if (how == "stop") ::raise(SIGSTOP);
       std::_Exit(3);
