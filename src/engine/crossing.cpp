@@ -16,15 +16,6 @@ namespace ipc = runtime::ipc;
 
 std::string at(const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); }
 
-std::string processOf(const plan::Plan& plan, const std::string& instance) {
-  const plan::PlannedInstance* i = plan.find(instance);
-  return i ? i->process : std::string();
-}
-
-std::string describe(const std::string& process) {
-  return process.empty() ? std::string("keel run's own process") : "process '" + process + "'";
-}
-
 std::string what(const plan::PlannedConnection& c) {
   return fmt::format("port_connection {}.{} -> {}.{}", c.source.component, c.source.port, c.target.component,
                      c.target.port);
@@ -41,7 +32,7 @@ std::vector<std::size_t> crossingConnections(const plan::Plan& plan) {
   for (std::size_t i = 0; i < plan.connections.size(); ++i) {
     const auto& c = plan.connections[i];
     if (c.type == profile::PortType::Service) continue;  // the plan rejects those that cross
-    if (processOf(plan, c.source.component) != processOf(plan, c.target.component)) out.push_back(i);
+    if (plan.processOf(c.source.component) != plan.processOf(c.target.component)) out.push_back(i);
   }
   return out;
 }
@@ -115,7 +106,7 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
   for (int pass = 0; pass < 2; ++pass)
     for (std::size_t k = 0; k < crossing.size(); ++k) {
       const plan::PlannedConnection& c = plan.connections[crossing[k]];
-      const std::string from = processOf(plan, c.source.component), to = processOf(plan, c.target.component);
+      const std::string from = plan.processOf(c.source.component), to = plan.processOf(c.target.component);
       const bool writes = from == process, reads = to == process;
       if (writes != (pass == 0)) continue;
       auto fd = fds.find(k);
@@ -138,8 +129,8 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
             "{}: {}: a value of type '{}' cannot cross processes ('{}' runs in {}, '{}' in {}): values are copied "
             "between processes as bytes, so the type must be trivially copyable (no pointers, std::string or "
             "std::vector inside)\n",
-            at(c.where), what(c), port->typeName(), c.source.component, describe(from), c.target.component,
-            describe(to));
+            at(c.where), what(c), port->typeName(), c.source.component, plan::describeProcess(from), c.target.component,
+            plan::describeProcess(to));
         continue;
       }
       const std::size_t size = port->byteSize();
@@ -179,7 +170,7 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
           runtime::futexWait(ready, 0, &deadline, runtime::FutexScope::Shared);
         if (ready.load(std::memory_order_acquire) == 0) {
           errors += fmt::format("{}: {}: its writer '{}' ({}) did not set up the ring within {} ms\n", at(c.where),
-                                what(c), c.source.component, describe(from), wait.count());
+                                what(c), c.source.component, plan::describeProcess(from), wait.count());
           continue;
         }
         Result<ipc::RingBuffer> ring = fail("");

@@ -150,11 +150,8 @@ void ProcessHost::supervisorLost() {
 }
 
 void ProcessHost::failed(const std::string& message) {
-  ipc::HostSlot& s = slot();
-  const std::size_t n = std::min(message.size(), sizeof s.message);
-  std::memcpy(s.message, message.data(), n);
-  s.message_len.store(static_cast<std::uint32_t>(n), std::memory_order_release);
-  ipc::publishState(block(), s, ipc::HostState::Failed);
+  ipc::setMessage(slot(), message);
+  ipc::publishState(block(), slot(), ipc::HostState::Failed);
 }
 
 Result<bool> ProcessHost::takeRole() {

@@ -51,9 +51,22 @@ std::string describeStatus(int status) {
   return fmt::format("ended (wait status {:#x})", status);
 }
 
-/// Sleeps until `block.changes` moves on from `seen` or `deadline`.
-void waitChange(ipc::ProcessBlock& block, std::uint32_t seen, Clock::time_point deadline) {
-  runtime::futexWait(block.changes, seen, &deadline, runtime::FutexScope::Shared);
+/// Waits until `done()` or `deadline`, waking at each change in `block` (every host state,
+/// first cycle, emergency done and slot freed bumps `changes`); what `done()` said last.
+template <class Done>
+bool waitFor(ipc::ProcessBlock& block, Clock::time_point deadline, Done done) {
+  for (;;) {
+    const std::uint32_t seen = block.changes.load(std::memory_order_acquire);
+    if (done()) return true;
+    if (Clock::now() >= deadline) return false;
+    runtime::futexWait(block.changes, seen, &deadline, runtime::FutexScope::Shared);
+  }
+}
+
+pid_t activePid(const ipc::ProcessBlock& block) {
+  for (const auto& s : block.slots)
+    if (stateOf(s) == HostState::Active) return s.pid.load(std::memory_order_acquire);
+  return 0;
 }
 
 }  // namespace
@@ -109,7 +122,7 @@ struct ProcessSupervisor::Proxy final : Component, runtime::ProcessTarget {
     return ReturnCode::Ok;
   }
   bool signalProcess(int signal) override {
-    const pid_t pid = sup.activePid(group.plan->name);
+    const pid_t pid = activePid(*group.block);
     return pid > 0 && ::kill(pid, signal) == 0;
   }
   ProcessSupervisor& sup;
@@ -129,9 +142,8 @@ ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& sessi
     g->block = &session.process(i);
     for (std::size_t k = 0; k < crossing.size(); ++k) {
       const auto& c = plan.connections[crossing[k]];
-      const plan::PlannedInstance* a = plan.find(c.source.component);
-      const plan::PlannedInstance* b = plan.find(c.target.component);
-      if ((a && a->process == g->plan->name) || (b && b->process == g->plan->name)) g->rings.push_back(k);
+      if (plan.processOf(c.source.component) == g->plan->name || plan.processOf(c.target.component) == g->plan->name)
+        g->rings.push_back(k);
     }
     g->takes_over = true;
     for (const auto& m : g->plan->members) {
@@ -231,11 +243,7 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
     if (fd >= 0) ::close(fd);
   if (rc != 0) {
     ipc::HostSlot& s = g.block->slots[slot];
-    const std::string why = fmt::format("cannot start '{}': {}", launch_.executable,
-                                        std::generic_category().message(rc));
-    const std::size_t n = std::min(why.size(), sizeof s.message);
-    std::memcpy(s.message, why.data(), n);
-    s.message_len.store(static_cast<std::uint32_t>(n), std::memory_order_release);
+    ipc::setMessage(s, fmt::format("cannot start '{}': {}", launch_.executable, std::generic_category().message(rc)));
     ipc::publishState(*g.block, s, HostState::Failed);
     return 0;
   }
@@ -274,7 +282,7 @@ Result<std::size_t> ProcessSupervisor::launchHost(Group& g, bool standby, bool r
   if (pid == 0) {
     std::lock_guard lock(g.mutex);
     g.used[slot] = false;
-    return fail(std::string(s.message, s.message_len.load()));
+    return fail(ipc::messageOf(s));
   }
   s.pid.store(pid, std::memory_order_release);
   std::lock_guard lock(g.mutex);
@@ -299,19 +307,14 @@ void ProcessSupervisor::watch(Group& g, std::size_t slot, pid_t pid) {
   int status = 0;
   // Until the host holds its life lock (Loading), its death shows only as an exit: looked at
   // every 50 ms while it starts (it may fail to exec, or die loading a library).
-  for (;;) {
-    const std::uint32_t seen = g.block->changes.load(std::memory_order_acquire);
-    if (stateOf(s) != HostState::Starting) break;
-    if (::waitpid(pid, &status, WNOHANG) == pid) {
-      const std::string why = "ended before it was ready: " + describeStatus(status);
-      const std::size_t n = std::min(why.size(), sizeof s.message);
-      std::memcpy(s.message, why.data(), n);
-      s.message_len.store(static_cast<std::uint32_t>(n), std::memory_order_release);
-      ipc::publishState(*g.block, s, HostState::Failed);
-      died(g, slot, HostState::Starting, runtime::steadyNs(), why);
-      return;
-    }
-    waitChange(*g.block, seen, Clock::now() + std::chrono::milliseconds(50));
+  while (!waitFor(*g.block, Clock::now() + std::chrono::milliseconds(50),
+                  [&] { return stateOf(s) != HostState::Starting; })) {
+    if (::waitpid(pid, &status, WNOHANG) != pid) continue;
+    const std::string why = "ended before it was ready: " + describeStatus(status);
+    ipc::setMessage(s, why);
+    ipc::publishState(*g.block, s, HostState::Failed);
+    died(g, slot, HostState::Starting, runtime::steadyNs(), why);
+    return;
   }
   auto locked = s.life.lock();  // sleeps while the host lives
   const std::int64_t t = runtime::steadyNs();
@@ -335,7 +338,7 @@ void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int
                                            clean                      ? "exited"
                                            : was == HostState::Failed ? "failed"
                                                                       : "died");
-  rec[fault::schema::field::kDetail] = was == HostState::Failed ? std::string(s.message, s.message_len.load()) : detail;
+  rec[fault::schema::field::kDetail] = was == HostState::Failed ? ipc::messageOf(s) : detail;
   rec[fault::schema::field::kTime] = log_.sinceStart(t_ns);
   log_.write(std::move(rec));
   if (!clean && was != HostState::Failed) ipc::publishState(*g.block, s, HostState::Failed);
@@ -344,6 +347,8 @@ void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int
     g.used[slot] = false;
     g.pids[slot] = 0;
   }
+  g.block->changes.fetch_add(1, std::memory_order_acq_rel);  // the slot is free: stopGroup waits for that
+  runtime::futexWakeAll(g.block->changes, runtime::FutexScope::Shared);
   if (stopping_.load(std::memory_order_acquire) || g.stopped.load(std::memory_order_acquire)) return;
   if (was == HostState::Active) {
     if (!report_) return;
@@ -361,27 +366,22 @@ void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int
     }
   } else if (was == HostState::Standby || was == HostState::Loading) {
     warn_(fmt::format("process '{}': a standby host (pid {}) {}; starting another", g.plan->name, pid, detail));
-    std::lock_guard lock(spawn_mutex_);  // from the spawner thread: this watcher must not block on it
-    spawn_jobs_.emplace_back([this, &g] { topUpStandbys(g); });
-    spawn_cv_.notify_all();
+    queueTopUp(g);  // this watcher must not wait for a spawn
   }
 }
 
 Result<void> ProcessSupervisor::waitState(Group& g, std::size_t slot, std::chrono::milliseconds within) {
   ipc::HostSlot& s = g.block->slots[slot];
-  const auto deadline = Clock::now() + within;
-  for (;;) {
-    const std::uint32_t seen = g.block->changes.load(std::memory_order_acquire);
+  auto settled = [&] {
     const HostState st = stateOf(s);
-    if (st == HostState::Active || st == HostState::Standby) return {};
-    if (st == HostState::Failed || st == HostState::Exited) {
-      std::string why(s.message, s.message_len.load(std::memory_order_acquire));
-      return fail(why.empty() ? fmt::format("process '{}': its host ended while starting", g.plan->name) : why);
-    }
-    if (Clock::now() >= deadline)
-      return fail(fmt::format("process '{}': its host was not ready within {} ms", g.plan->name, within.count()));
-    waitChange(*g.block, seen, deadline);
-  }
+    return st == HostState::Active || st == HostState::Standby || st == HostState::Failed || st == HostState::Exited;
+  };
+  if (!waitFor(*g.block, Clock::now() + within, settled))
+    return fail(fmt::format("process '{}': its host was not ready within {} ms", g.plan->name, within.count()));
+  const HostState st = stateOf(s);
+  if (st == HostState::Active || st == HostState::Standby) return {};
+  const std::string why = ipc::messageOf(s);
+  return fail(why.empty() ? fmt::format("process '{}': its host ended while starting", g.plan->name) : why);
 }
 
 Result<void> ProcessSupervisor::launch() {
@@ -470,14 +470,8 @@ Result<std::int64_t> ProcessSupervisor::recover(Group& g) {
     return false;
   };
   std::optional<std::size_t> active = newActive();
-  if (!active && g.takes_over) {  // a standby is taking over by itself
-    const auto deadline = Clock::now() + kTakeoverWait;
-    while (!(active = newActive()) && standbyLeft() && Clock::now() < deadline) {
-      const std::uint32_t seen = g.block->changes.load(std::memory_order_acquire);
-      if ((active = newActive())) break;
-      waitChange(*g.block, seen, deadline);
-    }
-  }
+  if (!active && g.takes_over)  // a standby is taking over by itself, unless it died too
+    waitFor(*g.block, Clock::now() + kTakeoverWait, [&] { return (active = newActive()) || !standbyLeft(); });
   if (!active) {  // no standby: a new host, which restores the checkpoint too
     auto slot = launchHost(g, false, true);
     if (!slot) return slot.error();
@@ -486,30 +480,25 @@ Result<std::int64_t> ProcessSupervisor::recover(Group& g) {
   }
   // Back once the new active's components ran a cycle (bounded: an aperiodic one may wait).
   const ipc::HostSlot& s = g.block->slots[*active];
-  const auto deadline = Clock::now() + kFirstRunWait;
-  while (s.first_run_ns.load(std::memory_order_acquire) == 0 && Clock::now() < deadline) {
-    const std::uint32_t seen = g.block->changes.load(std::memory_order_acquire);
-    if (s.first_run_ns.load(std::memory_order_acquire) != 0) break;
-    waitChange(*g.block, seen, deadline);
-  }
+  waitFor(*g.block, Clock::now() + kFirstRunWait, [&] { return s.first_run_ns.load(std::memory_order_acquire) != 0; });
+  queueTopUp(g);
+  return s.first_run_ns.load(std::memory_order_acquire);
+}
+
+void ProcessSupervisor::queueTopUp(Group& g) {
   {
     std::lock_guard lock(spawn_mutex_);
     spawn_jobs_.emplace_back([this, &g] { topUpStandbys(g); });
   }
   spawn_cv_.notify_all();
-  return s.first_run_ns.load(std::memory_order_acquire);
 }
 
 void ProcessSupervisor::emergency(Group& g) const {
   const std::uint32_t before = g.block->emergencies_done.load(std::memory_order_acquire);
   ipc::publishCommand(*g.block, ipc::Command::Emergency);
-  const auto deadline = Clock::now() + kEmergencyWait;
-  while (g.block->emergencies_done.load(std::memory_order_acquire) == before && Clock::now() < deadline &&
-         activePid(g.plan->name) != 0) {
-    const std::uint32_t seen = g.block->changes.load(std::memory_order_acquire);
-    if (g.block->emergencies_done.load(std::memory_order_acquire) != before) break;
-    waitChange(*g.block, seen, deadline);
-  }
+  waitFor(*g.block, Clock::now() + kEmergencyWait, [&] {
+    return g.block->emergencies_done.load(std::memory_order_acquire) != before || activePid(*g.block) == 0;
+  });
 }
 
 void ProcessSupervisor::clearEmergency() {
@@ -527,12 +516,7 @@ void ProcessSupervisor::stopGroup(Group& g, std::chrono::milliseconds within) {
       if (u) return true;
     return false;
   };
-  const auto deadline = Clock::now() + within;
-  while (alive() && Clock::now() < deadline) {
-    const std::uint32_t seen = g.block->changes.load(std::memory_order_acquire);
-    if (!alive()) break;
-    waitChange(*g.block, seen, std::min(deadline, Clock::now() + std::chrono::milliseconds(50)));
-  }
+  waitFor(*g.block, Clock::now() + within, [&] { return !alive(); });
   {
     std::lock_guard lock(g.mutex);
     for (std::size_t i = 0; i < ipc::kHostSlots; ++i)
@@ -561,24 +545,6 @@ void ProcessSupervisor::stop(std::chrono::milliseconds within) {
     for (auto& w : watchers)
       if (w.thread.joinable()) w.thread.join();
   }
-}
-
-int ProcessSupervisor::standbysReady(std::string_view process) const {
-  int n = 0;
-  for (const auto& g : groups_) {
-    if (g->plan->name != process) continue;
-    for (const auto& s : g->block->slots) n += stateOf(s) == HostState::Standby;
-  }
-  return n;
-}
-
-pid_t ProcessSupervisor::activePid(std::string_view process) const {
-  for (const auto& g : groups_) {
-    if (g->plan->name != process) continue;
-    for (const auto& s : g->block->slots)
-      if (stateOf(s) == HostState::Active) return s.pid.load(std::memory_order_acquire);
-  }
-  return 0;
 }
 
 }  // namespace keel::engine

@@ -77,11 +77,6 @@ class ProcessSupervisor {
   /// Clears a latched emergency in every process (keel run's operator cleared it).
   void clearEmergency();
 
-  /// Standby hosts ready now in `process` (for tests and the bench).
-  int standbysReady(std::string_view process) const;
-  /// The pid of the active host of `process`, 0 if none.
-  pid_t activePid(std::string_view process) const;
-
  private:
   struct Group;
   struct Proxy;
@@ -96,6 +91,7 @@ class ProcessSupervisor {
   void stopGroup(Group& g, std::chrono::milliseconds within);
   void emergency(Group& g) const;
   void topUpStandbys(Group& g);
+  void queueTopUp(Group& g);  // topUpStandbys on the spawner thread, without waiting for it
   void watchBeats(Group& g);  // a thread per process with a heartbeat: kills a hung host
   Result<void> waitState(Group& g, std::size_t slot, std::chrono::milliseconds within);
 

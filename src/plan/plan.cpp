@@ -99,13 +99,8 @@ class Planner {
     std::sort(plan_.processes.begin(), plan_.processes.end(), [](const auto& a, const auto& b) {
       return std::tie(a.where.file, a.where.line) < std::tie(b.where.file, b.where.line);
     });
-    auto processOf = [this](const std::string& instance) {
-      const PlannedInstance* i = plan_.find(instance);
-      return i ? i->process : std::string();
-    };
-    auto where = [](const std::string& process) {
-      return process.empty() ? std::string("keel run's own process") : "process '" + process + "'";
-    };
+    auto processOf = [this](const std::string& instance) { return plan_.processOf(instance); };
+    const auto& where = describeProcess;
     for (const auto& ex : plan_.executors) {
       for (const auto& m : ex.members) {
         if (processOf(m) == processOf(ex.members.front())) continue;
@@ -223,10 +218,13 @@ const PlannedInstance* Plan::find(std::string_view instance) const {
   return nullptr;
 }
 
-const PlannedProcess* Plan::findProcess(std::string_view process) const {
-  for (const auto& p : processes)
-    if (p.name == process) return &p;
-  return nullptr;
+std::string Plan::processOf(std::string_view instance) const {
+  const PlannedInstance* i = find(instance);
+  return i ? i->process : std::string();
+}
+
+std::string describeProcess(const std::string& process) {
+  return process.empty() ? std::string("keel run's own process") : "process '" + process + "'";
 }
 
 Result<Plan> makePlan(const ProfileSet& set) {

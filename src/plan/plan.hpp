@@ -64,8 +64,12 @@ struct Plan {
   std::vector<PlannedProcess> processes;  // in order of first mention
 
   const PlannedInstance* find(std::string_view instance) const;
-  const PlannedProcess* findProcess(std::string_view process) const;
+  /// The process `instance` runs in; empty for keel run's own (or an unknown instance).
+  std::string processOf(std::string_view instance) const;
 };
+
+/// A process as diagnostics name it: "process 'vision'", or "keel run's own process".
+std::string describeProcess(const std::string& process);
 
 /// Makes the plan for the root of `set` (a package, a system, or a single component).
 Result<Plan> makePlan(const profile::ProfileSet& set);

@@ -182,6 +182,7 @@ TEST_F(Isolation, AThousandKillsAtRandomMomentsAreEachDetectedAndRecoveredAndNot
         << "fault " << id << " neither recovered nor covered";
   }
   EXPECT_EQ(whole, made) << "armed, injected, detected, diagnosed, action";
+  EXPECT_GE(recovered * 10, made * 9) << "a death during the handling of the one before stays the exception";
   double worst_ms = 0;
   for (const auto& rec : test::eventsOf(log, ev::kRecovered))
     worst_ms = std::max(worst_ms, rec.value(fd::kLatencyUs, 1e9) / 1e3);

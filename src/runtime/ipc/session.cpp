@@ -160,6 +160,17 @@ void publishState(ProcessBlock& block, HostSlot& slot, HostState state) {
   futexWakeAll(block.changes, FutexScope::Shared);
 }
 
+void setMessage(HostSlot& slot, std::string_view text) {
+  const std::size_t n = std::min(text.size(), sizeof slot.message);
+  std::memcpy(slot.message, text.data(), n);
+  slot.message_len.store(static_cast<std::uint32_t>(n), std::memory_order_release);
+}
+
+std::string messageOf(const HostSlot& slot) {
+  const std::size_t n = std::min<std::size_t>(slot.message_len.load(std::memory_order_acquire), sizeof slot.message);
+  return {slot.message, n};
+}
+
 void publishCommand(ProcessBlock& block, Command command) {
   block.command.store(static_cast<std::uint32_t>(command), std::memory_order_release);
   futexWakeAll(block.command, FutexScope::Shared);

@@ -154,6 +154,11 @@ class Session {
   SessionShape shape_;
 };
 
+/// A host's error text for keel run (why it could not start), truncated to kHostMessageBytes;
+/// written before the state Failed is published.
+void setMessage(HostSlot& slot, std::string_view text);
+std::string messageOf(const HostSlot& slot);
+
 /// Sets `slot`'s state and wakes whoever waits on its process block's `changes`.
 void publishState(ProcessBlock& block, HostSlot& slot, HostState state);
 /// Writes `command` for every host of `block` and wakes them.
