@@ -8,7 +8,8 @@
 
 #include "robot/world/camera.hpp"
 
-/// A camera frame (robot/world/camera.hpp): 80 × 60 RGB by default.
+/// A camera frame (robot/world/camera.hpp): 80 × 60 RGB by default, in a fixed buffer (it crosses
+/// to the detector's process as bytes).
 KEEL_TYPE_NAME(keel::robot::Image, "robot::Image");
 
 namespace keel::robot {

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace keel::robot {
 namespace {
@@ -27,6 +29,10 @@ Rgb wallShade(double d_m) {
 
 }  // namespace
 
+bool operator==(const Image& a, const Image& b) {
+  return a.w == b.w && a.h == b.h && std::ranges::equal(a.pixels(), b.pixels());
+}
+
 Rgb Image::at(int x, int y) const {
   assert(x >= 0 && x < w && y >= 0 && y < h);
   const std::size_t i = 3 * (static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x));
@@ -35,15 +41,17 @@ Rgb Image::at(int x, int y) const {
 
 Camera::Camera(CameraConfig config) : config_(config), rng_(config.seed) {
   assert(config_.width > 0 && config_.height > 0);
+  // Checked in every build: a larger frame would be drawn past an Image's buffer.
+  if (static_cast<std::int64_t>(config_.width) * config_.height > Image::kMaxPixels)
+    throw std::invalid_argument("Camera: " + std::to_string(config_.width) + " x " + std::to_string(config_.height) +
+                                " pixels exceed an Image's " + std::to_string(Image::kMaxPixels));
   assert(config_.fov_rad > 0.0 && config_.fov_rad < 3.0);
 }
 
 double Camera::focalPx() const { return (config_.width / 2.0) / std::tan(config_.fov_rad / 2.0); }
 
 Image Camera::render(const World& world, const Pose& pose) {
-  Image image{config_.width, config_.height,
-              std::vector<std::uint8_t>(3 * static_cast<std::size_t>(config_.width) *
-                                        static_cast<std::size_t>(config_.height))};
+  Image image{config_.width, config_.height, {}};
   const double focal = focalPx();
   for (int column = 0; column < config_.width; ++column) {
     const double offset = std::atan((config_.width / 2.0 - (column + 0.5)) / focal);
@@ -80,7 +88,7 @@ void Camera::drawColumn(Image& image, int column, const RayHits& hits, double co
 
 void Camera::addNoise(Image& image) {
   std::normal_distribution<double> noise(0.0, config_.noise_sigma);
-  for (std::uint8_t& channel : image.rgb) {
+  for (std::uint8_t& channel : image.pixels()) {
     const double value = std::round(channel + noise(rng_));
     channel = static_cast<std::uint8_t>(std::clamp(value, 0.0, 255.0));
   }

@@ -5,23 +5,44 @@
 // Deterministic given the seed; thread-safety: none (render() advances the noise generator).
 #pragma once
 
+#include <array>
+#include <cassert>
+#include <cstddef>
 #include <cstdint>
 #include <random>
-#include <vector>
+#include <span>
+#include <type_traits>
 
 #include "robot/world/world.hpp"
 
 namespace keel::robot {
 
-/// Row-major RGB, 3 bytes per pixel, row 0 at the top.
+/// Row-major RGB, 3 bytes per pixel, row 0 at the top, in a buffer of fixed capacity: a frame is
+/// trivially copyable, so it crosses processes as bytes (the robot's detector runs in a process of
+/// its own, docs/isolation.md). The first 3 × w × h bytes of `rgb` are the pixels.
 struct Image {
+  static constexpr int kMaxPixels = 80 * 60;  // the robot camera's resolution (CameraConfig)
+
   int w = 0;
   int h = 0;
-  std::vector<std::uint8_t> rgb;
+  std::array<std::uint8_t, 3 * kMaxPixels> rgb{};
 
+  /// Whether w × h pixels, neither negative, fit the buffer.
+  [[nodiscard]] bool fits() const { return w >= 0 && h >= 0 && static_cast<std::int64_t>(w) * h <= kMaxPixels; }
+  /// The 3 × w × h bytes of the pixels (fits() required).
+  [[nodiscard]] std::span<const std::uint8_t> pixels() const { return {rgb.data(), byteCount()}; }
+  [[nodiscard]] std::span<std::uint8_t> pixels() { return {rgb.data(), byteCount()}; }
   [[nodiscard]] Rgb at(int x, int y) const;
-  friend bool operator==(const Image&, const Image&) = default;
+  /// Same size and same pixels (the bytes past them do not count).
+  friend bool operator==(const Image& a, const Image& b);
+
+ private:
+  [[nodiscard]] std::size_t byteCount() const {
+    assert(fits());
+    return 3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h);
+  }
 };
+static_assert(std::is_trivially_copyable_v<Image>, "a frame crosses processes as bytes");
 
 struct CameraConfig {
   int width = 80;

@@ -67,7 +67,7 @@ class ColorBlobDetector : public Component {
     return ReturnCode::Ok;
   }
 
-  /// The reading for one frame. A malformed frame (buffer not 3 × w × h bytes) throws.
+  /// The reading for one frame. A malformed frame (a negative size, more pixels than it holds) throws.
   [[nodiscard]] BlobReading detect(const Image& frame) {
     const std::span<const Region> regions = segmenter_->segment(frame);
     if (regions.empty()) return BlobReading{0.0, 0.0, 0.0};

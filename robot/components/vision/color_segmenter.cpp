@@ -38,7 +38,12 @@ void ColorSegmenter::prepare(int w, int h) {
   if (row_start_.size() < static_cast<std::size_t>(h) + 1) row_start_.resize(static_cast<std::size_t>(h) + 1);
 }
 
-std::span<const Region> ColorSegmenter::segment(const Image& image) { return segment(image.w, image.h, image.rgb); }
+std::span<const Region> ColorSegmenter::segment(const Image& image) {
+  if (!image.fits())
+    throw std::invalid_argument("ColorSegmenter: a " + std::to_string(image.w) + " x " + std::to_string(image.h) +
+                                " image does not fit a frame's " + std::to_string(Image::kMaxPixels) + " pixels");
+  return segment(image.w, image.h, image.pixels());
+}
 
 std::span<const Region> ColorSegmenter::segment(int w, int h, std::span<const std::uint8_t> rgb) {
   if (w < 0 || h < 0 || rgb.size() != 3 * static_cast<std::size_t>(w) * static_cast<std::size_t>(h))

@@ -71,8 +71,8 @@ class ColorSegmenter {
 
   /// The regions of `colour` in `image` with at least `min_area` pixels, largest first (ties:
   /// topmost, then leftmost). The span stays valid until the next call. Allocation-free for
-  /// images no larger than the prepared size. Throws std::invalid_argument when the image's
-  /// buffer does not hold 3 × w × h bytes or a dimension is negative.
+  /// images no larger than the prepared size. Throws std::invalid_argument when a dimension is
+  /// negative, or the image does not fit its frame (Image::fits) or `rgb` is not 3 × w × h bytes.
   std::span<const Region> segment(const Image& image);
   std::span<const Region> segment(int w, int h, std::span<const std::uint8_t> rgb);
 

@@ -202,7 +202,7 @@ TEST(ColorBlobDetector, BearingIsPositiveTowardsColumnZeroAndZeroAtTheCentre) {
 TEST(ColorBlobDetector, AMalformedFrameIsAnExceptionOfTheCallback) {
   DetectorRig rig;
   ASSERT_TRUE(rig.initialize());
-  rig.feeder.image.push(Image{80, 60, std::vector<std::uint8_t>(100)});
+  rig.feeder.image.push(Image{81, 60, {}});  // more pixels than a frame holds
 
   EXPECT_THROW(static_cast<void>(rig.detector.onExecute()), std::invalid_argument);
 }

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -29,10 +30,14 @@ constexpr Rgb kGrey{90, 90, 80};  // the arena's floor
 template <class Red>
 Image paint(int w, int h, Red red) {
   Image image{w, h, {}};
+  const std::span<std::uint8_t> px = image.pixels();
+  std::size_t i = 0;
   for (int y = 0; y < h; ++y) {
     for (int x = 0; x < w; ++x) {
       const Rgb p = red(x, y) ? kRed : kGrey;
-      image.rgb.insert(image.rgb.end(), {p.r, p.g, p.b});
+      px[i++] = p.r;
+      px[i++] = p.g;
+      px[i++] = p.b;
     }
   }
   return image;
@@ -259,10 +264,11 @@ TEST(ColorSegmenter, GrowsForALargerImage) {
   EXPECT_EQ(s.segment(wide).size(), 13u);  // every other pixel of a 9-wide raster: no joins
 }
 
-TEST(ColorSegmenter, RejectsAnImageWhoseBufferDoesNotMatchItsSize) {
+TEST(ColorSegmenter, RejectsASizeItsBufferDoesNotHold) {
   ColorSegmenter s = segmenter();
-  EXPECT_THROW(s.segment(Image{4, 4, std::vector<std::uint8_t>(47)}), std::invalid_argument);
   EXPECT_THROW(s.segment(Image{-1, 4, {}}), std::invalid_argument);
+  EXPECT_THROW(s.segment(Image{Image::kMaxPixels + 1, 1, {}}), std::invalid_argument);  // past the frame
+  EXPECT_THROW(s.segment(4, 4, std::vector<std::uint8_t>(47)), std::invalid_argument);
 }
 
 // ---- cost ----

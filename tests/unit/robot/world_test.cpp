@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "robot/world/camera.hpp"
@@ -285,11 +286,31 @@ TEST(Camera, NoiseChangesPixelsAndDependsOnTheSeed) {
   const Image plain = clean.render(world, pose);
   const Image with_noise = a.render(world, pose);
   int differing = 0;
-  for (std::size_t i = 0; i < plain.rgb.size(); ++i) differing += plain.rgb[i] != with_noise.rgb[i] ? 1 : 0;
-  EXPECT_GT(differing, static_cast<int>(plain.rgb.size()) / 2);
+  for (std::size_t i = 0; i < plain.pixels().size(); ++i)
+    differing += plain.pixels()[i] != with_noise.pixels()[i] ? 1 : 0;
+  EXPECT_GT(differing, static_cast<int>(plain.pixels().size()) / 2);
   EXPECT_NE(with_noise, b.render(world, pose));
   EXPECT_EQ(plain, Camera().render(world, pose));  // no noise: the same image every time
   EXPECT_TRUE(isRed(with_noise.at(40, 30)));       // the target still reads red
+}
+
+TEST(Camera, RefusesAResolutionLargerThanAFrameHolds) {
+  CameraConfig big;
+  big.width = 81;  // × 60 rows: one column more than Image::kMaxPixels
+  EXPECT_THROW(Camera{big}, std::invalid_argument);
+  big.width = 120;  // × 40 rows: as many pixels as 80 × 60, in another shape
+  big.height = 40;
+  EXPECT_EQ(Camera(big).render(targetAhead(), Pose{}).pixels().size(), 3u * 120 * 40);
+}
+
+TEST(Camera, ImagesAreEqualWhenTheirSizeAndPixelsAre) {
+  Image a{2, 1, {1, 2, 3, 4, 5, 6}};
+  Image b = a;
+  b.rgb[6] = 9;  // past the pixels: not part of the image
+  EXPECT_EQ(a, b);
+  b.rgb[5] = 9;
+  EXPECT_NE(a, b);
+  EXPECT_NE(a, (Image{1, 2, {1, 2, 3, 4, 5, 6}}));  // the same bytes, another shape
 }
 
 }  // namespace
