@@ -2,7 +2,8 @@
 // profile with a fault scenario, as a user runs them: the right kind of detection at the right
 // component, the right handling, and the robot's fate from the mission record (goal reached, or
 // a safe stop without collision). The board is the separate keel_motion_board program behind a
-// pseudo-terminal (the actuator's default); the runs take the robot's real time (~5-15 s each).
+// pseudo-terminal (the actuator's default), the detector runs in a process of its own (keel-host);
+// the runs take the robot's real time (~5-15 s each).
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,8 +1,8 @@
 // The test robot's profiles declare its components twice: robot/navigation.xml (Fig. 5, one
 // package) and robot/apps/*.xml (the same components split into Fig. 7's applications for
 // robot/system.xml). This keeps the two from drifting apart: the same subcomponents, each with
-// the same component profile, properties (up to the applications' name prefixes) and fault
-// policy.
+// the same component profile, properties (up to the applications' name prefixes), fault policy
+// and process.
 #include <gtest/gtest.h>
 
 #include <pugixml.hpp>
@@ -36,6 +36,8 @@ std::map<std::string, std::string> subcomponents(const fs::path& file) {
         text += std::string(" ") + a.name() + "=" + v;
       }
     }
+    for (pugi::xml_node p : s.children("process"))
+      text += std::string("|process ") + p.attribute("name").value() + " standby=" + p.attribute("standby").value();
     out[s.child_value("name")] = text;
   }
   return out;
