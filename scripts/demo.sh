@@ -2,20 +2,52 @@
 # The README's first command: builds keel and runs its main job, the paper's test robot
 # (docs/robot.md). The simulated robot follows a red target across a room with obstacles, first
 # without faults, then through the paper's experiments, each injected while it drives: a
-# segmentation fault, an unplugged sonar, a lying sonar, the left wheel's driver losing power
-# (Fig. 6), an obstacle avoider that keeps crashing. For each run keel prints what it detected,
-# how it handled it and the mission's outcome; the fault logs and plots (trajectory with the
-# faults marked, Fig. 6's rpm and detection) go to demo/.
-#   scripts/demo.sh [experiment...]   (default: nominal segfault sonar_unplugged sonar_wrong
-#                                      fig6_left_motor_off avoidance_replaced; see robot/scenarios)
+# segmentation fault, the vision's process killed with `kill -9` (twice), an unplugged sonar, a
+# lying sonar, the left wheel's driver losing power (Fig. 6), an obstacle avoider that keeps
+# crashing. For each run keel prints what it detected, how it handled it and the mission's
+# outcome, and for a killed process how soon its standby took over; the fault logs and plots
+# (trajectory with the faults marked, Fig. 6's rpm and detection) go to demo/.
+#   scripts/demo.sh [experiment...]   (default: nominal segfault vision_killed sonar_unplugged
+#                                      sonar_wrong fig6_left_motor_off avoidance_replaced;
+#                                      see robot/scenarios)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
+
+# Each death of a component process in fault log $1, from its `detected` and `host` records
+# (docs/fault-log.md): who took over (a standby, or a process started anew) and when.
+takeovers() {
+  python3 - "$1" <<'PY'
+import json, sys
+records = sorted((json.loads(line) for line in open(sys.argv[1]) if line.strip()), key=lambda r: r["t_ns"])
+killed = {r["fault_id"]: r["t_ns"] for r in records if r["event"] == "injected"}  # by --inject
+seen, fresh = None, False  # the `detected` record of the last death; a standby since?
+for r in records:
+    after = (r["t_ns"] - seen["t_ns"]) / 1e3 if seen else 0.0  # us since the death was seen
+    if r["event"] == "detected" and r.get("kind") == "process":
+        seen, fresh = r, False
+        kill = killed.get(r["fault_id"])
+        print(f"  {r['t_ns'] / 1e9:6.3f} s  {r['detail']}"
+              + (f", seen {(r['t_ns'] - kill) / 1e3:.0f} us after the kill" if kill else ""))
+    elif not seen:
+        continue
+    elif r["event"] == "host" and r["phase"] in ("took_over", "respawned"):
+        who = "its standby" if r["phase"] == "took_over" else "a new process (no standby was ready)"
+        print(f"           {who}, pid {r['pid']}, took over {after:.0f} us after the death was seen")
+    elif r["event"] == "recovered" and r["fault_id"] == seen["fault_id"]:
+        print(f"           {seen['component']} ran again {after / 1e3:.1f} ms after it, on its next input")
+    elif r["event"] == "host" and r["phase"] == "standby" and not fresh:
+        fresh = True
+        print(f"           a fresh standby, pid {r['pid']}, was ready {after / 1e3:.0f} ms after it")
+PY
+}
+
 scripts/deps.sh
 cmake -S . -B build -G Ninja >/dev/null
-cmake --build build --target keel_cli keel_robot keel_stock keel_motion_board
+cmake --build build --target keel_cli keel_host keel_robot keel_stock keel_motion_board
 mkdir -p demo
 experiments=("$@")
-((${#experiments[@]})) || experiments=(nominal segfault sonar_unplugged sonar_wrong fig6_left_motor_off avoidance_replaced)
+((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off
+                                       avoidance_replaced)
 for e in "${experiments[@]}"; do
   inject=()
   [[ "$e" == nominal ]] || inject=(--inject "robot/scenarios/$e.xml")
@@ -25,5 +57,9 @@ for e in "${experiments[@]}"; do
     --set "referee.trace=demo/$e.csv" | tail -n 12
   echo "--- detections, actions, recoveries (demo/$e.jsonl):"
   grep -E '"event":"(injected|detected|action|recovered)"' "demo/$e.jsonl" | cut -c1-200 || echo "(none)"
+  if grep -qE '"phase":"(took_over|respawned)"' "demo/$e.jsonl"; then
+    echo "--- component processes killed, and who took over:"
+    takeovers "demo/$e.jsonl"
+  fi
   python3 robot/plot_run.py --trace "demo/$e.csv" --log "demo/$e.jsonl" --out "demo/$e" || true
 done

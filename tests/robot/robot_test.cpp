@@ -44,6 +44,13 @@ struct RobotRun {
     return out;
   }
   std::size_t detections() const { return eventsOf(log, ev::kDetected).size(); }
+  /// The `host` records of `phase` (a component process's life: took_over, respawned, ...).
+  std::vector<json> hosts(const std::string& phase) const {
+    std::vector<json> out;
+    for (const auto& h : eventsOf(log, ev::kHost))
+      if (h.value(fd::kPhase, "") == phase) out.push_back(h);
+    return out;
+  }
   /// Whether some fault's handling took `action` (on any component).
   bool tookAction(const std::string& action) const {
     for (const auto& a : eventsOf(log, ev::kAction))
@@ -139,6 +146,23 @@ TEST_F(Robot, ASegfaultAndADivideByZeroAreCaughtAndResetAndTheRobotReachesTheTar
   EXPECT_EQ(r.actions("reset", "detector").size(), 1u);
   EXPECT_EQ(r.actions("reset", "planner").size(), 1u);
   EXPECT_EQ(eventsOf(r.log, ev::kRecovered).size(), 2u);
+  reachedTheGoal(r);
+}
+
+TEST_F(Robot, TheVisionProcessKilledTwiceIsTakenOverByAStandbyEachTimeAndTheRobotReachesTheTarget) {  // issue 14
+  const RobotRun r = run("navigation.xml", "vision_killed.xml");
+  const auto d = r.detected("process", "detector");
+  ASSERT_EQ(d.size(), 2u) << r.ran.out;
+  for (const auto& f : d)
+    EXPECT_NE(f.value(fd::kDetail, "").find("killed by signal 9 (SIGKILL)"), std::string::npos) << f.dump();
+  // Each death found a standby ready (the second, the one started after the first takeover).
+  const auto took_over = r.hosts("took_over");
+  ASSERT_EQ(took_over.size(), 2u) << r.ran.out;
+  EXPECT_NE(took_over[0].value(fd::kPid, 0), took_over[1].value(fd::kPid, 0));
+  EXPECT_TRUE(r.hosts("respawned").empty()) << r.ran.out;
+  EXPECT_EQ(r.actions("reset", "detector").size(), 2u);
+  EXPECT_EQ(eventsOf(r.log, ev::kRecovered).size(), 2u);
+  EXPECT_EQ(r.detections(), 2u) << "no other component noticed: " << r.ran.out;
   reachedTheGoal(r);
 }
 
