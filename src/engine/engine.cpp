@@ -8,7 +8,9 @@
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
+#include <system_error>
 
+#include <pthread.h>
 #include <unistd.h>
 
 #include "runtime/checkpoint.hpp"
@@ -149,23 +151,42 @@ void Engine::buildExecutors() {
   }
 }
 
-Result<void> Engine::takeRoleAsHost() {
+void Engine::raiseToProcessPriority() {
+  const plan::PlannedExecutor* top = nullptr;
+  for (const auto& pe : planned_.plan.executors) {
+    const plan::PlannedInstance* first = pe.members.empty() ? nullptr : planned_.plan.find(pe.members.front());
+    if (first == nullptr || !isLocal(*first) || pe.policy == profile::SchedPolicy::Other) continue;
+    if (top == nullptr || pe.priority > top->priority) top = &pe;
+  }
+  if (top != nullptr) {
+    sched_param sp{};
+    sp.sched_priority = top->priority;
+    const int policy = top->policy == profile::SchedPolicy::Fifo ? SCHED_FIFO : SCHED_RR;
+    if (int err = pthread_setschedparam(pthread_self(), policy, &sp); err != 0)
+      warn(
+          fmt::format("process '{}': its main thread cannot take task '{}''s priority {} ({}): it waits for its "
+                      "role at the default priority",
+                      myProcess(), top->name, top->priority, std::generic_category().message(err)));
+  }
+}
+
+Result<nlohmann::json> Engine::takeRoleAsHost() {
   ProcessHost& host = *options_.host;
   if (host.role().standby) log_.write(fault::schema::host(host.role().process, ::getpid(), "standby"));
   auto died = host.takeRole();  // a standby sleeps here
   if (!died) return died.error();
-  if (host.stopRequested()) return {};
+  if (host.stopRequested()) return nlohmann::json{};
   std::size_t restored = 0;
   if (*died || host.role().respawn) {
     for (auto& inst : instances_) restored += runtime::restoreSharedCheckpoint(runtime::coreOf(*inst.component)) != 0;
   }
+  if (auto r = crossings_.takeOver(); !r) return r.error();
   nlohmann::json rec = fault::schema::host(host.role().process, ::getpid(),
                                            host.role().respawn ? "respawned"
                                            : *died             ? "took_over"
                                                                : "starting");
   rec["restored"] = restored;
-  log_.write(std::move(rec));
-  return crossings_.takeOver();
+  return rec;
 }
 
 Result<void> Engine::start() {
@@ -187,13 +208,25 @@ Result<void> Engine::start() {
   }
   if (auto r = preloadAlternatives(); !r) return r;
   fault_manager_.start();
+  nlohmann::json took_role;
   if (options_.host) {
-    if (auto r = takeRoleAsHost(); !r) return r;
+    // A standby wakes to its active's death, and runs the takeover, at the priority of what it
+    // then runs; as the active, its main thread holds the locks whose release tells of its death,
+    // and must get to die as promptly under load. Its executors' threads wait ready: the
+    // takeover starts none, and writes its record once the components run.
+    raiseToProcessPriority();
+    buildExecutors();
+    for (auto& ex : executors_) ex->prepare();
+    for (auto& inst : instances_) runtime::reserveCheckpoint(runtime::coreOf(*inst.component));
+    auto taken = takeRoleAsHost();
+    if (!taken) return taken.error();
     if (options_.host->stopRequested()) return {};  // stopped while standing by
+    took_role = std::move(*taken);
   } else if (auto r = crossings_.takeOver(); !r) {
     return r;
+  } else {
+    buildExecutors();
   }
-  buildExecutors();
   for (auto& inst : instances_) {
     if (inst.executor) continue;  // passive: started here, under its lock
     auto& core = runtime::coreOf(*inst.component);
@@ -209,13 +242,25 @@ Result<void> Engine::start() {
   if (options_.host) {  // the first good cycle of any of them tells keel run the process runs
     for (auto& inst : instances_)
       if (inst.executor) runtime::coreOf(*inst.component).fault.recovering_id.store(HostFaultSink::kFirstRun);
+    std::lock_guard lock(held_mutex_);
+    hold_records_ = true;  // the log's lock and write off the way to the first step
   }
-  crossings_.start();
   std::size_t executors = 0;
   {
     std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
     for (auto& ex : executors_) ex->start();
     executors = executors_.size();
+  }
+  crossings_.start();  // values from other processes flow in from here
+  if (options_.host) {
+    if (!took_role.is_null()) log_.write(std::move(took_role));
+    std::vector<nlohmann::json> held;
+    {
+      std::lock_guard lock(held_mutex_);
+      hold_records_ = false;
+      held.swap(held_);
+    }
+    for (auto& rec : held) log_.write(std::move(rec));
   }
   started_ = true;
   startDetectors();
@@ -308,7 +353,15 @@ void Engine::shutdown() {
 }
 
 void Engine::stateChanged(Component& c, State from, State to) {
-  log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
+  auto rec = fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now());
+  {
+    std::lock_guard lock(held_mutex_);
+    if (hold_records_) {
+      held_.push_back(std::move(rec));
+      return;
+    }
+  }
+  log_.write(std::move(rec));
 }
 
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {

@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "engine/crossing.hpp"
@@ -154,7 +155,12 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   bool isLocal(const plan::PlannedInstance& pi) const;
   const std::string& myProcess() const;
   Result<void> setUpProcesses();  // create(): the session, the rings, the supervisor (keel run)
-  Result<void> takeRoleAsHost();  // start(), in a host: the role lock, a takeover's restore
+  /// start(), in a host: the role lock, a takeover's restore, the rings; the record of it to
+  /// write once the components run (null when stopped while standing by).
+  Result<nlohmann::json> takeRoleAsHost();
+  /// In a host, the calling thread at the highest real-time priority of the process's tasks
+  /// (none: unchanged).
+  void raiseToProcessPriority();
 
   EngineOptions options_;
   plan::PlannedProfiles planned_;  // the plan, and the profiles it points into
@@ -187,7 +193,10 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
-  RunEndLatch run_end_;  // RunControl::endRun, from any component's thread
+  std::mutex held_mutex_;             // guards the two below (any component's thread)
+  bool hold_records_ = false;         // a takeover under way: state records wait, in order
+  std::vector<nlohmann::json> held_;  // written once the components run
+  RunEndLatch run_end_;               // RunControl::endRun, from any component's thread
 };
 
 }  // namespace keel::engine

@@ -23,6 +23,12 @@ void takeCheckpoint(detail::ComponentCore& core, std::int64_t now_ns) {
   if (core.checkpoints.shared) ipc::publishCheckpoint(*core.checkpoints.shared, core.checkpoints.copies, now_ns);
 }
 
+void reserveCheckpoint(detail::ComponentCore& core) {
+  std::lock_guard lock(core.checkpoints.mutex);
+  core.checkpoints.copies.resize(core.critical.size());
+  for (std::size_t i = 0; i < core.critical.size(); ++i) core.checkpoints.copies[i].resize(core.critical[i].len);
+}
+
 std::int64_t restoreSharedCheckpoint(detail::ComponentCore& core) {
   if (!core.checkpoints.shared) return 0;
   std::vector<std::size_t> lengths;

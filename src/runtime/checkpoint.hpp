@@ -30,6 +30,10 @@ std::int64_t restoreCheckpoint(detail::ComponentCore& core);
 /// there is none, or it has other regions than this component registered.
 std::int64_t restoreSharedCheckpoint(detail::ComponentCore& core);
 
+/// Allocates the checkpoint's buffers now (a standby host, before it waits: a takeover then
+/// allocates nothing on its way to the first step).
+void reserveCheckpoint(detail::ComponentCore& core);
+
 /// Copies `from`'s last checkpoint into `to`'s critical memory, region by region in the order
 /// they were registered, each up to the shorter length. Returns how many regions were copied.
 std::size_t copyCheckpoint(detail::ComponentCore& from, detail::ComponentCore& to);

@@ -54,9 +54,20 @@ void Executor::add(Component& c) {
   coreOf(c).executor.store(this, std::memory_order_release);
 }
 
+void Executor::prepare() {
+  prepared_ = true;
+  gate_.store(0, std::memory_order_relaxed);
+  thread_ = std::thread([this] { threadMain(); });
+}
+
 void Executor::start(bool adopt) {
   adopt_ = adopt;
-  thread_ = std::thread([this] { threadMain(); });
+  if (thread_.joinable()) {  // prepared: parked at the gate
+    gate_.store(1, std::memory_order_release);
+    gate_.notify_one();
+  } else {
+    thread_ = std::thread([this] { threadMain(); });
+  }
   while (!started_.load(std::memory_order_acquire) && !exited_.load()) std::this_thread::yield();
 }
 
@@ -68,6 +79,8 @@ void Executor::abandon() {
 void Executor::requestStop() {
   stop_.store(true, std::memory_order_release);
   signal_.notify();
+  gate_.store(1, std::memory_order_release);  // a parked thread leaves
+  gate_.notify_one();
 }
 
 bool Executor::join(std::chrono::nanoseconds timeout) {
@@ -137,6 +150,13 @@ void Executor::setUpThread() {
 
 void Executor::threadMain() {
   setUpThread();
+  if (prepared_) {  // parked until start() or a stop
+    gate_.wait(0, std::memory_order_acquire);
+    if (stop_.load(std::memory_order_acquire)) {
+      exited_.store(true, std::memory_order_release);
+      return;
+    }
+  }
   for (Component* c : members_) {
     if (!adopt_) transition(*c, Transition::Start);
     if (!coreOf(*c).critical.empty()) takeCheckpoint(coreOf(*c), steadyNs());  // the state to return to

@@ -60,6 +60,10 @@ class Executor {
   /// Starts the thread; it starts its members (onStart) and returns once they have. With
   /// `adopt`, the members are taken over as they are (already started by another executor).
   void start(bool adopt = false);
+  /// Starts the thread ahead, set up (name, policy, stack) and parked before its members start:
+  /// start() then only lets it go on (a standby host's takeover creates no thread). A parked
+  /// thread asked to stop exits without starting or stopping its members.
+  void prepare();
   /// Gives up a thread stuck in a callback that could not be interrupted: it is asked to stop,
   /// and should it ever come back it touches no member again (they run on another executor).
   void abandon();
@@ -112,6 +116,8 @@ class Executor {
   std::atomic<bool> exited_{false};
   std::atomic<bool> abandoned_{false};
   bool adopt_ = false;
+  bool prepared_ = false;               // set before the thread exists
+  std::atomic<std::uint32_t> gate_{1};  // 0 while a prepared thread is parked
   std::mutex mail_mutex_;
   std::vector<std::function<void()>> mail_;
   std::atomic<bool> has_mail_{false};

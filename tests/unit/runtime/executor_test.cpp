@@ -78,6 +78,42 @@ TEST_F(ExecutorTest, ATaskRunsItsMembersInDeclaredOrderExecuteThenUpdated) {
   EXPECT_EQ(b.state(), State::Inactive);
 }
 
+TEST_F(ExecutorTest, APreparedThreadWaitsWithItsMembersUnstartedUntilStartThenRunsOnThatThread) {
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  ex.add(a);
+  ex.prepare();
+  std::this_thread::sleep_for(50ms);  // 50 periods: a thread that ran would have started and stepped
+  {
+    std::lock_guard lock(trace_mutex_);
+    EXPECT_TRUE(trace_.empty());
+  }
+  EXPECT_EQ(a.state(), State::Ready);
+  ex.start();
+  ASSERT_TRUE(eventually([&] { return a.executions.load() >= 2; }));
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  std::lock_guard lock(trace_mutex_);
+  ASSERT_GE(trace_.size(), 3u);
+  EXPECT_EQ(trace_.front(), "a.start");
+  EXPECT_EQ(trace_.back(), "a.stop");
+}
+
+TEST_F(ExecutorTest, APreparedThreadAskedToStopLeavesWithoutStartingOrStoppingItsMembers) {
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  ex.add(a);
+  ex.prepare();
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  std::lock_guard lock(trace_mutex_);
+  EXPECT_TRUE(trace_.empty());
+  EXPECT_EQ(a.state(), State::Ready);
+  EXPECT_EQ(a.executions.load(), 0);
+}
+
 TEST_F(ExecutorTest, PeriodicExecutorKeepsItsRateOverTime) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
