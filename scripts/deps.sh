@@ -11,6 +11,7 @@ packages=(
   python3 python3-matplotlib
   stress-ng
   erlang-base
+  cyclonedds-tools
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then

@@ -70,7 +70,7 @@ DdsResult runDdsPeer(int n, bool fifo) {
   const char* before = std::getenv("CYCLONEDDS_URI");
   const std::string saved = before ? before : "";
   ::setenv("CYCLONEDDS_URI", ("file://" + config).c_str(), 1);
-  const int seconds = std::max(5, n / 1000) + 1;  // the first second is discovery: dropped
+  const int seconds = std::max(5, n / 1000) + 1;        // the first second is discovery: dropped
   Fd quiet(::open("/dev/null", O_WRONLY | O_CLOEXEC));  // pong prints its own statistics
   auto pong = Process::spawn({ddsperf, "-D", std::to_string(seconds + 3), "pong", "waitset"},
                              {.out = quiet.get(), .err = quiet.get()}, fifo, true);

@@ -11,10 +11,10 @@
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
-#include <iterator>
 #include <fstream>
-#include <optional>
+#include <iterator>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <utility>
@@ -68,8 +68,7 @@ std::string componentXml(const std::string& name, const std::string& semantics, 
 class BenchRun {
  public:
   explicit BenchRun(const Paths& paths)
-      : paths_(paths),
-        dir_("keel-bench-isolation-"),
+      : paths_(paths), dir_("keel-bench-isolation-"),
         page_path_(fmt::format("/dev/shm/keel-bench-isolation.{}.{}", ::getpid(), counter_++)) {}
   ~BenchRun() {
     proc_.reset();  // killed and reaped if still there: its hosts follow (no orphans)
@@ -164,8 +163,8 @@ class BenchRun {
 };
 
 std::vector<std::pair<std::string, std::string>> beatFiles(const std::string& page, bool standby, bool fifo) {
-  return {{"BenchBeat.xml", componentXml("BenchBeat", "<type>periodic</type><period>1</period>" + schedXml(fifo), "",
-                                         page)},
+  return {{"BenchBeat.xml",
+           componentXml("BenchBeat", "<type>periodic</type><period>1</period>" + schedXml(fifo), "", page)},
           {"takeover.xml", fmt::format(R"(<?xml version="1.0" encoding="UTF-8"?>
 <package_profile>
   <name>bench_takeover</name>
@@ -193,7 +192,8 @@ int threadsOf(pid_t pid) {
 std::string awaitStart(BenchRun& run, bool standby) {
   const bool up = pollUntil(
       [&] {
-        return run.page().active_pid.load(std::memory_order_acquire) != 0 && (!standby || run.hostPhases("standby") > 0);
+        return run.page().active_pid.load(std::memory_order_acquire) != 0 &&
+               (!standby || run.hostPhases("standby") > 0);
       },
       kStartBound);
   return up ? "" : run.failure("keel run did not start its process within 20 s");
@@ -205,7 +205,8 @@ IsolationCell measureTakeover(const Paths& paths, bool standby, bool fifo, int n
                               const std::function<void(int, int)>& between) {
   IsolationCell cell;
   BenchRun run(paths);
-  if (cell.error = run.start(beatFiles(run.pagePath(), standby, fifo), "takeover.xml"); !cell.error.empty()) return cell;
+  if (cell.error = run.start(beatFiles(run.pagePath(), standby, fifo), "takeover.xml"); !cell.error.empty())
+    return cell;
   if (cell.error = awaitStart(run, standby); !cell.error.empty()) return cell;
   IsolationPage& page = run.page();
   cell.host_threads = threadsOf(page.active_pid.load());
@@ -213,7 +214,8 @@ IsolationCell measureTakeover(const Paths& paths, bool standby, bool fifo, int n
   std::size_t took_over = 0, respawned = 0;
   for (int i = 0; i <= n; ++i) {  // kill 0 warms up, uncounted
     // The standby the last takeover started is waiting (or, without one, the process runs).
-    if (standby && !pollUntil([&] { return run.hostPhases("standby") >= static_cast<std::size_t>(i + 1); }, kTrialBound)) {
+    if (standby &&
+        !pollUntil([&] { return run.hostPhases("standby") >= static_cast<std::size_t>(i + 1); }, kTrialBound)) {
       cell.error = run.failure(fmt::format("no new standby after kill {}", i));
       break;
     }
@@ -251,7 +253,8 @@ IsolationCell measureTakeover(const Paths& paths, bool standby, bool fifo, int n
 IsolationCell measurePort(const Paths& paths, bool crossing, bool fifo, int n) {
   IsolationCell cell;
   BenchRun run(paths);
-  const std::string port = R"(<data_port><name>{}</name><usage>{}</usage><data_type>keel_bench::Stamp</data_type></data_port>)";
+  const std::string port =
+      R"(<data_port><name>{}</name><usage>{}</usage><data_type>keel_bench::Stamp</data_type></data_port>)";
   const std::vector<std::pair<std::string, std::string>> files{
       {"BenchStampSource.xml",
        componentXml("BenchStampSource", "<type>periodic</type><period>1</period>" + schedXml(fifo),

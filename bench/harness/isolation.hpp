@@ -27,7 +27,7 @@ struct IsolationCell {
   std::size_t unexpected = 0;  // takeover trials that were respawns (no standby was ready)
   std::string error;           // non-empty: the cell could not run
   std::string warnings;
-  int host_threads = 0;  // takeover: the threads of the active component process
+  int host_threads = 0;                           // takeover: the threads of the active component process
   std::vector<std::int64_t> detected_to_step_ns;  // takeover: the fault log's recovered − detected
 };
 

@@ -7,6 +7,9 @@
 //   detection  detected − injected per detector, beside the machine's floor for the same fault
 //              (a bare signal handler, a bare catch) measured in the same run
 //   scale      start-up, memory and diagnosis time against the number of components
+//   isolation  components in processes of their own: a port across processes beside one in a
+//              process and a raw CycloneDDS loopback, a standby's takeover beside a cold
+//              respawn, each with the machine's floor; what a waiting standby costs
 // `_load P` is the internal duty-cycle load (load.hpp), started by keel-bench itself.
 #include <fmt/format.h>
 #include <unistd.h>
@@ -27,10 +30,12 @@
 
 #include "detection.hpp"
 #include "floor.hpp"
+#include "isolation.hpp"
 #include "load.hpp"
 #include "paths.hpp"
 #include "peers.hpp"
 #include "process.hpp"
+#include "process_floor.hpp"
 #include "recovery.hpp"
 #include "report.hpp"
 #include "runtime/cpu_latency.hpp"
@@ -240,8 +245,8 @@ void finish(const Options& o, const Paths& paths, const std::string& kind, nlohm
   if (o.json.empty()) std::remove(json.c_str());
 }
 
-void header(const Options& o, const std::string& what) {
-  std::cout << fmt::format("# keel bench {}: {} faults per cell{}, loads {}%, machine: {} CPUs{}\n", what, o.n,
+void header(const Options& o, const std::string& what, const char* trials = "faults") {
+  std::cout << fmt::format("# keel bench {}: {} {} per cell{}, loads {}%, machine: {} CPUs{}\n", what, o.n, trials,
                            o.quick ? " (--quick)" : "", fmt::join(o.loads, "/"), std::thread::hardware_concurrency(),
                            o.low_latency ? ", /dev/cpu_dma_latency held at 0" : "")
             << std::flush;
@@ -286,6 +291,102 @@ int detection(Options o, const Paths& paths) {
   return 0;
 }
 
+void isolationCell(const Paths& paths, int n, const std::string& what, bool fifo, Row& row) {
+  if (what == "floor_robust") {
+    FloorResult f = measureRobustFloor(n, fifo, 1);
+    row.s = summarise(std::move(f.latencies_ns));
+    addNote(row.note, f.warnings);
+    addNote(row.note, "the dying process has 1 thread");
+    return;
+  }
+  if (what == "port_dds") {
+    const DdsResult d = runDdsPeer(n, fifo);
+    row.skipped = !d.skipped.empty();
+    row.note = d.skipped.empty() ? d.detail : d.skipped;
+    row.s = {d.samples, d.p50_us, d.p99_us, d.max_us};
+    return;
+  }
+  IsolationCell c;
+  std::vector<std::int64_t> floor_ns;
+  auto addFloor = [&](FloorResult f) {
+    floor_ns.insert(floor_ns.end(), f.latencies_ns.begin(), f.latencies_ns.end());
+    addNote(row.note, f.warnings);
+  };
+  if (what == "takeover") {
+    c = measureTakeover(paths, true, fifo, n,
+                        [&](int m, int threads) { addFloor(measureRobustFloor(m, fifo, threads)); });
+    addNote(row.note,
+            fmt::format("floor: the dying process has {} threads, as keel's component process", c.host_threads));
+    if (!c.detected_to_step_ns.empty()) {
+      const Summary in = summarise(c.detected_to_step_ns);
+      addNote(row.note, fmt::format("detected → first step {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
+    }
+  } else if (what == "respawn") {
+    c = measureTakeover(paths, false, fifo, n);
+    if (!c.detected_to_step_ns.empty()) {
+      const Summary in = summarise(c.detected_to_step_ns);
+      addNote(row.note, fmt::format("detected → first step {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
+    }
+  } else {
+    c = measurePort(paths, what == "port_process", fifo, n);
+    addFloor(what == "port_process" ? measureProcessWakeFloor(n, fifo) : measureWakeFloor(n, fifo));
+  }
+  if (!c.error.empty()) {
+    row.skipped = c.latencies_ns.empty();
+    addNote(row.note, c.error);
+  }
+  row.s = summarise(std::move(c.latencies_ns));
+  row.floor = summarise(std::move(floor_ns));
+  row.failed = c.unexpected;
+  addNote(row.note, c.warnings);
+}
+
+int isolation(Options o, const Paths& paths) {
+  const std::vector<std::string> all{"port_process", "port_thread", "port_dds", "takeover",
+                                     "floor_robust", "respawn",     "standby"};
+  if (o.which.empty()) o.which = all;
+  const bool standby = std::find(o.which.begin(), o.which.end(), "standby") != o.which.end();
+  std::erase(o.which, "standby");
+  const auto low = lowLatency(o.low_latency);
+  header(o, "isolation", "trials");
+  auto rows = runCells(o, paths, o.which,
+                       [&](const std::string& w, bool fifo, Row& row) { isolationCell(paths, o.n, w, fifo, row); });
+  printIsolation(rows, std::cout);
+  std::cout << "\nEvery cell (p50 / p99 / max; failed: kills handled otherwise than the cell measures)\n\n";
+  printCells(rows, false, std::cout);
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : rows) j.push_back(toJson(r, false));
+  if (standby) {
+    const StandbyCost c = measureStandbyCost(paths, 5.0);
+    if (!c.error.empty()) {
+      std::cout << "\nA waiting standby: not measured (" << c.error << ")\n";
+    } else {
+      std::cout << fmt::format(
+          "\nA waiting standby beside its active process, idle, over {:.0f} s (CPU in ticks of 1/{} s, every "
+          "thread)\n\n| process | CPU ticks | context switches | RSS kB | PSS kB |\n|---|---|---|---|---|\n"
+          "| active (a 1 kHz component) | {} | {} | {} | {} |\n| standby | {} | {} | {} | {} |\n",
+          c.seconds, c.tick_hz, c.active_cpu_ticks, c.active_switches, c.active_rss_kb, c.active_pss_kb,
+          c.standby_cpu_ticks, c.standby_switches, c.standby_rss_kb, c.standby_pss_kb);
+      j.push_back({{"mechanism", "standby_cost"},
+                   {"seconds", c.seconds},
+                   {"tick_hz", c.tick_hz},
+                   {"active",
+                    {{"cpu_ticks", c.active_cpu_ticks},
+                     {"switches", c.active_switches},
+                     {"rss_kb", c.active_rss_kb},
+                     {"pss_kb", c.active_pss_kb}}},
+                   {"standby",
+                    {{"cpu_ticks", c.standby_cpu_ticks},
+                     {"switches", c.standby_switches},
+                     {"rss_kb", c.standby_rss_kb},
+                     {"pss_kb", c.standby_pss_kb}}}});
+    }
+  }
+  o.no_plot = true;  // tables only
+  finish(o, paths, "isolation", std::move(j));
+  return 0;
+}
+
 void commonOptions(CLI::App& sub, Options& o, const std::string& items_help) {
   sub.add_option("--loads", o.loads, "load levels, % busy on every CPU (0: idle)")
       ->delimiter(',')
@@ -320,6 +421,10 @@ int main(int argc, char** argv) {
   commonOptions(*det, o,
                 "injected kinds: segfault,divide_by_zero,abort,throw,error_code,out_of_range,hang; the machine's "
                 "floor: floor_signal,floor_throw");
+  auto* iso = app.add_subcommand("isolation", "components in processes of their own: ports, takeover, standby cost");
+  commonOptions(*iso, o,
+                "cells: port_process,port_thread,port_dds,takeover,floor_robust,respawn,standby (a waiting "
+                "standby's cost, once)");
   std::vector<int> sizes{1, 10, 100, 1000};
   int trials = 5;
   auto* sca = app.add_subcommand("scale", "start-up, memory and diagnosis against the number of components");
@@ -337,9 +442,13 @@ int main(int argc, char** argv) {
   try {
     const std::vector<std::string> mechanisms{"reset",       "replace_cold", "replace_preloaded", "reset_hang",
                                               "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer"};
+    const std::vector<std::string> cells{"port_process", "port_thread", "port_dds", "takeover",
+                                         "floor_robust", "respawn",     "standby"};
+    if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // the two: idle, and 80 % loaded
     for (const auto& w : o.which) {
-      const bool ok = rec->parsed() ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
-                                    : keel::runtime::parseInjectKind(w).has_value() || floorNamed(w);
+      const bool ok = iso->parsed()   ? std::find(cells.begin(), cells.end(), w) != cells.end()
+                      : rec->parsed() ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
+                                      : keel::runtime::parseInjectKind(w).has_value() || floorNamed(w);
       if (!ok) {
         std::cerr << "keel bench: --only: unknown '" << w << "'\n";
         return 2;
@@ -347,6 +456,7 @@ int main(int argc, char** argv) {
     }
     if (rec->parsed()) return recovery(o, paths);
     if (det->parsed()) return detection(o, paths);
+    if (iso->parsed()) return isolation(o, paths);
     std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
                              fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())
               << std::flush;

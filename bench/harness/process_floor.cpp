@@ -78,7 +78,10 @@ struct Death {
   const int rc = pthread_mutex_lock(&d.lock);
   if (!first) d.woke_ns.store(runtime::steadyNs(), std::memory_order_release);
   if (rc == EOWNERDEAD) pthread_mutex_consistent(&d.lock);
-  for (int t = 1; t < threads; ++t) std::thread([] { for (;;) ::pause(); }).detach();
+  for (int t = 1; t < threads; ++t)
+    std::thread([] {
+      for (;;) ::pause();
+    }).detach();
   d.owned.store(1, std::memory_order_release);
   for (;;) ::pause();
 }

@@ -72,7 +72,7 @@ nlohmann::json toJson(const Row& r, bool detection) {
   j["p99_us"] = std::round(r.s.p99_us * 100) / 100;
   j["max_us"] = std::round(r.s.max_us * 100) / 100;
   j["failed"] = r.failed;
-  if (detection && r.floor.n > 0 && r.floor.p50_us > 0 && r.floor.p99_us > 0) {
+  if (r.floor.n > 0 && r.floor.p50_us > 0 && r.floor.p99_us > 0) {
     j["floor_p50_us"] = std::round(r.floor.p50_us * 100) / 100;
     j["floor_p99_us"] = std::round(r.floor.p99_us * 100) / 100;
     j["vs_floor"] = ratioJson(r.s.p50_us, r.s.p99_us, r.floor.p50_us, r.floor.p99_us);
@@ -183,6 +183,37 @@ void printTable3(const std::vector<Row>& rows, std::ostream& out) {
           out << ' ' << ratio(find(rows, load, policy, k), find(rows, load, policy, p)) << " |";
       out << '\n';
     }
+  }
+}
+
+void printIsolation(const std::vector<Row>& rows, std::ostream& out) {
+  std::set<std::pair<int, std::string>> cells;
+  for (const auto& r : rows) cells.insert({r.load, r.policy});
+  auto floorCell = [](const Row* r) {
+    return r && r->floor.n > 0 ? fmt::format("{:.1f} / {:.1f}", r->floor.p50_us, r->floor.p99_us) : std::string("—");
+  };
+  out << "\nPorts, one way (p50 / p99 µs): push → the reading component runs with the sample\n\n"
+      << "| load | policy | keel, across processes | floor: a process wakes another | keel, in one process | "
+         "CycloneDDS loopback | DDS ÷ keel across |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& [load, policy] : cells) {
+    const Row* across = find(rows, load, policy, "port_process");
+    const Row* dds = find(rows, load, policy, "port_dds");
+    if (!across && !dds && !find(rows, load, policy, "port_thread")) continue;
+    out << fmt::format("| {}% | {} | {} | {} | {} | {} | {} |\n", load, policy, cell(across), floorCell(across),
+                       cell(find(rows, load, policy, "port_thread")), cell(dds), ratio(dds, across));
+  }
+  out << "\nTakeover (p50 / p99 µs): kill -9 of the active process → the first step of the process that runs "
+         "the component next\n\n"
+      << "| load | policy | keel, standby takes over | floor: robust futex wake on death, as many threads | "
+         "takeover ÷ floor | floor, 1 thread | keel, cold respawn | respawn ÷ takeover |\n"
+         "|---|---|---|---|---|---|---|---|\n";
+  for (const auto& [load, policy] : cells) {
+    const Row* take = find(rows, load, policy, "takeover");
+    const Row* respawn = find(rows, load, policy, "respawn");
+    if (!take && !respawn) continue;
+    out << fmt::format("| {}% | {} | {} | {} | {} | {} | {} | {} |\n", load, policy, cell(take), floorCell(take),
+                       take ? ratio(take->s, take->floor) : "—", cell(find(rows, load, policy, "floor_robust")),
+                       cell(respawn), ratio(respawn, take));
   }
 }
 

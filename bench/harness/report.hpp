@@ -51,6 +51,10 @@ void printFloorRatios(const std::vector<Row>& rows, std::ostream& out);
 /// Every cell, one line each.
 void printCells(const std::vector<Row>& rows, bool detection, std::ostream& out);
 
+/// Isolation: the ports (keel across processes with its floor, in one process, DDS) and the
+/// takeover (with its floor, beside the cold respawn), a row per load and policy.
+void printIsolation(const std::vector<Row>& rows, std::ostream& out);
+
 /// Recovery only: per policy, load levels down and mechanisms across ("p50 / p99 µs"), the
 /// paper's Linux-Pentium4 column beside, then keel ÷ peer per load.
 void printTable3(const std::vector<Row>& rows, std::ostream& out);
