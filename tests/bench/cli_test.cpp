@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <map>
 #include <set>
 
 #include "support/process.hpp"
@@ -102,6 +103,38 @@ TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
   EXPECT_NE(r.ran.out.find("keel ÷ the machine's floor"), std::string::npos) << r.ran.out;
   expectCellsSound(r.cells, "kind");
   EXPECT_TRUE(r.plotted) << r.ran.out;
+}
+
+TEST(BenchCli, QuickIsolationMeasuresPortsTakeoverRespawnBesideTheirFloorsAndAWaitingStandby) {
+  const auto r = quick({"isolation", "--loads", "0", "--policy", "other"});
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
+  nlohmann::json cells = nlohmann::json::array(), standby;
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& c : r.cells) {
+    if (c.value("mechanism", "") == "standby_cost") {
+      standby = c;
+      continue;
+    }
+    cells.push_back(c);
+    by[c["mechanism"].get<std::string>()] = c;
+  }
+  expectCellsSound(cells, "mechanism");
+  ASSERT_EQ(by.size(), 6u) << r.ran.out;
+  for (const char* keel : {"port_process", "port_thread", "takeover", "respawn"}) {
+    ASSERT_TRUE(by.count(keel)) << keel;
+    EXPECT_FALSE(by[keel].value("skipped", false)) << by[keel].dump();
+    EXPECT_EQ(by[keel]["n"], 20) << by[keel].dump();
+    EXPECT_EQ(by[keel]["failed"], 0) << "a kill handled otherwise than the cell measures: " << by[keel].dump();
+  }
+  for (const char* with_floor : {"port_process", "port_thread", "takeover"})
+    EXPECT_GT(by[with_floor].value("floor_p50_us", 0.0), 0) << by[with_floor].dump();
+  // A standby takes over well before a cold respawn has even loaded.
+  EXPECT_LT(by["takeover"]["p50_us"].get<double>(), by["respawn"]["p50_us"].get<double>());
+  ASSERT_TRUE(standby.is_object()) << r.ran.out;
+  EXPECT_GT(standby["active"]["cpu_ticks"].get<long>(), standby["standby"]["cpu_ticks"].get<long>());
+  EXPECT_LE(standby["standby"]["cpu_ticks"].get<long>(), 1) << "a waiting standby costs no CPU";
+  EXPECT_NE(r.ran.out.find("Takeover (p50 / p99"), std::string::npos) << r.ran.out;
 }
 
 TEST(BenchCli, QuickScaleHasARowPerSize) {
