@@ -67,7 +67,7 @@ void HandlingQueue::enqueue(HandlingItem::Type type, const FaultReport& report, 
   ++size_;
   enqueued_.fetch_add(1, std::memory_order_release);
   lock.unlock();
-  if (wake) signal_.notify();
+  if (wake || !silent_seen_.exchange(true, std::memory_order_acq_rel)) signal_.notify();
 }
 
 void HandlingQueue::run() {
@@ -100,7 +100,8 @@ void HandlingQueue::run() {
     // A recovery queues its report without a wake-up; its `recovered` record, or the next
     // step, wakes this thread. The timeout is only a safety net: waking more often would put
     // this real-time thread in the executors' way.
-    signal_.waitUntil(runtime::WakeSignal::Clock::now() + 100ms);
+    if (silent_seen_.load(std::memory_order_acquire)) signal_.waitUntil(runtime::WakeSignal::Clock::now() + 100ms);
+    else signal_.wait();
   }
 }
 

@@ -63,6 +63,10 @@ class HandlingQueue {
   std::size_t head_ = 0, size_ = 0;
   bool accepting_ = false;  // the thread runs and takes items (guarded by mutex_)
   std::atomic<std::uint64_t> enqueued_{0}, processed_{0};
+  // Set by the first report queued without a wake-up (which wakes the thread once): from then
+  // on the thread's sleep has its safety-net timeout; until then it sleeps until woken, so a
+  // process that never recovers anything (a standby host) never wakes it.
+  std::atomic<bool> silent_seen_{false};
 };
 
 }  // namespace keel::fault
