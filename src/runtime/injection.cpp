@@ -79,6 +79,9 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
     case InjectKind::Kill: {
       auto* target = dynamic_cast<ProcessTarget*>(&c);
       if (target == nullptr) return false;
+      // The death before is not diagnosed yet (a loaded machine still handling it): this kill
+      // would take its place in the injection record, and one death would lose its `injected`.
+      if (core.injection.injected_id.load(std::memory_order_acquire) != 0) return false;
       markManifested(core);  // before the signal: its death may be detected at once
       if (target->signalProcess(SIGKILL)) return true;
       core.injection.injected_id.store(0, std::memory_order_release);  // no process to kill now
