@@ -43,7 +43,7 @@ PY
 
 scripts/deps.sh
 cmake -S . -B build -G Ninja >/dev/null
-cmake --build build --target keel_cli keel_host keel_robot keel_stock keel_motion_board
+cmake --build build --target keel_cli keel_robot keel_stock keel_motion_board
 mkdir -p demo
 experiments=("$@")
 ((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off

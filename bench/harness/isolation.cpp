@@ -33,18 +33,6 @@ using keel_bench::IsolationPage;
 constexpr auto kStartBound = 20s;  // keel run up, its processes started and running
 constexpr auto kTrialBound = 3s;   // a kill → the new process's first step
 
-/// Polls `done` every 200 µs until true or `bound` passed. The components take their own times;
-/// the poll only decides when the harness looks.
-template <class F>
-bool pollUntil(F done, Clock::duration bound) {
-  const auto until = Clock::now() + bound;
-  while (!done()) {
-    if (Clock::now() > until) return false;
-    std::this_thread::sleep_for(200us);
-  }
-  return true;
-}
-
 std::string schedXml(bool fifo) {
   return fifo ? fmt::format("<priority>{}</priority><policy>fifo</policy>", kFifoPriority) : "";
 }

@@ -317,19 +317,15 @@ void isolationCell(const Paths& paths, int n, const std::string& what, bool fifo
                         [&](int m, int threads) { addFloor(measureRobustFloor(m, fifo, threads)); });
     addNote(row.note,
             fmt::format("floor: the dying process has {} threads, as keel's component process", c.host_threads));
-    if (!c.detected_to_step_ns.empty()) {
-      const Summary in = summarise(c.detected_to_step_ns);
-      addNote(row.note, fmt::format("detected → first step {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
-    }
   } else if (what == "respawn") {
     c = measureTakeover(paths, false, fifo, n);
-    if (!c.detected_to_step_ns.empty()) {
-      const Summary in = summarise(c.detected_to_step_ns);
-      addNote(row.note, fmt::format("detected → first step {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
-    }
   } else {
     c = measurePort(paths, what == "port_process", fifo, n);
     addFloor(what == "port_process" ? measureProcessWakeFloor(n, fifo) : measureWakeFloor(n, fifo));
+  }
+  if (!c.detected_to_step_ns.empty()) {  // takeover, respawn: the part of it keel's log times
+    const Summary in = summarise(std::move(c.detected_to_step_ns));
+    addNote(row.note, fmt::format("detected → first step {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));
   }
   if (!c.error.empty()) {
     row.skipped = c.latencies_ns.empty();

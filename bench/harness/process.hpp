@@ -1,8 +1,8 @@
 // Child processes of the harness — the peers (peers.cpp), the background load (load.cpp), the
 // plot script (main.cpp): a descriptor that closes itself, a close-on-exec pipe, a line reader
 // bounded by a deadline, a spawned process that is reaped on every path (a pidfd makes its end
-// pollable), run-and-capture for a whole command, a program looked up in $PATH, and a temporary
-// directory removed with everything in it.
+// pollable), run-and-capture for a whole command, a poll of another process's progress, a
+// program looked up in $PATH, and a temporary directory removed with everything in it.
 // Not thread-safe: each object belongs to the one thread that uses it.
 #pragma once
 
@@ -11,6 +11,7 @@
 #include <chrono>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "keel/result.hpp"
@@ -96,6 +97,19 @@ class Process {
   Fd pidfd_;
   bool group_ = false;
 };
+
+/// Polls `done` every 200 µs until it is true (then true) or `bound` passed (false). For
+/// another process's progress: what it measures it times itself; the poll only decides when
+/// the harness looks.
+template <class F>
+bool pollUntil(F done, std::chrono::steady_clock::duration bound) {
+  const auto until = std::chrono::steady_clock::now() + bound;
+  while (!done()) {
+    if (std::chrono::steady_clock::now() > until) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return true;
+}
 
 /// Puts the calling thread under SCHED_FIFO kFifoPriority: empty, or why not.
 std::string becomeFifo();

@@ -22,7 +22,6 @@ namespace keel::bench {
 namespace {
 
 using namespace std::chrono_literals;
-using Clock = std::chrono::steady_clock;
 
 /// Anonymous shared memory for a T, inherited by fork(); unmapped when this goes.
 template <class T>
@@ -44,18 +43,6 @@ class SharedAnon {
  private:
   T* value_;
 };
-
-/// Polls `done` every 200 µs until true or `bound` passed (the waiter takes its own time; the
-/// poll only decides when this thread looks).
-template <class F>
-bool pollUntil(F done, std::chrono::milliseconds bound) {
-  const auto until = Clock::now() + bound;
-  while (!done()) {
-    if (Clock::now() > until) return false;
-    std::this_thread::sleep_for(200us);
-  }
-  return true;
-}
 
 void reap(pid_t pid) {
   ::kill(pid, SIGKILL);
