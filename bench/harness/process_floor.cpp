@@ -137,18 +137,24 @@ FloorResult measureProcessWakeFloor(int n, bool fifo) {
       seen = w->word.load(std::memory_order_acquire);
     }
   }
-  for (int i = 0; i <= n; ++i) {  // trial 0 warms up, uncounted
-    std::this_thread::sleep_for(1ms);
-    w->woke_ns.store(0);
-    const std::int64_t woken = runtime::steadyNs();
-    w->word.fetch_add(1, std::memory_order_release);
-    futex(w->word, FUTEX_WAKE, 1);
-    if (!pollUntil([&] { return w->woke_ns.load(std::memory_order_acquire) != 0; }, 2000ms)) {
-      r.warnings = "the waiter did not wake";
-      break;
+  // The waker runs as keel's writer does: under SCHED_FIFO at the waiter's priority when `fifo`
+  // (the waiter cannot preempt it, and wakes on the other CPU), sleeping after each wake.
+  std::thread waker([&] {
+    if (fifo && !becomeFifo().empty()) w->fifo_refused.store(1);
+    for (int i = 0; i <= n; ++i) {  // trial 0 warms up, uncounted
+      std::this_thread::sleep_for(1ms);
+      w->woke_ns.store(0);
+      const std::int64_t woken = runtime::steadyNs();
+      w->word.fetch_add(1, std::memory_order_release);
+      futex(w->word, FUTEX_WAKE, 1);
+      if (!pollUntil([&] { return w->woke_ns.load(std::memory_order_acquire) != 0; }, 2000ms)) {
+        r.warnings = "the waiter did not wake";
+        break;
+      }
+      if (i > 0) r.latencies_ns.push_back(w->woke_ns.load() - woken);
     }
-    if (i > 0) r.latencies_ns.push_back(w->woke_ns.load() - woken);
-  }
+  });
+  waker.join();
   reap(child);
   if (w->fifo_refused.load()) r.warnings = "SCHED_FIFO refused";
   return r;

@@ -7,8 +7,9 @@
 //   floor_wake    a process blocked on a futex in shared memory: the other process's store and
 //                 FUTEX_WAKE → the blocked one running. What a reader that sleeps pays for any
 //                 sample that crosses processes, whatever carries it.
-// Each forks its processes from the calling thread (SCHED_FIFO kFifoPriority for the waiter when
-// `fifo`); every process forked is reaped before it returns.
+// Each forks its processes from the calling thread (SCHED_FIFO kFifoPriority for the waiter, and
+// floor_wake's waker, when `fifo`: as keel's reader and writer run); every process forked is
+// reaped before it returns.
 #pragma once
 
 #include "floor.hpp"

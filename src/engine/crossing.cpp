@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "runtime/component_core.hpp"
+#include "runtime/executor.hpp"
 #include "runtime/futex.hpp"
 
 namespace keel::engine {
@@ -70,26 +71,34 @@ struct Crossings::Writer final : detail::ByteSink {
   }
 };
 
-struct Crossings::Reader {
+struct Crossings::Reader final : runtime::ExternalInput {
   std::optional<ipc::RingBuffer> ring;
   std::optional<ipc::RingReader> cursor;
   std::unique_ptr<detail::ByteInlet> inlet;
   detail::PortBase* port = nullptr;
   std::unique_ptr<std::byte, FreeAligned> buffer;
   std::atomic<std::uint64_t>* consumed = nullptr;  // in the session: where a successor resumes
+  runtime::Executor* executor = nullptr;           // drains it (null: the pump thread does)
   std::atomic<bool> stop{false};
   std::atomic<std::uint64_t> dropped{0};
   std::thread thread;
 
-  void run() {
-    while (!stop.load(std::memory_order_acquire)) {
-      if (!cursor->wait(std::chrono::seconds(1))) continue;
-      while (cursor->pop(buffer.get())) {
-        inlet->deliverBytes(buffer.get());
-        consumed->store(cursor->next(), std::memory_order_relaxed);
-      }
-      dropped.store(cursor->dropped(), std::memory_order_relaxed);
+  std::optional<runtime::FutexWaiter> announceSleep() override { return cursor->announceSleep(); }
+  void endSleep() override { cursor->endSleep(); }
+  bool drain() override {
+    bool any = false;
+    while (cursor->pop(buffer.get())) {
+      inlet->deliverBytes(buffer.get());
+      consumed->store(cursor->next(), std::memory_order_relaxed);
+      any = true;
     }
+    dropped.store(cursor->dropped(), std::memory_order_relaxed);
+    return any;
+  }
+
+  void pump() {
+    while (!stop.load(std::memory_order_acquire))
+      if (cursor->wait(std::chrono::seconds(1))) drain();
   }
 };
 
@@ -208,16 +217,29 @@ Result<void> Crossings::takeOver() {
   return {};
 }
 
+void Crossings::attach() {
+  std::map<runtime::Executor*, std::size_t> per_executor;
+  for (auto& r : readers_) {
+    r->cursor->seek(r->consumed->load(std::memory_order_relaxed));  // where the reader before stopped
+    if (!runtime::futexWaitAnySupported()) continue;
+    runtime::Executor* ex = runtime::coreOf(r->port->owner()).executor.load(std::memory_order_acquire);
+    if (ex == nullptr || per_executor[ex] == runtime::Executor::kMaxExternalInputs) continue;
+    ++per_executor[ex];
+    ex->addInput(*r);
+    r->executor = ex;
+  }
+}
+
 void Crossings::start() {
   for (auto& r : readers_) {
-    if (r->thread.joinable()) continue;
-    r->cursor->seek(r->consumed->load(std::memory_order_relaxed));  // where the reader before stopped
-    r->thread = std::thread([p = r.get()] { p->run(); });
+    if (r->executor || r->thread.joinable()) continue;
+    r->thread = std::thread([p = r.get()] { p->pump(); });
   }
 }
 
 void Crossings::stop() {
   for (auto& r : readers_) {
+    if (!r->thread.joinable()) continue;  // read by its executor, which stops with it
     r->stop.store(true, std::memory_order_release);
     r->ring->wakeReaders();
   }

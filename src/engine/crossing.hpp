@@ -2,13 +2,16 @@
 // event connection whose two ends run in different processes goes through a ring
 // (runtime/ipc/ring.hpp) in a memfd that keel run creates empty: the process of the output port
 // sizes it (it knows sizeof(T)) and writes into it through an outlet attached to that port; the
-// process of the input port waits for it to be laid out, then reads it on a pump thread that
-// delivers each value into the input port as an in-process connection would (its queue policy,
-// its validity rule). One copy into the ring, one out of it.
+// process of the input port waits for it to be laid out, then reads it on the executor of the
+// input's component (runtime::ExternalInput: the executor sleeps on the ring and drains it
+// before its members run) — or, for a component without one or a kernel without futex_waitv,
+// on a pump thread of its own — delivering each value into the input port as an in-process
+// connection would (its queue policy, its validity rule). One copy into the ring, one out of
+// it; one wake from the writer's push to the reader's step.
 // A writer whose ring was taken over (a standby became the active) is refused its next push: it
 // was fenced, and the host it runs in exits at once (never two writers).
 // Thread-safety: connect/takeOver/stop from the engine's thread; pushes from the output's
-// component thread; each pump is a thread of its own.
+// component thread; a ring is read on its executor's thread or its pump's.
 #pragma once
 
 #include <atomic>
@@ -33,7 +36,7 @@ namespace keel::engine {
 std::vector<std::size_t> crossingConnections(const plan::Plan& plan);
 
 /// The ring's slot count for a connection: the input queue's size, rounded up to a power of
-/// two, at least 64 (the pump drains the ring into the queue, which applies the policy).
+/// two, at least 64 (the reader drains the ring into the queue, which applies the policy).
 std::size_t ringSlots(const plan::Plan& plan, const plan::PlannedConnection& c);
 
 class Crossings {
@@ -56,9 +59,14 @@ class Crossings {
                        const Fenced& fenced, const Warn& warn);
   /// Makes this process the writer of every ring it writes (at its start, or at a takeover).
   Result<void> takeOver();
-  /// Starts the pumps (after the components are initialised).
+  /// Hands each reader to the executor of its component, which reads it from its start on
+  /// (after connect() and the executors' construction, before they start), each resuming where
+  /// the process before it stopped reading.
+  void attach();
+  /// Starts a pump thread for each reader no executor reads (after the executors start).
   void start();
-  /// Stops and joins the pumps; writers stay attached (a late push is harmless).
+  /// Stops and joins the pumps; writers stay attached (a late push is harmless). Readers read
+  /// by an executor stop with it.
   void stop();
 
   /// The in-process connections behind the ends, for a component's replacement.
@@ -69,7 +77,7 @@ class Crossings {
   };
   std::vector<End> ends() const;
 
-  /// Values a reader lost because its pump fell a whole ring behind.
+  /// Values a reader lost because it fell a whole ring behind.
   std::uint64_t dropped() const;
 
  private:

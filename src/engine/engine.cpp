@@ -248,10 +248,11 @@ Result<void> Engine::start() {
   std::size_t executors = 0;
   {
     std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
+    crossings_.attach();                     // values from other processes: read by the executors
     for (auto& ex : executors_) ex->start();
     executors = executors_.size();
   }
-  crossings_.start();  // values from other processes flow in from here
+  crossings_.start();  // and by pumps for components without one, from here
   if (options_.host) {
     if (!took_role.is_null()) log_.write(std::move(took_role));
     std::vector<nlohmann::json> held;

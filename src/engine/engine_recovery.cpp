@@ -122,7 +122,8 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
   // The old thread is stuck in `hung`'s callback and does not touch its members meanwhile;
   // abandon() makes sure it never does again should it come back.
   const std::vector<Component*> members = old->members();
-  old->abandon();
+  old->abandon();  // reads no input from other processes any more either: the fresh one does
+  for (runtime::ExternalInput* in : old->inputs()) fresh->addInput(*in);
   for (Component* m : members) {
     if (m != &hung) {
       fresh->add(*m);

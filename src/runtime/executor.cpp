@@ -54,6 +54,11 @@ void Executor::add(Component& c) {
   coreOf(c).executor.store(this, std::memory_order_release);
 }
 
+void Executor::addInput(ExternalInput& input) {
+  inputs_.push_back(&input);
+  sleep_words_.reserve(inputs_.size() + 1);
+}
+
 void Executor::prepare() {
   prepared_ = true;
   gate_.store(0, std::memory_order_relaxed);
@@ -227,11 +232,48 @@ void Executor::cycle() {
   last_cycle_ns_.store(now, std::memory_order_relaxed);
 }
 
+bool Executor::sleepUntil(const std::chrono::steady_clock::time_point* deadline) {
+  if (inputs_.empty()) {
+    if (deadline) return signal_.waitUntil(*deadline);
+    signal_.wait();
+    return true;
+  }
+  if (signal_.consume()) return true;
+  if (deadline && *deadline <= std::chrono::steady_clock::now()) return signal_.consume();
+  sleep_words_.assign(1, FutexWaiter{});  // [0]: the signal's own word
+  bool arrived = false;
+  for (ExternalInput* in : inputs_) {
+    std::optional<FutexWaiter> word = in->announceSleep();
+    if (!word) {
+      arrived = true;
+      break;
+    }
+    sleep_words_.push_back(*word);
+  }
+  if (!arrived) signal_.sleepAlso(sleep_words_, deadline);
+  for (std::size_t i = 1; i < sleep_words_.size(); ++i) inputs_[i - 1]->endSleep();
+  if (arrived || signal_.consume()) return true;
+  // Woken by an input (draining finds out), at the deadline, or for nothing: only the deadline
+  // is a "no".
+  return deadline == nullptr || std::chrono::steady_clock::now() < *deadline;
+}
+
+void Executor::drainInputs() {
+  if (abandoned_.load(std::memory_order_acquire)) [[unlikely]]
+    return;
+  bool drained = false;
+  for (ExternalInput* in : inputs_) drained |= in->drain();
+  // Delivering woke this executor; it is awake, and what follows (events, mail, the inputs'
+  // flags) looks at everything a notification could have been for.
+  if (drained) signal_.consume();
+}
+
 void Executor::runPeriodic() {
   using Clock = std::chrono::steady_clock;
   const auto period = config_.period;
   auto next = Clock::now();
   while (!stop_.load(std::memory_order_acquire)) {
+    drainInputs();
     cycle();
     next += period;
     auto now = Clock::now();
@@ -240,7 +282,10 @@ void Executor::runPeriodic() {
       auto missed = (now - next) / period + 1;
       next += missed * period;
     }
-    while (!stop_.load(std::memory_order_acquire) && signal_.waitUntil(next)) serviceBetweenCycles();
+    while (!stop_.load(std::memory_order_acquire) && sleepUntil(&next)) {
+      drainInputs();
+      serviceBetweenCycles();
+    }
     serviceBetweenCycles();
   }
 }
@@ -248,7 +293,8 @@ void Executor::runPeriodic() {
 void Executor::runAperiodic() {
   last_cycle_ns_.store(steadyNs(), std::memory_order_relaxed);
   while (!stop_.load(std::memory_order_acquire)) {
-    signal_.wait();
+    sleepUntil(nullptr);
+    drainInputs();
     serviceBetweenCycles();
     bool input = false;
     for (Component* c : members_) input |= coreOf(*c).input_pending.load(std::memory_order_acquire);

@@ -17,15 +17,33 @@
 #include <cstdint>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include "keel/component.hpp"
+#include "runtime/futex.hpp"
 #include "runtime/wake_signal.hpp"
 #include "runtime/warning.hpp"
 
 namespace keel::runtime {
+
+/// Values that reach an executor's members from another process (engine/crossing.hpp's rings).
+/// The executor sleeps on them along with its own wake-ups and moves what arrived into the
+/// ports itself, on its own thread, before its members run: one wake from the writer's push to
+/// the component's step. Its calls come from the executor's thread only.
+class ExternalInput {
+ public:
+  virtual ~ExternalInput() = default;
+  /// Announces the executor's sleep and gives the futex word to sleep on, or nothing (and no
+  /// announcement) when a value is there already.
+  virtual std::optional<FutexWaiter> announceSleep() = 0;
+  /// Ends an announcement, once awake.
+  virtual void endSleep() = 0;
+  /// Moves every value that arrived into its port; true when there was one.
+  virtual bool drain() = 0;
+};
 
 enum class ExecutorKind { Periodic, Aperiodic };
 enum class Policy { Other, Fifo, RoundRobin };
@@ -56,6 +74,12 @@ class Executor {
   void add(Component& c);
   const std::vector<Component*>& members() const { return members_; }
   const ExecutorConfig& config() const { return config_; }
+
+  /// Adds an input from another process (before start); the executor drains it, and wakes
+  /// when it has a value, until its thread exits. At most kMaxExternalInputs.
+  void addInput(ExternalInput& input);
+  const std::vector<ExternalInput*>& inputs() const { return inputs_; }
+  static constexpr std::size_t kMaxExternalInputs = kFutexWaitAnyMax - 1;
 
   /// Starts the thread; it starts its members (onStart) and returns once they have. With
   /// `adopt`, the members are taken over as they are (already started by another executor).
@@ -102,11 +126,17 @@ class Executor {
   void cycle();
   bool execute(Component& c);   // one onExecute with its deadline check; true when it succeeded
   void serviceBetweenCycles();  // mail and events
+  /// Sleeps until woken, `deadline` (null: for ever) or a value from another process; true when
+  /// woken or a value came (the notification consumed), false at the deadline.
+  bool sleepUntil(const std::chrono::steady_clock::time_point* deadline);
+  void drainInputs();
   void runMail();
 
   ExecutorConfig config_;
   Warn warn_;
   std::vector<Component*> members_;
+  std::vector<ExternalInput*> inputs_;
+  std::vector<FutexWaiter> sleep_words_;  // sleepUntil's, reserved once
   std::thread thread_;
   std::atomic<std::thread::id> thread_id_{};
   std::atomic<pthread_t> native_{};

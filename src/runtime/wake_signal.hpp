@@ -1,12 +1,14 @@
 // WakeSignal: lets one thread sleep until another wakes it or an absolute deadline passes
 // (CLOCK_MONOTONIC, the clock of std::chrono::steady_clock). A futex word: notify() costs one
-// atomic exchange when the sleeper is awake, one futex wake syscall when it sleeps.
+// atomic exchange when the sleeper is awake, one futex wake syscall when it sleeps. The sleeper
+// may sleep on other futex words in the same sleep (sleepAlso).
 // Thread-safety: any number of notifiers, one waiter.
 #pragma once
 
 #include <atomic>
 #include <chrono>
 #include <cstdint>
+#include <span>
 
 #include "runtime/futex.hpp"
 
@@ -26,6 +28,17 @@ class WakeSignal {
   bool waitUntil(Clock::time_point deadline) { return wait(&deadline); }
   /// Sleeps until notified.
   void wait() { wait(nullptr); }
+  /// Sleeps until notified (not consumed), `deadline` (null: for ever) or until a sleeper on any
+  /// of `also[1..]` is woken: futexWaitAny over this signal's word, which goes in `also[0]`.
+  /// Spurious returns are possible.
+  void sleepAlso(std::span<FutexWaiter> also, const Clock::time_point* deadline) {
+    sleeping_.store(1, std::memory_order_seq_cst);
+    if (pending_.load(std::memory_order_seq_cst) == 0) {
+      also[0] = FutexWaiter{&pending_, 0, FutexScope::Process};
+      futexWaitAny(also, deadline);
+    }
+    sleeping_.store(0, std::memory_order_relaxed);
+  }
   /// Consumes a pending notification without sleeping.
   bool consume() { return pending_.exchange(0, std::memory_order_acquire) != 0; }
 

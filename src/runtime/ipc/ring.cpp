@@ -276,19 +276,30 @@ std::optional<SampleInfo> RingReader::latest(void* out) {
 
 bool RingReader::available() const { return header_->head.load(std::memory_order_seq_cst) > next_; }
 
+std::optional<FutexWaiter> RingReader::announceSleep() {
+  if (available()) return std::nullopt;
+  const std::uint32_t word = header_->wake.load(std::memory_order_acquire);
+  header_->sleepers.fetch_add(1, std::memory_order_seq_cst);
+  std::atomic_thread_fence(std::memory_order_seq_cst);  // announce, then the last look
+  if (available()) {
+    endSleep();
+    return std::nullopt;
+  }
+  return FutexWaiter{&header_->wake, word, FutexScope::Shared};
+}
+
+void RingReader::endSleep() { header_->sleepers.fetch_sub(1, std::memory_order_release); }
+
 bool RingReader::wait(std::chrono::nanoseconds timeout) {
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + std::min<std::chrono::nanoseconds>(timeout, std::chrono::hours(24 * 365));
   for (;;) {
+    const std::optional<FutexWaiter> sleep = announceSleep();
+    if (!sleep) return true;
+    if (Clock::now() < deadline) futexWait(*sleep->word, sleep->expected, &deadline, FutexScope::Shared);
+    endSleep();
     if (available()) return true;
-    const std::uint32_t word = header_->wake.load(std::memory_order_acquire);
-    header_->sleepers.fetch_add(1, std::memory_order_seq_cst);
-    std::atomic_thread_fence(std::memory_order_seq_cst);  // announce, then the last look
-    const bool ready = available();
-    if (!ready && Clock::now() < deadline) futexWait(header_->wake, word, &deadline, FutexScope::Shared);
-    header_->sleepers.fetch_sub(1, std::memory_order_release);
-    if (ready || available()) return true;
-    if (header_->wake.load(std::memory_order_acquire) != word) return false;  // wakeReaders()
+    if (sleep->word->load(std::memory_order_acquire) != sleep->expected) return false;  // wakeReaders()
     if (Clock::now() >= deadline) return false;
   }
 }

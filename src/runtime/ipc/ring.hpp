@@ -38,6 +38,7 @@
 #include <utility>
 
 #include "keel/result.hpp"
+#include "runtime/futex.hpp"
 #include "runtime/ipc/shared_memory.hpp"
 
 namespace keel::runtime::ipc {
@@ -125,6 +126,16 @@ class RingReader {
   /// was called; true when a sample is there. The only call of a reader that may enter the kernel.
   bool wait(std::chrono::nanoseconds timeout);
 
+  /// For a thread that sleeps on this ring among other words (futexWaitAny): announces the
+  /// sleep, so that the writer's next push wakes it, and gives the word and value to sleep on —
+  /// or nothing, and announces nothing, when a sample is there to read already. Each
+  /// announcement is ended with endSleep() once the thread is awake.
+  std::optional<FutexWaiter> announceSleep();
+  void endSleep();
+  /// Whether a sample is there to read (the next pop() or latest() returns one, unless the
+  /// writer laps the reader meanwhile).
+  bool available() const;
+
   /// Moves the cursor to sample `next` (a reader taking over from another resumes where that
   /// one stopped); one older than the ring still holds is skipped over by the next pop().
   void seek(std::uint64_t next) { next_ = next; }
@@ -133,7 +144,6 @@ class RingReader {
   std::uint64_t next() const { return next_; }        // index of the next sample to read
 
  private:
-  bool available() const;
   std::optional<SampleInfo> read(std::uint64_t index, void* out, std::uint64_t* seen_seq) const;
 
   detail::RingHeader* header_;

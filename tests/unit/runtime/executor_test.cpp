@@ -147,6 +147,7 @@ class Consumer : public Component {
   InputEventPort<Event> events{this, "events"};
   ReturnCode onExecute() override {
     while (auto v = in.pop()) sum += *v;
+    exec_thread = std::this_thread::get_id();
     executions.fetch_add(1);
     return ReturnCode::Ok;
   }
@@ -163,6 +164,7 @@ class Consumer : public Component {
   std::atomic<int> event_count{0};
   std::vector<std::string> event_names;
   std::atomic<std::thread::id> event_thread{};
+  std::atomic<std::thread::id> exec_thread{};
 };
 
 class Producer : public Component {
@@ -190,6 +192,78 @@ TEST_F(ExecutorTest, AperiodicExecutorRunsOnlyWhenInputArrives) {
   EXPECT_LE(c.executions.load(), 2);
   ex.requestStop();
   ASSERT_TRUE(ex.join(5s));
+}
+
+/// Values from "another process": a count bumped by the test, its futex word woken as a ring's
+/// writer wakes its readers. Draining pushes each new value through a real connection.
+class CountingInput : public ExternalInput {
+ public:
+  explicit CountingInput(OutputDataPort<int>& out) : out_(out) {}
+  void send(int value) {
+    value_.store(value);
+    sent_.fetch_add(1);
+    word_.fetch_add(1);
+    if (sleeping_.load() != 0) futexWakeAll(word_, FutexScope::Shared);
+  }
+  std::optional<FutexWaiter> announceSleep() override {
+    const std::uint32_t w = word_.load();
+    sleeping_.fetch_add(1);
+    if (sent_.load() != drained_) {
+      sleeping_.fetch_sub(1);
+      return std::nullopt;
+    }
+    return FutexWaiter{&word_, w, FutexScope::Shared};
+  }
+  void endSleep() override { sleeping_.fetch_sub(1); }
+  bool drain() override {
+    drain_thread = std::this_thread::get_id();
+    const int sent = sent_.load();
+    if (sent == drained_) return false;
+    drained_ = sent;
+    out_.push(value_.load());
+    drains.fetch_add(1);
+    return true;
+  }
+  std::atomic<std::thread::id> drain_thread{};
+  std::atomic<int> drains{0};  // drains that found a value
+
+ private:
+  OutputDataPort<int>& out_;
+  std::atomic<int> value_{0};
+  std::atomic<int> sent_{0};
+  int drained_ = 0;
+  std::atomic<std::uint32_t> word_{0};
+  std::atomic<std::uint32_t> sleeping_{0};
+};
+
+TEST_F(ExecutorTest, AnExecutorSleepsOnItsExternalInputsAndDrainsThemOnItsThreadBeforeTheStep) {
+  ASSERT_TRUE(futexWaitAnySupported()) << "this kernel has no futex_waitv (Linux 5.16)";
+  for (ExecutorKind kind : {ExecutorKind::Aperiodic, ExecutorKind::Periodic}) {
+    SCOPED_TRACE(kind == ExecutorKind::Aperiodic ? "aperiodic" : "periodic (1 h: only an input wakes it)");
+    Consumer c;
+    Producer p;  // the in-process end the input delivers through; nobody else pushes on it
+    ready(c, "c");
+    std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
+    test::wire(p.out, c.in, keep);
+    CountingInput input(p.out);
+    Executor ex({"external", kind, 1h, 0, Policy::Other});
+    ex.add(c);
+    ex.addInput(input);
+    ex.start();
+    const int first_steps = c.executions.load();  // a periodic task's first cycle, at its start
+    std::this_thread::sleep_for(50ms);
+    EXPECT_EQ(c.executions.load(), first_steps) << "ran without input: spinning";
+    input.send(5);
+    ASSERT_TRUE(eventually([&] { return input.drains.load() == 1; })) << "the input's wake did not reach the executor";
+    EXPECT_EQ(input.drain_thread.load(), c.exec_thread.load()) << "drained off the component's thread";
+    if (kind == ExecutorKind::Aperiodic) {  // the value wakes the step; a periodic task's waits for its period
+      ASSERT_TRUE(eventually([&] { return c.sum.load() == 5; }));
+      input.send(7);
+      ASSERT_TRUE(eventually([&] { return c.sum.load() == 12; }));
+    }
+    ex.requestStop();
+    ASSERT_TRUE(ex.join(5s));
+  }
 }
 
 TEST_F(ExecutorTest, EventsAreDeliveredToOnEventOnTheReceiversExecutorInOrder) {

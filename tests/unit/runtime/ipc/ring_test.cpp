@@ -210,6 +210,48 @@ TEST(Ring, AReaderAsleepInWaitIsWokenByAPushFromAnotherProcess) {
   EXPECT_EQ(ring.buffer().sleepingReaders(), 0u);
 }
 
+TEST(Ring, AThreadAsleepOnTheRingAmongOtherWordsIsWokenByAPushFromAnotherProcess) {
+  ASSERT_TRUE(futexWaitAnySupported()) << "this kernel has no futex_waitv (Linux 5.16)";
+  struct Control {
+    std::atomic<int> woke{0};  // 1: woken with a sample; 2: without one
+    std::atomic<std::uint64_t> value{0};
+  };
+  test::SharedBlock<Control> control;
+  auto ring = must(Ring<std::uint64_t>::create("ring wake any", 8));
+  const auto writer = must(ring.takeOver());
+  Child sleeper = Child::run([&] {
+    auto own = test::attachOwnMapping<std::uint64_t>(ring);
+    RingReader reader(own.buffer());
+    std::atomic<std::uint32_t> own_word{0};                        // an executor's own wake word, never woken here
+    const auto deadline = std::chrono::steady_clock::now() + 60s;  // far beyond the test's own bound
+    const std::optional<FutexWaiter> on_ring = reader.announceSleep();
+    if (!on_ring) return 3;
+    const FutexWaiter words[] = {{&own_word, 0, FutexScope::Process}, *on_ring};
+    while (!reader.available() && std::chrono::steady_clock::now() < deadline) futexWaitAny(words, &deadline);
+    reader.endSleep();
+    std::uint64_t v = 0;
+    const bool got = reader.pop(&v).has_value();
+    control->value = v;
+    control->woke = got ? 1 : 2;
+    return 0;
+  });
+  ASSERT_TRUE(test::eventually([&] { return ring.buffer().sleepingReaders() == 1; })) << "the reader never slept";
+
+  ASSERT_EQ(ring.push(writer.epoch, 42).value(), PushStatus::Written);
+
+  ASSERT_TRUE(test::eventually([&] { return control->woke.load() != 0; })) << "the push did not wake the reader";
+  EXPECT_EQ(control->woke.load(), 1);
+  EXPECT_EQ(control->value.load(), 42u);
+  EXPECT_TRUE(test::exitedWith(sleeper.wait(), 0));
+  EXPECT_EQ(ring.buffer().sleepingReaders(), 0u);
+
+  // A sample there already: no sleep is announced, and the writer is not asked to wake anyone.
+  RingReader late(ring.buffer());
+  ASSERT_EQ(ring.push(writer.epoch, 43).value(), PushStatus::Written);
+  EXPECT_FALSE(late.announceSleep());
+  EXPECT_EQ(ring.buffer().sleepingReaders(), 0u);
+}
+
 TEST(Ring, WaitWithNothingPushedReturnsFalseAtItsTimeout) {
   auto ring = must(Ring<std::uint64_t>::create("ring idle", 2));
   auto reader = ring.reader();
