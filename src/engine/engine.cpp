@@ -170,23 +170,19 @@ void Engine::raiseToProcessPriority() {
   }
 }
 
-Result<nlohmann::json> Engine::takeRoleAsHost() {
+Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
   ProcessHost& host = *options_.host;
   if (host.role().standby) log_.write(fault::schema::host(host.role().process, ::getpid(), "standby"));
   auto died = host.takeRole();  // a standby sleeps here
   if (!died) return died.error();
-  if (host.stopRequested()) return nlohmann::json{};
-  std::size_t restored = 0;
+  if (host.stopRequested()) return RoleTaken{};
+  RoleTaken taken{host.role().respawn ? "respawned" : *died ? "took_over" : "starting", 0};
   if (*died || host.role().respawn) {
-    for (auto& inst : instances_) restored += runtime::restoreSharedCheckpoint(runtime::coreOf(*inst.component)) != 0;
+    for (auto& inst : instances_)
+      taken.restored += runtime::restoreSharedCheckpoint(runtime::coreOf(*inst.component)) != 0;
   }
   if (auto r = crossings_.takeOver(); !r) return r.error();
-  nlohmann::json rec = fault::schema::host(host.role().process, ::getpid(),
-                                           host.role().respawn ? "respawned"
-                                           : *died             ? "took_over"
-                                                               : "starting");
-  rec["restored"] = restored;
-  return rec;
+  return taken;
 }
 
 Result<void> Engine::start() {
@@ -208,7 +204,7 @@ Result<void> Engine::start() {
   }
   if (auto r = preloadAlternatives(); !r) return r;
   fault_manager_.start();
-  nlohmann::json took_role;
+  RoleTaken took_role;
   if (options_.host) {
     // A standby wakes to its active's death, and runs the takeover, at the priority of what it
     // then runs; as the active, its main thread holds the locks whose release tells of its death,
@@ -221,7 +217,7 @@ Result<void> Engine::start() {
     auto taken = takeRoleAsHost();
     if (!taken) return taken.error();
     if (options_.host->stopRequested()) return {};  // stopped while standing by
-    took_role = std::move(*taken);
+    took_role = *taken;
   } else if (auto r = crossings_.takeOver(); !r) {
     return r;
   } else {
@@ -254,7 +250,11 @@ Result<void> Engine::start() {
   }
   crossings_.start();  // and by pumps for components without one, from here
   if (options_.host) {
-    if (!took_role.is_null()) log_.write(std::move(took_role));
+    if (took_role.phase) {
+      nlohmann::json rec = fault::schema::host(options_.host->role().process, ::getpid(), took_role.phase);
+      rec["restored"] = took_role.restored;
+      log_.write(std::move(rec));
+    }
     std::vector<nlohmann::json> held;
     {
       std::lock_guard lock(held_mutex_);

@@ -27,6 +27,7 @@ void reserveCheckpoint(detail::ComponentCore& core) {
   std::lock_guard lock(core.checkpoints.mutex);
   core.checkpoints.copies.resize(core.critical.size());
   for (std::size_t i = 0; i < core.critical.size(); ++i) core.checkpoints.copies[i].resize(core.critical[i].len);
+  if (core.checkpoints.shared) ipc::prefaultCheckpoint(*core.checkpoints.shared, core.checkpoints.copies);
 }
 
 std::int64_t restoreSharedCheckpoint(detail::ComponentCore& core) {

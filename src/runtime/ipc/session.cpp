@@ -203,6 +203,18 @@ bool publishCheckpoint(CheckpointArea& area, const std::vector<std::vector<std::
   return true;
 }
 
+void prefaultCheckpoint(const CheckpointArea& area, const std::vector<std::vector<std::byte>>& copies) {
+  std::size_t need = sizeof(std::uint64_t) * (1 + copies.size());
+  for (const auto& c : copies) need += c.size();
+  need = std::min(need, kCheckpointBytes);
+  constexpr std::size_t kPage = 4096;
+  for (const auto& buffer : area.data)
+    for (std::size_t off = 0; off < need; off += kPage) {
+      const auto* byte = reinterpret_cast<const volatile std::byte*>(buffer + off);
+      (void)*byte;
+    }
+}
+
 std::optional<std::int64_t> readCheckpoint(const CheckpointArea& area, const std::vector<std::size_t>& lengths,
                                            std::vector<std::vector<std::byte>>& copies) {
   const std::uint64_t seq = area.seq.load(std::memory_order_acquire);

@@ -90,6 +90,9 @@ struct CheckpointArea {
 /// (nothing written) when it needs more than kCheckpointBytes. The layout: the count of
 /// regions, each one's length, their bytes.
 bool publishCheckpoint(CheckpointArea& area, const std::vector<std::vector<std::byte>>& copies, std::int64_t t_ns);
+/// Maps into this process the pages of `area` a checkpoint of `copies`' sizes uses, in both
+/// buffers, by reading them: a standby reads the checkpoint at its takeover without page faults.
+void prefaultCheckpoint(const CheckpointArea& area, const std::vector<std::vector<std::byte>>& copies);
 /// Reads the published checkpoint into `copies` (resized to it) if it has regions of exactly
 /// `lengths`; its time, or nothing when there is none or its shape differs.
 std::optional<std::int64_t> readCheckpoint(const CheckpointArea& area, const std::vector<std::size_t>& lengths,
