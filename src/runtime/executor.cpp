@@ -233,7 +233,8 @@ void Executor::cycle() {
 }
 
 bool Executor::sleepUntil(const std::chrono::steady_clock::time_point* deadline) {
-  if (inputs_.empty()) {
+  // Abandoned: its inputs are the executor's that replaced it, whatever this thread does now.
+  if (inputs_.empty() || abandoned_.load(std::memory_order_acquire)) {
     if (deadline) return signal_.waitUntil(*deadline);
     signal_.wait();
     return true;
