@@ -44,8 +44,9 @@ REEXEC_GUARD = "KEEL_PLOT_RUN_REEXEC"
 
 # One marker per detected kind (fault.hpp's kinds); others cycle through MORE_MARKERS.
 KIND_MARKERS = {"model": "D", "signal": "o", "range": "s", "vote": "^", "heartbeat": "v",
-                "exception": "P", "user": "*", "deadline": "<", "communication": ">"}
-MORE_MARKERS = ["h", "p", "8", "d", "H", "X"]
+                "exception": "P", "user": "*", "deadline": "<", "remote": ">", "error_code": "p",
+                "process": "X"}
+MORE_MARKERS = ["h", "8", "d", "H"]
 
 
 class InputError(Exception):

@@ -116,5 +116,24 @@ class PlotRunTest(unittest.TestCase):
         self.assertNotIn("Traceback", r.stderr)
 
 
+class MarkerTest(unittest.TestCase):
+    """Each fault kind keel reports (include/keel/fault_event.hpp) has a marker of its own."""
+
+    def test_every_kind_has_its_own_marker(self):
+        import importlib.util
+        import re
+        spec = importlib.util.spec_from_file_location("plot_run", SCRIPT)
+        plot_run = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(plot_run)
+        header = os.path.join(os.path.dirname(SCRIPT), "..", "include", "keel", "fault_event.hpp")
+        with open(header, encoding="utf-8") as f:
+            kinds = re.findall(r'case FaultKind::\w+: return "(\w+)";', f.read())
+        self.assertGreaterEqual(len(kinds), 11, "the kinds were not found in fault_event.hpp")
+        for kind in kinds:
+            self.assertIn(kind, plot_run.KIND_MARKERS, f"fault kind '{kind}' has no marker of its own")
+        markers = list(plot_run.KIND_MARKERS.values()) + plot_run.MORE_MARKERS
+        self.assertEqual(len(markers), len(set(markers)), "two kinds share a marker")
+
+
 if __name__ == "__main__":
     unittest.main()
