@@ -24,17 +24,18 @@ namespace keel::runtime {
 
 enum class FutexScope { Process, Shared };
 
+/// An absolute CLOCK_MONOTONIC time as the futex calls take it.
+inline timespec toTimespec(std::chrono::steady_clock::time_point t) {
+  const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(t.time_since_epoch()).count();
+  return {static_cast<time_t>(ns / 1'000'000'000), static_cast<long>(ns % 1'000'000'000)};
+}
+
 /// Sleeps while `word` holds `expected`, until woken or `deadline` (null: for ever). Spurious
 /// returns are possible: callers re-check their condition.
 inline void futexWait(std::atomic<std::uint32_t>& word, std::uint32_t expected,
                       const std::chrono::steady_clock::time_point* deadline, FutexScope scope) {
   static_assert(sizeof(std::atomic<std::uint32_t>) == sizeof(std::uint32_t), "a futex word is 32 bits");
-  timespec ts{};
-  if (deadline) {
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline->time_since_epoch()).count();
-    ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
-    ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
-  }
+  const timespec ts = deadline ? toTimespec(*deadline) : timespec{};
   // FUTEX_WAIT_BITSET without FUTEX_CLOCK_REALTIME: an absolute CLOCK_MONOTONIC timeout.
   const int op = scope == FutexScope::Process ? FUTEX_WAIT_BITSET_PRIVATE : FUTEX_WAIT_BITSET;
   syscall(SYS_futex, reinterpret_cast<std::uint32_t*>(&word), op, expected, deadline ? &ts : nullptr, nullptr,
@@ -62,12 +63,7 @@ inline bool futexWaitAny(std::span<const FutexWaiter> waiters, const std::chrono
     vec[i].uaddr = reinterpret_cast<std::uintptr_t>(waiters[i].word);
     vec[i].flags = FUTEX_32 | (waiters[i].scope == FutexScope::Process ? FUTEX_PRIVATE_FLAG : 0);
   }
-  timespec ts{};
-  if (deadline) {
-    const auto ns = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline->time_since_epoch()).count();
-    ts.tv_sec = static_cast<time_t>(ns / 1'000'000'000);
-    ts.tv_nsec = static_cast<long>(ns % 1'000'000'000);
-  }
+  const timespec ts = deadline ? toTimespec(*deadline) : timespec{};
   const long r = syscall(SYS_futex_waitv, vec, static_cast<unsigned>(n), 0U, deadline ? &ts : nullptr, CLOCK_MONOTONIC);
   return !(r < 0 && errno == ENOSYS);
 }
