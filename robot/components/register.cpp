@@ -5,6 +5,7 @@
 #include "robot/components/mission_referee.hpp"
 #include "robot/components/obstacle_avoidance.hpp"
 #include "robot/components/path_planner.hpp"
+#include "robot/components/sonar_frame_latch.hpp"
 #include "robot/components/ultrasonic_sensor.hpp"
 #include "robot/components/vision/color_blob_detector.hpp"
 #include "robot/components/wheel_reference_model.hpp"
@@ -13,6 +14,7 @@ KEEL_REGISTER_COMPONENT_AS(keel::robot::ActuatorControl, "ActuatorControl")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::CameraSensor, "Camera")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::ColorBlobDetector, "ColorBlobDetector")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::PathPlanner, "PathPlanner")
+KEEL_REGISTER_COMPONENT_AS(keel::robot::SonarFrameLatch, "SonarFrameLatch")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::UltrasonicSensor, "UltrasonicSensor")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::ObstacleAvoidance, "ObstacleAvoidance")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::ObstacleAvoidanceSecondary, "ObstacleAvoidanceSecondary")

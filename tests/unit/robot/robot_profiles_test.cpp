@@ -53,7 +53,7 @@ TEST(RobotProfiles, TheFig7ApplicationsHoldExactlyTheComponentsAndPoliciesOfTheF
       EXPECT_EQ(apps.count(name), 0u) << name << " is in two applications";
       apps[name] = text;
     }
-  ASSERT_EQ(package.size(), 13u);
+  ASSERT_EQ(package.size(), 14u);
   EXPECT_EQ(apps, package);
 }
 
