@@ -90,6 +90,9 @@ TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
   for (const auto& c : r.cells) {
     detectors.insert(c["detector"].get<std::string>());
     EXPECT_EQ(c["failed"], 0) << c.dump();
+    // Each injection detected once, as itself: a late cycle's heartbeat fault on a loaded
+    // machine neither replaces one nor leaves the victim stopped for the next.
+    EXPECT_EQ(c["n"], c["kind"] == "hang" ? 10 : 20) << c.dump();
     beside_floor += c.contains("vs_floor");
   }
   EXPECT_EQ(detectors, (std::set<std::string>{"signal", "exception", "error_code", "range", "watchdog", "bare handler",
@@ -136,6 +139,7 @@ TEST(BenchCli, QuickIsolationMeasuresPortsTakeoverRespawnBesideTheirFloorsAndAWa
   ASSERT_TRUE(standby.is_object()) << r.ran.out;
   EXPECT_GT(standby["active"]["cpu_ticks"].get<long>(), standby["standby"]["cpu_ticks"].get<long>());
   EXPECT_LE(standby["standby"]["cpu_ticks"].get<long>(), 1) << "a waiting standby costs no CPU";
+  for (const char* p : {"active", "standby"}) EXPECT_GT(standby[p].value("anon_kb", 0L), 0) << standby.dump();
   EXPECT_NE(r.ran.out.find("Takeover (p50 / p99"), std::string::npos) << r.ran.out;
 }
 
