@@ -343,6 +343,8 @@ StandbyCost measureStandbyCost(const Paths& paths, double seconds) {
   c.standby_rss_kb = rollup(standby, "Rss:");
   c.active_pss_kb = rollup(active, "Pss:");
   c.standby_pss_kb = rollup(standby, "Pss:");
+  c.active_anon_kb = rollup(active, "Anonymous:");
+  c.standby_anon_kb = rollup(standby, "Anonymous:");
   run.stop();
   return c;
 }

@@ -49,6 +49,9 @@ struct StandbyCost {
   long active_switches = 0, standby_switches = 0;    // context switches of every thread
   long active_rss_kb = 0, standby_rss_kb = 0;
   long active_pss_kb = 0, standby_pss_kb = 0;  // shared pages split among their users
+  // Resident anonymous memory (heap, stacks, data written): what a process costs of its own, as
+  // against the code and libraries' pages, resident as far as each process happened to touch them.
+  long active_anon_kb = 0, standby_anon_kb = 0;
   int tick_hz = 100;
 };
 StandbyCost measureStandbyCost(const Paths& paths, double seconds);

@@ -359,10 +359,12 @@ int isolation(Options o, const Paths& paths) {
     } else {
       std::cout << fmt::format(
           "\nA waiting standby beside its active process, idle, over {:.0f} s (CPU in ticks of 1/{} s, every "
-          "thread)\n\n| process | CPU ticks | context switches | RSS kB | PSS kB |\n|---|---|---|---|---|\n"
-          "| active (a 1 kHz component) | {} | {} | {} | {} |\n| standby | {} | {} | {} | {} |\n",
+          "thread)\n\n| process | CPU ticks | context switches | RSS kB | PSS kB | anonymous kB |\n"
+          "|---|---|---|---|---|---|\n"
+          "| active (a 1 kHz component) | {} | {} | {} | {} | {} |\n| standby | {} | {} | {} | {} | {} |\n",
           c.seconds, c.tick_hz, c.active_cpu_ticks, c.active_switches, c.active_rss_kb, c.active_pss_kb,
-          c.standby_cpu_ticks, c.standby_switches, c.standby_rss_kb, c.standby_pss_kb);
+          c.active_anon_kb, c.standby_cpu_ticks, c.standby_switches, c.standby_rss_kb, c.standby_pss_kb,
+          c.standby_anon_kb);
       j.push_back({{"mechanism", "standby_cost"},
                    {"seconds", c.seconds},
                    {"tick_hz", c.tick_hz},
@@ -370,12 +372,14 @@ int isolation(Options o, const Paths& paths) {
                     {{"cpu_ticks", c.active_cpu_ticks},
                      {"switches", c.active_switches},
                      {"rss_kb", c.active_rss_kb},
-                     {"pss_kb", c.active_pss_kb}}},
+                     {"pss_kb", c.active_pss_kb},
+                     {"anon_kb", c.active_anon_kb}}},
                    {"standby",
                     {{"cpu_ticks", c.standby_cpu_ticks},
                      {"switches", c.standby_switches},
                      {"rss_kb", c.standby_rss_kb},
-                     {"pss_kb", c.standby_pss_kb}}}});
+                     {"pss_kb", c.standby_pss_kb},
+                     {"anon_kb", c.standby_anon_kb}}}});
     }
   }
   o.no_plot = true;  // tables only

@@ -147,17 +147,22 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
       if (writes) {
         auto w = std::make_unique<Writer>();
         Result<ipc::RingBuffer> ring = fail("");
-        if (ready.load(std::memory_order_acquire) == 0) {
+        constexpr const char* kAbandoned = "the run stopped before the ring was set up";
+        const std::uint32_t state = ready.load(std::memory_order_acquire);
+        if (state == ipc::kRingAbandoned) {
+          ring = fail(kAbandoned);
+        } else if (state == ipc::kRingPending) {
           // Laid out by the writer: a writer that died halfway (sized, not ready) is done again.
           const std::size_t slots = ringSlots(plan, c);
           auto sized = region.sizeTo(ipc::RingBuffer::bytesFor(size, slots));
           if (!sized) sized = region.map();
           ring = sized ? ipc::RingBuffer::create(std::move(region), size, slots)
                        : Result<ipc::RingBuffer>(sized.error());
-          if (ring) {
-            ready.store(1, std::memory_order_release);
-            runtime::futexWakeAll(ready, runtime::FutexScope::Shared);
-          }
+          // Unless keel run abandoned it meanwhile (the run stops): then its readers have gone.
+          std::uint32_t pending = ipc::kRingPending;
+          if (ring && !ready.compare_exchange_strong(pending, ipc::kRingReady, std::memory_order_acq_rel))
+            ring = fail(kAbandoned);
+          if (ring) runtime::futexWakeAll(ready, runtime::FutexScope::Shared);
         } else if (auto mapped = region.map(); mapped) {
           ring = ipc::RingBuffer::attach(std::move(region), size);
         } else {
@@ -175,9 +180,15 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
         w->outlet = static_cast<detail::OutputPortBase*>(port)->attachBytes(*w);
         writers_.push_back(std::move(w));
       } else {
-        while (ready.load(std::memory_order_acquire) == 0 && std::chrono::steady_clock::now() < deadline)
-          runtime::futexWait(ready, 0, &deadline, runtime::FutexScope::Shared);
-        if (ready.load(std::memory_order_acquire) == 0) {
+        while (ready.load(std::memory_order_acquire) == ipc::kRingPending &&
+               std::chrono::steady_clock::now() < deadline)
+          runtime::futexWait(ready, ipc::kRingPending, &deadline, runtime::FutexScope::Shared);
+        if (ready.load(std::memory_order_acquire) == ipc::kRingAbandoned) {
+          errors += fmt::format("{}: {}: the run stopped before its writer '{}' ({}) set up the ring\n", at(c.where),
+                                what(c), c.source.component, plan::describeProcess(from));
+          continue;
+        }
+        if (ready.load(std::memory_order_acquire) == ipc::kRingPending) {
           errors += fmt::format("{}: {}: its writer '{}' ({}) did not set up the ring within {} ms\n", at(c.where),
                                 what(c), c.source.component, plan::describeProcess(from), wait.count());
           continue;
@@ -220,7 +231,6 @@ Result<void> Crossings::takeOver() {
 void Crossings::attach() {
   std::map<runtime::Executor*, std::size_t> per_executor;
   for (auto& r : readers_) {
-    r->cursor->seek(r->consumed->load(std::memory_order_relaxed));  // where the reader before stopped
     if (!runtime::futexWaitAnySupported()) continue;
     runtime::Executor* ex = runtime::coreOf(r->port->owner()).executor.load(std::memory_order_acquire);
     if (ex == nullptr || per_executor[ex] == runtime::Executor::kMaxExternalInputs) continue;
@@ -228,6 +238,10 @@ void Crossings::attach() {
     ex->addInput(*r);
     r->executor = ex;
   }
+}
+
+void Crossings::resume() {
+  for (auto& r : readers_) r->cursor->seek(r->consumed->load(std::memory_order_relaxed));
 }
 
 void Crossings::start() {

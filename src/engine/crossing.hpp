@@ -10,8 +10,10 @@
 // it; one wake from the writer's push to the reader's step.
 // A writer whose ring was taken over (a standby became the active) is refused its next push: it
 // was fenced, and the host it runs in exits at once (never two writers).
-// Thread-safety: connect/takeOver/stop from the engine's thread; pushes from the output's
-// component thread; a ring is read on its executor's thread or its pump's.
+// Thread-safety: connect/attach/takeOver/resume/start/stop from the engine's thread (a standby
+// host's takeOver/resume from the thread that took the role, while the engine's waits for it);
+// pushes from the output's component thread; a ring is read on its executor's thread or its
+// pump's.
 #pragma once
 
 #include <atomic>
@@ -60,9 +62,11 @@ class Crossings {
   /// Makes this process the writer of every ring it writes (at its start, or at a takeover).
   Result<void> takeOver();
   /// Hands each reader to the executor of its component, which reads it from its start on
-  /// (after connect() and the executors' construction, before they start), each resuming where
-  /// the process before it stopped reading.
+  /// (after connect() and the executors' construction, before they start).
   void attach();
+  /// Each reader resumes where the process before it stopped reading (before its executor or
+  /// pump starts: at the start, or at a takeover).
+  void resume();
   /// Starts a pump thread for each reader no executor reads (after the executors start).
   void start();
   /// Stops and joins the pumps; writers stay attached (a late push is harmless). Readers read

@@ -172,7 +172,6 @@ void Engine::raiseToProcessPriority() {
 
 Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
   ProcessHost& host = *options_.host;
-  if (host.role().standby) log_.write(fault::schema::host(host.role().process, ::getpid(), "standby"));
   auto died = host.takeRole();  // a standby sleeps here
   if (!died) return died.error();
   if (host.stopRequested()) return RoleTaken{};
@@ -185,6 +184,109 @@ Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
   return taken;
 }
 
+void Engine::runComponents(runtime::Executor* self) {
+  crossings_.resume();
+  for (auto& inst : instances_) {
+    if (inst.executor) continue;  // passive: started here, under its lock
+    auto& core = runtime::coreOf(*inst.component);
+    std::lock_guard lock(core.passive_mutex);
+    runtime::transition(*inst.component, Transition::Start);
+    if (!core.critical.empty()) runtime::takeCheckpoint(core, runtime::steadyNs());
+  }
+  std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
+  for (auto& ex : executors_) {
+    if (self) ex->release();  // the takeover's thread does not wait for the others' onStart
+    else ex->start();
+  }
+}
+
+runtime::Executor* Engine::roleExecutor() const {
+  // The task that runs first: the highest real-time priority (SCHED_OTHER below any), the first
+  // declared among equals.
+  runtime::Executor* best = nullptr;
+  auto rank = [](const runtime::ExecutorConfig& c) { return c.policy == runtime::Policy::Other ? -1 : c.priority; };
+  for (const auto& ex : executors_)
+    if (best == nullptr || rank(ex->config()) > rank(best->config())) best = ex.get();
+  return best;
+}
+
+void Engine::standBy(runtime::Executor& self) {
+  auto taken = takeRoleAsHost();  // this thread sleeps here, and holds the role from here
+  if (taken && taken->phase) runComponents(&self);
+  const bool runs = taken && taken->phase;
+  role_taken_ = std::move(taken);  // the main thread reads it once role_settled_ says so
+  role_settled_.store(1, std::memory_order_release);
+  if (!runs) {
+    role_alarm_.setIn(std::chrono::nanoseconds(0));
+    return;
+  }
+  // The main thread's part (records, detectors, telling keel run) waits for the first cycle:
+  // its wake-up would cost this thread a CPU-to-CPU interrupt before the step. The alarm is
+  // set for later in case the step hangs, and then to now between this thread's first cycles.
+  role_alarm_.setIn(kFirstStepWait);
+  self.post([this] { role_alarm_.setIn(std::chrono::nanoseconds(0)); });
+}
+
+void Engine::leaveRole(const runtime::Executor& self) const {
+  ProcessHost& host = *options_.host;
+  if (!host.holdsRole()) return;
+  // Abandoned in a hung callback and back, the process running on: its release would tell the
+  // standbys this process died while it still runs. It parks until the process ends.
+  if (self.abandoned() && !host.stopRequested())
+    for (;;) ::pause();
+  host.releaseRole();
+}
+
+Result<Engine::RoleTaken> Engine::startAsHost() {
+  ProcessHost& host = *options_.host;
+  // Its main thread holds the locks whose release tells of its death (its life; the role,
+  // unless a standby's task took it), and must get to die as promptly under load. Its
+  // executors' threads wait ready: a takeover starts none, and writes its records once the
+  // components run.
+  raiseToProcessPriority();
+  buildExecutors();
+  holdCpuLatency();     // before the executors' first sleep
+  crossings_.attach();  // values from other processes: read by the executors
+  runtime::Executor* self = host.role().standby ? roleExecutor() : nullptr;
+  for (auto& ex : executors_)
+    if (ex.get() != self) ex->prepare();
+  for (auto& inst : instances_) {
+    runtime::reserveCheckpoint(runtime::coreOf(*inst.component));
+    // The first good cycle of any of them tells keel run the process runs.
+    if (inst.executor) runtime::coreOf(*inst.component).fault.recovering_id.store(HostFaultSink::kFirstRun);
+  }
+  {
+    std::lock_guard lock(held_mutex_);
+    hold_records_ = true;  // the log's lock and write off the way to the first step
+    held_.reserve(2 * instances_.size());
+  }
+  if (host.role().standby) log_.write(fault::schema::host(host.role().process, ::getpid(), "standby"));
+  if (self == nullptr) {
+    auto taken = takeRoleAsHost();
+    if (!taken || !taken->phase) return taken;
+    runComponents(nullptr);
+    return taken;
+  }
+  // The standby's role is taken by the thread of the task that runs first: the thread its
+  // active's death wakes runs the takeover and then the component, with no second wake. Made
+  // last: it may take the role at once (its active already dead).
+  auto alarm = runtime::Alarm::create();
+  if (!alarm) return alarm.error();
+  role_alarm_ = std::move(*alarm);
+  self->prepare([this, self] { standBy(*self); }, [this, self] { leaveRole(*self); });
+  while (role_settled_.load(std::memory_order_acquire) == 0) role_alarm_.wait();
+  if (*role_taken_ && (*role_taken_)->phase)
+    for (auto& ex : executors_) ex->waitStarted();
+  return *role_taken_;
+}
+
+void Engine::holdCpuLatency() {
+  if (!options_.cpu_dma_latency_us) return;
+  auto held = runtime::CpuLatencyRequest::hold(*options_.cpu_dma_latency_us);
+  if (held) cpu_latency_ = std::move(*held);
+  else warn(held.error().message);
+}
+
 Result<void> Engine::start() {
   runtime::installSignalHandlers();
   if (supervisor_) {
@@ -195,8 +297,9 @@ Result<void> Engine::start() {
   for (auto& inst : instances_) {
     if (runtime::transition(*inst.component, Transition::Initialize)) continue;
     const auto& w = inst.plan->where;
-    return fail(fmt::format("{}:{}: component '{}' failed to initialize (see the log for the fault)", w.file, w.line,
-                            inst.plan->name));
+    const std::string& why = runtime::coreOf(*inst.component).transition_fault;
+    return fail(fmt::format("{}:{}: component '{}' failed to initialize: {}", w.file, w.line, inst.plan->name,
+                            why.empty() ? "onInitialize returned an error" : why));
   }
   if (auto r = connect(); !r) return r;
   if (supervisor_) {
@@ -204,72 +307,43 @@ Result<void> Engine::start() {
   }
   if (auto r = preloadAlternatives(); !r) return r;
   fault_manager_.start();
-  RoleTaken took_role;
   if (options_.host) {
-    // A standby wakes to its active's death, and runs the takeover, at the priority of what it
-    // then runs; as the active, its main thread holds the locks whose release tells of its death,
-    // and must get to die as promptly under load. Its executors' threads wait ready: the
-    // takeover starts none, and writes its record once the components run.
-    raiseToProcessPriority();
-    buildExecutors();
-    for (auto& ex : executors_) ex->prepare();
-    for (auto& inst : instances_) runtime::reserveCheckpoint(runtime::coreOf(*inst.component));
-    auto taken = takeRoleAsHost();
+    auto taken = startAsHost();
     if (!taken) return taken.error();
-    if (options_.host->stopRequested()) return {};  // stopped while standing by
-    took_role = *taken;
-  } else if (auto r = crossings_.takeOver(); !r) {
-    return r;
-  } else {
-    buildExecutors();
-  }
-  for (auto& inst : instances_) {
-    if (inst.executor) continue;  // passive: started here, under its lock
-    auto& core = runtime::coreOf(*inst.component);
-    std::lock_guard lock(core.passive_mutex);
-    runtime::transition(*inst.component, Transition::Start);
-    if (!core.critical.empty()) runtime::takeCheckpoint(core, runtime::steadyNs());
-  }
-  if (options_.cpu_dma_latency_us) {  // before the executors' first sleep
-    auto held = runtime::CpuLatencyRequest::hold(*options_.cpu_dma_latency_us);
-    if (held) cpu_latency_ = std::move(*held);
-    else warn(held.error().message);
-  }
-  if (options_.host) {  // the first good cycle of any of them tells keel run the process runs
-    for (auto& inst : instances_)
-      if (inst.executor) runtime::coreOf(*inst.component).fault.recovering_id.store(HostFaultSink::kFirstRun);
-    std::lock_guard lock(held_mutex_);
-    hold_records_ = true;  // the log's lock and write off the way to the first step
-  }
-  std::size_t executors = 0;
-  {
-    std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
-    crossings_.attach();                     // values from other processes: read by the executors
-    for (auto& ex : executors_) ex->start();
-    executors = executors_.size();
-  }
-  crossings_.start();  // and by pumps for components without one, from here
-  if (options_.host) {
-    if (took_role.phase) {
-      nlohmann::json rec = fault::schema::host(options_.host->role().process, ::getpid(), took_role.phase);
-      rec["restored"] = took_role.restored;
+    if (taken->phase) {
+      crossings_.start();  // pumps for components without an executor, from here
+      nlohmann::json rec = fault::schema::host(options_.host->role().process, ::getpid(), taken->phase);
+      rec["restored"] = taken->restored;
       log_.write(std::move(rec));
     }
-    std::vector<nlohmann::json> held;
+    std::vector<HeldState> held;
     {
       std::lock_guard lock(held_mutex_);
       hold_records_ = false;
       held.swap(held_);
     }
-    for (auto& rec : held) log_.write(std::move(rec));
-  }
-  started_ = true;
-  startDetectors();
-  if (options_.host) {
+    for (const auto& h : held)
+      log_.write(fault::schema::componentState(h.component->instanceName(), toString(h.from), toString(h.to), 0, h.t));
+    if (!taken->phase) return {};  // stopped while standing by
+    started_ = true;
+    startDetectors();
     options_.host->becameActive();
     log_.write(fault::schema::host(myProcess(), ::getpid(), "active"));
     return {};
   }
+  if (auto r = crossings_.takeOver(); !r) return r;
+  buildExecutors();
+  holdCpuLatency();  // before the executors' first sleep
+  std::size_t executors = 0;
+  {
+    std::lock_guard lock(executors_mutex_);
+    crossings_.attach();  // values from other processes: read by the executors
+    executors = executors_.size();
+  }
+  runComponents(nullptr);
+  crossings_.start();  // and by pumps for components without one, from here
+  started_ = true;
+  startDetectors();
   nlohmann::json started = fault::schema::engine("started");
   started[fault::schema::field::kExecutors] = executors;
   if (cpu_latency_.held()) started[fault::schema::field::kCpuDmaLatencyUs] = cpu_latency_.microseconds();
@@ -354,15 +428,14 @@ void Engine::shutdown() {
 }
 
 void Engine::stateChanged(Component& c, State from, State to) {
-  auto rec = fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now());
   {
     std::lock_guard lock(held_mutex_);
-    if (hold_records_) {
-      held_.push_back(std::move(rec));
+    if (hold_records_) {  // a takeover's first step waits for no JSON (engine.hpp)
+      held_.push_back({&c, from, to, log_.now()});
       return;
     }
   }
-  log_.write(std::move(rec));
+  log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
 }
 
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {

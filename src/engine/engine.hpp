@@ -35,6 +35,7 @@
 #include "plan/plan.hpp"
 #include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
+#include "runtime/alarm.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/cpu_latency.hpp"
 #include "runtime/executor.hpp"
@@ -162,8 +163,22 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
     const char* phase = nullptr;
     std::size_t restored = 0;
   };
-  /// start(), in a host: the role lock, a takeover's restore, the rings.
+  /// start(), in a host: the executors made and parked, the role taken (by the main thread, or
+  /// a standby's by its first task's thread: standBy), the components running.
+  Result<RoleTaken> startAsHost();
+  /// The role lock (a standby sleeps here), a takeover's restore, the rings.
   Result<RoleTaken> takeRoleAsHost();
+  /// Passive components started, the rings read from where they were left, the executors let
+  /// go: by the main thread (waiting for each onStart), or `self`'s (a standby's takeover).
+  void runComponents(runtime::Executor* self);
+  /// A standby's executor that takes the role (the task that runs first); null without any.
+  runtime::Executor* roleExecutor() const;
+  /// On `self`'s thread, before it parks: takes the role, and runs the components if it is
+  /// theirs; the main thread waits for the outcome (role_settled_).
+  void standBy(runtime::Executor& self);
+  /// On `self`'s thread, as it ends: releases the role if it holds it (see process_host.hpp).
+  void leaveRole(const runtime::Executor& self) const;
+  void holdCpuLatency();
   /// In a host, the calling thread at the highest real-time priority of the process's tasks
   /// (none: unchanged).
   void raiseToProcessPriority();
@@ -199,10 +214,20 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   std::unique_ptr<fault::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
-  std::mutex held_mutex_;             // guards the two below (any component's thread)
-  bool hold_records_ = false;         // a takeover under way: state records wait, in order
-  std::vector<nlohmann::json> held_;  // written once the components run
-  RunEndLatch run_end_;               // RunControl::endRun, from any component's thread
+  std::optional<Result<RoleTaken>> role_taken_;  // a standby's, set on its role executor's thread
+  std::atomic<std::uint32_t> role_settled_{0};   // 1 once role_taken_ is set
+  runtime::Alarm role_alarm_;                    // wakes the main thread once the role is settled
+  /// How long the main thread of a standby that took over waits for the first cycle at most.
+  static constexpr std::chrono::milliseconds kFirstStepWait{20};
+  std::mutex held_mutex_;      // guards the two below (any component's thread)
+  bool hold_records_ = false;  // a takeover under way: state records wait, in order
+  struct HeldState {           // a state record to write (no JSON made on the takeover's way)
+    const Component* component;
+    State from, to;
+    std::int64_t t;
+  };
+  std::vector<HeldState> held_;  // written once the components run
+  RunEndLatch run_end_;          // RunControl::endRun, from any component's thread
 };
 
 }  // namespace keel::engine

@@ -159,8 +159,16 @@ Result<bool> ProcessHost::takeRole() {
   auto locked = block().role.lock();  // a standby sleeps here until the active dies or leaves
   if (locked && *locked == ipc::LockStatus::OwnerDied) slot().woke_ns.store(runtime::steadyNs());
   if (!locked) return fail("role lock: " + locked.error().message);
-  has_role_ = true;
+  role_tid_.store(::gettid(), std::memory_order_release);
   return *locked == ipc::LockStatus::OwnerDied;
+}
+
+bool ProcessHost::holdsRole() const { return role_tid_.load(std::memory_order_acquire) == ::gettid(); }
+
+void ProcessHost::releaseRole() {
+  if (!holdsRole()) return;
+  role_tid_.store(0, std::memory_order_release);
+  (void)block().role.unlock();  // the next standby wakes (and sees a stop, if it is one)
 }
 
 bool ProcessHost::stopRequested() {
@@ -229,8 +237,7 @@ void HostFaultSink::recovered(Component& c, std::int64_t t_ns) {
 
 void ProcessHost::leave() {
   active_.store(false, std::memory_order_release);
-  if (has_role_) (void)block().role.unlock();  // the next standby wakes, sees the stop and leaves
-  has_role_ = false;
+  releaseRole();  // if the main thread holds it: the next standby wakes, sees the stop and leaves
   ipc::publishState(block(), slot(), ipc::HostState::Exited);
   if (has_life_) (void)slot().life.unlock();
   has_life_ = false;

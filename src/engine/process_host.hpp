@@ -2,14 +2,20 @@
 // keel-host (src/host) does around the engine that runs its components.
 // - Life: its main thread takes the slot's robust life lock first thing (keel run's watcher
 //   sleeps on it: the host's death wakes it), and never exits while the process lives.
-// - Role: the active host holds the process's role lock in its main thread; a standby sleeps on
-//   it, loaded and initialised, and the kernel wakes one standby when the active dies. That one
-//   restores the checkpoints, takes the rings over and runs.
+// - Role: the active host holds the process's role lock; a standby sleeps on it, loaded and
+//   initialised, and the kernel wakes one standby when the active dies. That one restores the
+//   checkpoints, takes the rings over and runs. A host started as the active (or respawned)
+//   takes it on its main thread; a standby on the thread of the task that runs first, so that
+//   the thread the kernel wakes is the one that runs the component (no second wake). A role
+//   held by such a thread is released by that thread when it ends at a stop; should it end
+//   otherwise (abandoned in a hung callback, and back), it parks until the process ends: its
+//   release would tell the standbys the process died (runtime/ipc/robust_mutex.hpp's rule).
 // - No orphans: a watcher thread sleeps on keel run's supervisor lock; if keel run dies, it runs
 //   the emergency stop of the components it hosts and exits the process. PR_SET_PDEATHSIG
 //   (SIGTERM) is the backstop, checked with getppid() against the parent keel run named.
 // - Commands from keel run (stop, emergency, clear) arrive on the process block's command word.
-// Thread-safety: enter/takeRole/serve/leave on the main thread; the rest is its own threads'.
+// Thread-safety: enter/serve/leave on the main thread; takeRole/releaseRole on the thread that
+// holds the role (one at a time); the rest is its own threads'.
 #pragma once
 
 #include <sys/types.h>
@@ -76,10 +82,14 @@ class ProcessHost {
   Result<void> enter(std::function<void()> supervisor_lost);
   /// The host could not start: `message` goes to keel run, which prints it.
   void failed(const std::string& message);
-  /// Main thread. The active takes the role lock; a standby says Standby and sleeps on it. True
-  /// when its last holder died (a takeover, or a respawn after a death); false when it was
-  /// released (keel run is stopping the process: check stopRequested()).
+  /// The active takes the role lock; a standby says Standby and sleeps on it. True when its last
+  /// holder died (a takeover, or a respawn after a death); false when it was released (keel run
+  /// is stopping the process: check stopRequested()). The calling thread holds the role until
+  /// releaseRole(), and must not end before (the main thread, or see the header's "Role").
   Result<bool> takeRole();
+  /// Releases the role if the calling thread holds it (leave() does, for the main thread).
+  void releaseRole();
+  bool holdsRole() const;
   bool stopRequested();
   /// The components run: says Active.
   void becameActive();
@@ -109,7 +119,7 @@ class ProcessHost {
 
   std::function<void()> supervisor_lost_;
   std::once_flag lost_once_;
-  bool has_role_ = false;
+  std::atomic<pid_t> role_tid_{0};  // the thread holding the role lock (0: none)
   bool has_life_ = false;
   std::atomic<bool> active_{false};
   std::atomic<bool> signalled_{false};  // SIGTERM/SIGINT: stop
@@ -127,6 +137,7 @@ class HostFaultSink final : public runtime::FaultSink {
   static constexpr std::uint64_t kFirstRun = ~std::uint64_t{0};  // a recovering_id no fault has
   HostFaultSink(runtime::FaultSink& manager, ProcessHost& host) : manager_(manager), host_(host) {}
   void faultDetected(Component& c, const FaultEvent& fault) override { manager_.faultDetected(c, fault); }
+  void transitionFailed(Component& c, const FaultEvent& fault) override { manager_.transitionFailed(c, fault); }
   void runPending(Component& c) override { manager_.runPending(c); }
   void recovered(Component& c, std::int64_t t_ns) override;
 

@@ -535,6 +535,7 @@ void ProcessSupervisor::stop(std::chrono::milliseconds within) {
   }
   beat_cv_.notify_all();
   for (auto& w : beat_watchers_) w.join();
+  session_.abandonRings();  // a host waiting for a ring keel run never made (it failed to start)
   for (auto& g : groups_) stopGroup(*g, within);
   for (auto& g : groups_) {
     std::vector<Group::Watcher> watchers;

@@ -29,7 +29,7 @@ void attributeInjection(FaultReport& r, detail::ComponentCore& core, FaultIds& i
 }  // namespace
 
 FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_view detector,
-                     const std::function<Component*(std::string_view)>& find, FaultIds& ids) {
+                     const std::function<Component*(std::string_view)>& find, FaultIds& ids, bool recoverable) {
   const std::int64_t detected = fault.t_ns ? fault.t_ns : steadyNs();
   Component* accused = &reporter;
   if (fault.component[0] != '\0' && fault.componentName() != reporter.instanceName()) {
@@ -58,6 +58,11 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
   if (h && first.step != Step::Ignore) {
     std::lock_guard lock(h->mutex);
     first = firstStep(rules, fault.kind, h->busy, h->stopped);
+    // OPRoS's lifecycle: a component whose transition failed is in Error and leaves it only
+    // by being destroyed. A reset would start what never initialized, or restart what stops,
+    // and a replacement would too: such a fault is contained (a fault stop) instead, and an
+    // emergency stays an emergency (an actuator whose onStop failed).
+    if (!recoverable && (first.step == Step::Reset || first.step == Step::Replace)) first.step = Step::Stop;
     if (first.step != Step::Done) h->busy = true;  // this fault's handling owns the role now
   }
   r.severity = first.severity;

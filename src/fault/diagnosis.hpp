@@ -31,8 +31,9 @@ class FaultIds {
 };
 
 /// Builds the report of `fault`, found by `reporter` (`detector` names who found it in the log;
-/// empty: the reporter). `find` resolves the instance the event names.
+/// empty: the reporter). `find` resolves the instance the event names. A fault that is not
+/// `recoverable` (a failed lifecycle transition) is only logged, whatever the rules say.
 FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_view detector,
-                     const std::function<Component*(std::string_view)>& find, FaultIds& ids);
+                     const std::function<Component*(std::string_view)>& find, FaultIds& ids, bool recoverable = true);
 
 }  // namespace keel::fault

@@ -40,8 +40,8 @@ void FaultManager::drain() { queue_.drain(); }
 
 // ---- detection: any thread --------------------------------------------------------------
 
-void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::string_view detector) {
-  FaultReport r = diagnose(reporter, fault, detector, find_, ids_);
+void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::string_view detector, bool recoverable) {
+  FaultReport r = diagnose(reporter, fault, detector, find_, ids_, recoverable);
   Component* accused = r.accused;
   if (r.first != Step::Ignore && r.first != Step::Done && allowed(accused->state(), Transition::Fault)) {
     r.noteState(runtime::setStateQuiet(*accused, State::Error), true);  // logged with the detection

@@ -69,10 +69,12 @@ class FaultManager final : public runtime::FaultSink {
 
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
   /// reporter itself). `detector` names who found it in the log (default: the reporter).
-  void onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {});
+  /// Not `recoverable` (a failed lifecycle transition): logged and diagnosed, never handled.
+  void onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {}, bool recoverable = true);
 
   // runtime::FaultSink: what the runtime reports, straight from the thread that noticed it.
   void faultDetected(Component& c, const FaultEvent& fault) override { onFault(c, fault); }
+  void transitionFailed(Component& c, const FaultEvent& fault) override { onFault(c, fault, {}, false); }
   /// On `c`'s own thread: carries on the handling that waits for it.
   void runPending(Component& c) override;
   /// `c` executed normally after a recovery.

@@ -106,7 +106,15 @@ int run(Args& a) {
   if (!engine) failed(engine.error().message);
   // From here keel run's death stops the actuators (once this host is active: ProcessHost).
   running.store(engine->get(), std::memory_order_release);
-  if (auto r = (*engine)->start(); !r) failed(r.error().message);
+  if (auto r = (*engine)->start(); !r) {
+    // Said first (keel run is waiting for it); then the components that initialized get their
+    // onDestroy, as in keel run.
+    host.failed(r.error().message);
+    running.store(nullptr, std::memory_order_release);
+    (*engine)->shutdown();
+    std::cout.flush();
+    ::_exit(1);
+  }
   if (!host.stopRequested()) {
     host.serve([&] { (*engine)->emergencyStop("keel run"); }, [&] { (*engine)->clearEmergency("keel run"); });
   }

@@ -30,6 +30,10 @@ class FaultSink {
   virtual ~FaultSink() = default;
   /// A fault was detected in `c` (or raised by it). Called on the thread that noticed it.
   virtual void faultDetected(Component& c, const FaultEvent& fault) = 0;
+  /// A lifecycle callback of `c` (onInitialize, onStart, onStop, onDestroy) failed with
+  /// `fault`. Reported like any fault, but no rule recovers a transition that did not happen:
+  /// the component stays in Error until it is destroyed. Called on the thread of the call.
+  virtual void transitionFailed(Component& c, const FaultEvent& fault) { faultDetected(c, fault); }
   /// Handling of a fault of `c` waits for `c`'s own thread (the fault cell's `pending` was
   /// set): called there, between callbacks or after its hung callback was interrupted.
   virtual void runPending(Component& c) = 0;
@@ -122,6 +126,9 @@ class ComponentCore {
 
   // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).
   std::atomic<State> state{State::Created};
+  // Why the last lifecycle callback failed (the fault's detail), for the caller of
+  // transition() to report; written and read on the thread that called it.
+  std::string transition_fault;
 
   // Execution (runtime/executor, runtime/service). The executor is null for a passive
   // component; atomic because an abandoned executor's components move to a new one while

@@ -6,6 +6,7 @@
 #include <sched.h>
 #include <sys/prctl.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <system_error>
 
@@ -59,20 +60,30 @@ void Executor::addInput(ExternalInput& input) {
   sleep_words_.reserve(inputs_.size() + 1);
 }
 
-void Executor::prepare() {
+void Executor::prepare(std::function<void()> before_park, std::function<void()> at_exit) {
   prepared_ = true;
+  before_park_ = std::move(before_park);
+  at_exit_ = std::move(at_exit);
   gate_.store(0, std::memory_order_relaxed);
   thread_ = std::thread([this] { threadMain(); });
 }
 
 void Executor::start(bool adopt) {
   adopt_ = adopt;
-  if (thread_.joinable()) {  // prepared: parked at the gate
+  release();
+  waitStarted();
+}
+
+void Executor::release() {
+  if (prepared_) {  // parked at the gate, or about to be
     gate_.store(1, std::memory_order_release);
     gate_.notify_one();
-  } else {
+  } else if (!thread_.joinable()) {
     thread_ = std::thread([this] { threadMain(); });
   }
+}
+
+void Executor::waitStarted() const {
   while (!started_.load(std::memory_order_acquire) && !exited_.load()) std::this_thread::yield();
 }
 
@@ -155,12 +166,21 @@ void Executor::setUpThread() {
 
 void Executor::threadMain() {
   setUpThread();
+  run();
+  // Every way out: at_exit_ first (the thread may hold what only it can release), then exited_.
+  if (at_exit_) at_exit_();
+  exited_.store(true, std::memory_order_release);
+}
+
+void Executor::run() {
   if (prepared_) {  // parked until start() or a stop
+    // Its allocator's arena made now, not on its way to the first step: a thread's first
+    // allocation maps memory for it (glibc's per-thread arenas). Volatile: not elided.
+    void* volatile first = std::malloc(64);
+    std::free(first);
+    if (before_park_) before_park_();
     gate_.wait(0, std::memory_order_acquire);
-    if (stop_.load(std::memory_order_acquire)) {
-      exited_.store(true, std::memory_order_release);
-      return;
-    }
+    if (stop_.load(std::memory_order_acquire)) return;
   }
   for (Component* c : members_) {
     if (!adopt_) transition(*c, Transition::Start);
@@ -169,14 +189,10 @@ void Executor::threadMain() {
   started_.store(true, std::memory_order_release);
   if (config_.kind == ExecutorKind::Periodic) runPeriodic();
   else runAperiodic();
-  if (abandoned_.load(std::memory_order_acquire)) {  // came back after all: the members are not ours
-    exited_.store(true, std::memory_order_release);
-    return;
-  }
+  if (abandoned_.load(std::memory_order_acquire)) return;  // came back after all: the members are not ours
   serviceBetweenCycles();
   for (auto it = members_.rbegin(); it != members_.rend(); ++it) transition(**it, Transition::Stop);
   runMail();  // answer calls that arrived meanwhile (they fail fast: provider not active)
-  exited_.store(true, std::memory_order_release);
 }
 
 void Executor::serviceBetweenCycles() {

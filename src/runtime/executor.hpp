@@ -84,10 +84,17 @@ class Executor {
   /// Starts the thread; it starts its members (onStart) and returns once they have. With
   /// `adopt`, the members are taken over as they are (already started by another executor).
   void start(bool adopt = false);
+  /// As start(), without waiting for the members' onStart (waitStarted() waits). Any thread,
+  /// the executor's own included (from its `before_park`).
+  void release();
+  /// Returns once the members have started (or the thread has exited).
+  void waitStarted() const;
   /// Starts the thread ahead, set up (name, policy, stack) and parked before its members start:
   /// start() then only lets it go on (a standby host's takeover creates no thread). A parked
   /// thread asked to stop exits without starting or stopping its members.
-  void prepare();
+  /// `before_park` runs on the thread, set up, before it parks (it may release() it: the thread
+  /// then goes on at once); `at_exit` runs on the thread as it ends, whichever way it ends.
+  void prepare(std::function<void()> before_park = {}, std::function<void()> at_exit = {});
   /// Gives up a thread stuck in a callback that could not be interrupted: it is asked to stop,
   /// and should it ever come back it touches no member again (they run on another executor).
   void abandon();
@@ -120,6 +127,7 @@ class Executor {
 
  private:
   void threadMain();
+  void run();  // the thread's life between its setup and its exit
   void setUpThread();
   void runPeriodic();
   void runAperiodic();
@@ -146,7 +154,9 @@ class Executor {
   std::atomic<bool> exited_{false};
   std::atomic<bool> abandoned_{false};
   bool adopt_ = false;
-  bool prepared_ = false;               // set before the thread exists
+  bool prepared_ = false;              // set before the thread exists
+  std::function<void()> before_park_;  // prepare()'s, likewise
+  std::function<void()> at_exit_;
   std::atomic<std::uint32_t> gate_{1};  // 0 while a prepared thread is parked
   std::mutex mail_mutex_;
   std::vector<std::function<void()>> mail_;

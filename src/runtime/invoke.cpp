@@ -83,8 +83,13 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   out.describe(ev, callbackName(cb));
   // A failed lifecycle callback leaves the component in Error (no rule recovers it); a fault
   // of a running callback is the fault manager's to handle by the component's rules.
-  State s = core.state.load(std::memory_order_acquire);
-  if (isLifecycle(cb) && cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
+  if (isLifecycle(cb)) {
+    core.transition_fault = ev.detailText();
+    State s = core.state.load(std::memory_order_acquire);
+    if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
+    if (core.fault_sink) core.fault_sink->transitionFailed(c, ev);
+    return;
+  }
   if (core.fault_sink) core.fault_sink->faultDetected(c, ev);
 }
 
@@ -145,6 +150,10 @@ bool transition(Component& c, Transition t) {
     case Transition::Destroy: cb = Callback::Destroy; break;
     case Transition::Recover: cb = Callback::Recover; break;
     case Transition::Fault: setState(c, State::Error); return true;
+  }
+  if (t == Transition::Destroy && from == State::Created) {  // never initialized: nothing to undo
+    setState(c, State::Destroyed);
+    return true;
   }
   bool ok = invoke(c, cb);
   if (ok || t == Transition::Destroy) setState(c, target(t));

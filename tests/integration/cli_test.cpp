@@ -42,6 +42,54 @@ TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
   ASSERT_FALSE(stopping.empty());
 }
 
+// OPRoS's lifecycle: a component whose onInitialize failed never started, so it is not stopped
+// (its onStop would use what it never set up) nor reset by its rules (contained instead); it is
+// destroyed. One never initialized gets no callback. The run fails, saying why once.
+TEST_F(Cli, AComponentThatFailsToInitializeIsOnlyDestroyedAndTheRunSaysWhy) {
+  const std::string trace = test::tempPath("keel_cli_refuser"), late = test::tempPath("keel_cli_late");
+  auto r = test::runProcess({KEEL_CLI, "run", profile("refused.xml"), "--duration", "0.3", "--log", log_, "--set",
+                             "refuser.trace=" + trace, "--set", "late.trace=" + late});
+  const std::string callbacks = test::slurp(trace);
+  EXPECT_FALSE(std::filesystem::exists(late)) << test::slurp(late);
+  std::filesystem::remove(trace);
+  std::filesystem::remove(late);
+  EXPECT_EQ(r.status, 1) << r.err;
+  const std::string why =
+      "refused.xml:10: component 'refuser' failed to initialize: exception in onInitialize: no device at /dev/nothing";
+  const auto at = r.err.find(why);
+  EXPECT_NE(at, std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("failed to initialize", at + why.size()), std::string::npos) << "said once\n" << r.err;
+  EXPECT_EQ(callbacks, "onInitialize\nonDestroy\n");
+  auto log = test::readLog(log_);
+  EXPECT_EQ(test::statesOf(log, "refuser"), (std::vector<std::string>{"Error", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "counter"), (std::vector<std::string>{"Ready", "Destroyed"}));
+  EXPECT_EQ(test::statesOf(log, "late"), (std::vector<std::string>{"Destroyed"}));
+  ASSERT_EQ(test::eventsOf(log, ev::kDetected).size(), 1u);
+  const auto actions = test::eventsOf(log, ev::kAction);
+  ASSERT_EQ(actions.size(), 1u);
+  EXPECT_EQ(actions[0].value(fd::kAction, ""), "stop") << actions[0].dump();
+}
+
+// A failed onStop is not reset either, but the rules' emergency stop still runs: an actuator
+// whose stop command failed must still reach its safe state.
+TEST_F(Cli, AFailedOnStopIsNotResetButItsEmergencyStopRuns) {
+  const std::string trace = test::tempPath("keel_cli_driver");
+  auto r = test::runProcess({KEEL_CLI, "run", profile("unacknowledged_stop.xml"), "--duration", "0.3", "--log", log_,
+                             "--set", "driver.trace=" + trace});
+  const std::string callbacks = test::slurp(trace);
+  std::filesystem::remove(trace);
+  EXPECT_EQ(callbacks, "onInitialize\nonStart\nonStop\nonEmergencyStop\nonDestroy\n") << r.err;
+  auto log = test::readLog(log_);
+  const auto detected = test::eventsOf(log, ev::kDetected);
+  ASSERT_EQ(detected.size(), 1u) << r.err;
+  EXPECT_NE(detected[0].value(fd::kDetail, "").find("in onStop"), std::string::npos) << detected[0].dump();
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 0u);
+  bool latched = false;
+  for (const auto& e : test::eventsOf(log, ev::kEmergency)) latched |= e.value(fd::kPhase, "") == "latched";
+  EXPECT_TRUE(latched) << r.err;
+  EXPECT_EQ(test::statesOf(log, "driver"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
+}
+
 // --cpu-dma-latency: the engine holds the request while it runs and says so in its log; a
 // machine that refuses it gets a warning and the run goes on.
 TEST_F(Cli, RunHoldsTheCpusWakeUpLatencyWhileRunning) {

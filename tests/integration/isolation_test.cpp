@@ -1,8 +1,9 @@
 // Process isolation as a user runs it (docs/isolation.md): `keel run` with components in
 // processes of their own — real processes, real kills. Values cross in order and whole; each
 // way a process dies is a `process` fault handled by its policy (a standby takes over, or a
-// respawn); a port type that cannot cross is refused; when keel run itself is killed, the
-// actuators it left are stopped and no process stays behind.
+// respawn); a standby's task thread that took the role keeps it while its process lives; a port
+// type that cannot cross is refused; when keel run itself is killed, the actuators it left are
+// stopped and no process stays behind.
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -101,6 +102,19 @@ TEST_F(Isolation, ValuesCrossProcessesWholeInOrderAndWithoutLoss) {
   ASSERT_EQ(hostRecords(log, "active").size(), 1u);
   EXPECT_EQ(hostRecords(log, "standby").size(), 1u);
   EXPECT_EQ(hostRecords(log, "exited").size(), 2u) << "the active and its standby, stopped with the run";
+}
+
+// A component without an executor (passive) has its ring read by a pump thread instead.
+TEST_F(Isolation, ValuesCrossToAPassiveComponentThroughAPumpWholeInOrderAndWithoutLoss) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("stream_passive.xml"), "--duration", "1.0", "--log", log_,
+                             "--set", "checker.report=" + report_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const Report got = readReport(report_);
+  EXPECT_GT(got.received, 100u);  // a sample every 2 ms for 1 s, queued (1024) until the stop
+  EXPECT_EQ(got.torn, 0u);
+  EXPECT_EQ(got.gaps, 0u);
+  EXPECT_EQ(got.back, 0u);
+  EXPECT_EQ(got.last, got.received) << "every sample from the first on";
 }
 
 TEST_F(Isolation, AKilledProcessIsTakenOverByItsStandbyWithItsCheckpointAndAFreshStandbyFollows) {
@@ -238,6 +252,42 @@ TEST_F(Isolation, AProcessThatStopsWholeIsKilledOnItsHeartbeatAndItsStandbyTakes
   // Stopped at 250 ms, silent for the 100 ms timeout (checked every 25 ms): killed by ~400 ms.
   EXPECT_GE(hostRecords(log, "took_over").size(), 1u);
   EXPECT_FALSE(test::eventsOf(log, ev::kRecovered).empty());
+}
+
+// A standby's role is held by the thread of its task (docs/isolation.md). Abandoned in a hung
+// callback and back while its process runs, that thread must not release the role: the fresh
+// standby would take over from a live process.
+TEST_F(Isolation, AnAbandonedThreadThatHoldsTheRoleComesBackAndTheNextStandbyDoesNotTakeOver) {
+  writeScenario("  <fault at=\"300\" component=\"stuck\" kind=\"kill\"/>\n");
+  auto r = test::runProcess(
+      {KEEL_CLI, "run", profile("stubborn.xml"), "--duration", "2.0", "--log", log_, "--inject", scenario_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto log = test::readLog(log_);
+  ASSERT_EQ(hostRecords(log, "took_over").size(), 1u) << r.out;
+  // The taker hung at ~900 ms and came back at ~1300 ms, 700 ms before the end.
+  bool abandoned = false;
+  for (const auto& a : test::eventsOf(log, ev::kAction))
+    abandoned |= a.value(fd::kDetail, "").rfind("executor abandoned", 0) == 0;
+  EXPECT_TRUE(abandoned) << "the hang was not one past the interrupt";
+  EXPECT_EQ(hostRecords(log, "starting").size(), 1u) << "only the first active starts";
+  EXPECT_EQ(processFaults(log).size(), 1u) << "only the kill: the taker was not fenced";
+}
+
+// keel run fails to start before it made the ring a host reads: the host is told, stops at
+// once with its components destroyed, and is not killed after keel run's stop timeout.
+TEST_F(Isolation, AHostWaitingForARingOfARunThatFailedToStartEndsAtOnce) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("refused.xml"), "--duration", "0.3", "--log", log_});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find("component 'refuser' failed to initialize: exception in onInitialize: no device"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("did not stop"), std::string::npos) << r.err;
+  const auto log = test::readLog(log_);
+  const auto failed = hostRecords(log, "failed");
+  ASSERT_EQ(failed.size(), 1u) << r.err;
+  EXPECT_NE(failed[0].value(fd::kDetail, "").find("the run stopped before its writer 'counter'"), std::string::npos)
+      << failed[0].dump();
+  EXPECT_EQ(test::statesOf(log, "summer"), (std::vector<std::string>{"Ready", "Destroyed"}));
 }
 
 TEST_F(Isolation, APortTypeThatCannotCrossIsRefusedWithTheConnectionsLine) {

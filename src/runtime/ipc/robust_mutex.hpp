@@ -6,9 +6,11 @@
 //
 // THE RULE: the kernel tracks robust locks per *thread* (each thread's robust list, walked when
 // that thread exits). A lock whose release is to signal a process's death must therefore be held
-// by that process's main thread, which must never pthread_exit: a lock held by another thread is
-// released, as if the process died, when that thread ends. Keep the memory mapped while holding
-// it: the kernel cannot mark a lock it can no longer reach, and its waiters then sleep forever.
+// by a thread that never ends while the process lives — its main thread, which must never
+// pthread_exit, or a thread that parks rather than end (a standby's role, engine/process_host.hpp):
+// a lock held by a thread is released, as if the process died, when that thread ends. Keep the
+// memory mapped while holding it: the kernel cannot mark a lock it can no longer reach, and its
+// waiters then sleep forever.
 //
 // Error-checking type: relocking by the owner and unlocking by another thread are errors, not a
 // deadlock or a silent release. Thread-safety: any thread of any process mapping it.

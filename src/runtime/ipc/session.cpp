@@ -131,6 +131,14 @@ std::atomic<std::uint32_t>& Session::ringReady(std::size_t i) {
   return std::launder(reinterpret_cast<RingWord*>(memory_.data() + layoutOf(shape_).rings))[i].ready;
 }
 
+void Session::abandonRings() {
+  for (std::size_t i = 0; i < shape_.rings; ++i) {
+    std::uint32_t pending = kRingPending;
+    if (ringReady(i).compare_exchange_strong(pending, kRingAbandoned, std::memory_order_acq_rel))
+      runtime::futexWakeAll(ringReady(i), runtime::FutexScope::Shared);
+  }
+}
+
 LogArena& Session::log() { return *std::launder(reinterpret_cast<LogArena*>(memory_.data() + layoutOf(shape_).log)); }
 
 LogStage& logStage(LogArena& arena, std::size_t i) {

@@ -130,6 +130,8 @@ struct SessionShape {
   std::uint64_t plan_hash = 0;  // of what the indices index
 };
 
+inline constexpr std::uint32_t kRingPending = 0, kRingReady = 1, kRingAbandoned = 2;
+
 class Session {
  public:
   /// keel run: a new region of `shape`, every lock initialised.
@@ -142,7 +144,11 @@ class Session {
   std::atomic<std::uint64_t>& faultIds();  // the run's fault ids: every process counts here
   std::atomic<std::int64_t>& logEpoch();   // keel run's log epoch (steady ns): every t_ns counts from it
   ProcessBlock& process(std::size_t i);
-  std::atomic<std::uint32_t>& ringReady(std::size_t i);  // 1 once the ring's memfd is laid out
+  /// kRingPending, then kRingReady once the ring's memfd is laid out (its writer), or
+  /// kRingAbandoned when the run stops before that (keel run): a reader waits on this word.
+  std::atomic<std::uint32_t>& ringReady(std::size_t i);
+  /// keel run, stopping: every ring not laid out yet never will be; its readers stop waiting.
+  void abandonRings();
   /// The next sample the reading side (whichever process of it is active) will deliver: where
   /// a reader taking over resumes.
   std::atomic<std::uint64_t>& ringConsumed(std::size_t i);

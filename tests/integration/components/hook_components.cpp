@@ -79,7 +79,47 @@ class Driver : public keel::Component, public keel::HardwareDriver {
   std::mutex mutex_;
 };
 
+/// Writes the name of each lifecycle and recovery callback keel calls to the file `trace`, and
+/// fails its onInitialize when `refuse` is set, as a driver whose device is missing does. Its
+/// onStop then dereferences what onInitialize never set up, as such a driver would. With
+/// `fail_stop` its onStop throws, as a driver whose stop command is not acknowledged.
+class Refuser : public keel::Component {
+ public:
+  keel::ReturnCode onInitialize() override {
+    trace_ = property<std::string>("trace");
+    note("onInitialize");
+    if (property<bool>("refuse", false)) throw std::runtime_error("no device at /dev/nothing");
+    device_ = &opened_;
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onStart() override { return note("onStart"); }
+  keel::ReturnCode onStop() override {
+    note("onStop");
+    *device_ = 0;  // a null pointer unless onInitialize succeeded
+    if (property<bool>("fail_stop", false)) throw std::runtime_error("stop command not acknowledged");
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onDestroy() override { return note("onDestroy"); }
+  keel::ReturnCode onEmergencyStop() override { return note("onEmergencyStop"); }
+  keel::ReturnCode onError() override { return note("onError"); }
+  keel::ReturnCode onReset() override { return note("onReset"); }
+  keel::ReturnCode onRecover() override { return note("onRecover"); }
+
+ private:
+  keel::ReturnCode note(const char* callback) const {
+    if (std::FILE* f = std::fopen(trace_.c_str(), "a")) {
+      std::fprintf(f, "%s\n", callback);
+      std::fclose(f);
+    }
+    return keel::ReturnCode::Ok;
+  }
+  std::string trace_;
+  int opened_ = 0;
+  int* device_ = nullptr;
+};
+
 }  // namespace itest
 
 KEEL_REGISTER_COMPONENT_AS(itest::Finisher, "Finisher")
+KEEL_REGISTER_COMPONENT_AS(itest::Refuser, "Refuser")
 KEEL_REGISTER_COMPONENT_AS(itest::Driver, "Driver")

@@ -1,13 +1,14 @@
 // Components for the process-isolation tests (tests/integration/isolation_test.cpp): a producer of
 // self-checking samples, a consumer that counts torn, lost and reordered ones, a component that
-// dies the way a real process does (outside keel's guard), and an actuator that writes down its
-// emergency stop.
+// dies the way a real process does (outside keel's guard), one that hangs past keel's interrupt,
+// and an actuator that writes down its emergency stop.
 #include <keel/component.hpp>
 
 #include <signal.h>
 #include <unistd.h>
 
 #include <array>
+#include <chrono>
 #include <cstdint>
 #include <cstdlib>
 #include <fstream>
@@ -55,6 +56,18 @@ class PatternCheck : public keel::Component {
     return keel::ReturnCode::Ok;
   }
   keel::ReturnCode onExecute() override {
+    take();
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onStop() override {
+    take();  // a passive checker takes everything here: nothing runs it before
+    if (!report_.empty())
+      std::ofstream(report_) << received_ << ' ' << gaps_ << ' ' << back_ << ' ' << torn_ << ' ' << last_ << '\n';
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  void take() {
     while (auto p = in.pop()) {
       ++received_;
       for (std::size_t i = 0; i < p->words.size(); ++i)
@@ -66,15 +79,7 @@ class PatternCheck : public keel::Component {
       if (last_ != 0 && p->seq <= last_) ++back_;
       last_ = p->seq;
     }
-    return keel::ReturnCode::Ok;
   }
-  keel::ReturnCode onStop() override {
-    if (!report_.empty())
-      std::ofstream(report_) << received_ << ' ' << gaps_ << ' ' << back_ << ' ' << torn_ << ' ' << last_ << '\n';
-    return keel::ReturnCode::Ok;
-  }
-
- private:
   std::string report_;
   std::uint64_t received_ = 0, gaps_ = 0, back_ = 0, torn_ = 0, last_ = 0;
 };
@@ -115,6 +120,44 @@ class Doomed : public keel::Component {
   std::uint64_t seq_ = 0;
 };
 
+/// Hangs in one onExecute, `after_ms` after it starts, for `hang_ms`, with every signal blocked
+/// (as a badly behaved library might): keel's interrupt cannot end the callback, so its executor
+/// is abandoned, and the thread comes back when the hang ends.
+class Stubborn : public keel::Component {
+ public:
+  keel::OutputDataPort<Pattern> out{this, "out"};
+  keel::ReturnCode onInitialize() override {
+    after_ms_ = property<int>("after_ms", 500);
+    hang_ms_ = property<int>("hang_ms", 300);
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onStart() override {
+    hang_at_ = std::chrono::steady_clock::now() + std::chrono::milliseconds(after_ms_);
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onExecute() override {
+    Pattern p;
+    p.seq = ++seq_;
+    out.push(p);
+    if (!hung_ && std::chrono::steady_clock::now() >= hang_at_) {
+      hung_ = true;
+      sigset_t all, old;
+      sigfillset(&all);
+      pthread_sigmask(SIG_BLOCK, &all, &old);
+      std::this_thread::sleep_for(std::chrono::milliseconds(hang_ms_));
+      pthread_sigmask(SIG_SETMASK, &old, nullptr);
+    }
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  int after_ms_ = 500;
+  int hang_ms_ = 300;
+  std::chrono::steady_clock::time_point hang_at_{};
+  bool hung_ = false;
+  std::uint64_t seq_ = 0;
+};
+
 /// An actuator that appends "emergency <pid>" to the file `trace` in its onEmergencyStop.
 class Brake : public keel::Component {
  public:
@@ -140,5 +183,7 @@ class Brake : public keel::Component {
 
 KEEL_REGISTER_COMPONENT_AS(itest::PatternSource, "PatternSource")
 KEEL_REGISTER_COMPONENT_AS(itest::PatternCheck, "PatternCheck")
+KEEL_REGISTER_COMPONENT_AS(itest::PatternCheck, "PatternCheckPassive")
 KEEL_REGISTER_COMPONENT_AS(itest::Doomed, "Doomed")
+KEEL_REGISTER_COMPONENT_AS(itest::Stubborn, "Stubborn")
 KEEL_REGISTER_COMPONENT_AS(itest::Brake, "Brake")

@@ -114,6 +114,55 @@ TEST_F(ExecutorTest, APreparedThreadAskedToStopLeavesWithoutStartingOrStoppingIt
   EXPECT_EQ(a.executions.load(), 0);
 }
 
+TEST_F(ExecutorTest, APreparedThreadRunsItsBeforeParkHookAndGoesOnAtOnceWhenTheHookReleasesIt) {
+  // A standby host's takeover: the thread that wakes to the death releases itself and runs its
+  // members, with no start() from another thread.
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  ex.add(a);
+  std::atomic<std::thread::id> hook_thread{};
+  std::atomic<bool> go{false};
+  ex.prepare([&] {
+    hook_thread = std::this_thread::get_id();
+    while (!go.load()) std::this_thread::sleep_for(1ms);  // the role lock a standby sleeps on
+    ex.release();
+  });
+  std::this_thread::sleep_for(20ms);
+  EXPECT_EQ(a.state(), State::Ready);  // not started while the hook waits
+  go = true;
+  ASSERT_TRUE(eventually([&] { return a.executions.load() >= 2; }));
+  EXPECT_EQ(a.last_thread.load(), hook_thread.load());  // the hook's thread runs the members
+  ex.requestStop();
+  ASSERT_TRUE(ex.join(5s));
+  EXPECT_EQ(a.state(), State::Inactive);
+}
+
+TEST_F(ExecutorTest, TheAtExitHookRunsOnTheThreadHoweverItEnds) {
+  // What the thread holds (a standby's role lock) can only be released by that thread.
+  Tracer a(&trace_, &trace_mutex_);
+  ready(a, "a");
+  auto runs = [&](auto&& end) {
+    Executor ex({"task", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+    ex.add(a);
+    std::atomic<std::thread::id> ran_on{}, exited_on{};
+    ex.prepare([&] { ran_on = std::this_thread::get_id(); }, [&] { exited_on = std::this_thread::get_id(); });
+    end(ex);
+    EXPECT_TRUE(ex.join(5s));
+    return exited_on.load() != std::thread::id{} && exited_on.load() == ran_on.load();
+  };
+  EXPECT_TRUE(runs([](Executor& ex) { ex.requestStop(); }));  // parked, never started
+  EXPECT_TRUE(runs([&](Executor& ex) {                        // started, stopped
+    ex.start();
+    ASSERT_TRUE(eventually([&] { return a.executions.load() >= 1; }));
+    ex.requestStop();
+  }));
+  EXPECT_TRUE(runs([&](Executor& ex) {  // started, then abandoned
+    ex.start(/*adopt=*/true);
+    ex.abandon();
+  }));
+}
+
 TEST_F(ExecutorTest, PeriodicExecutorKeepsItsRateOverTime) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
