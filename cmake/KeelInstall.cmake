@@ -1,7 +1,12 @@
 # Install rules: `cmake --install build --prefix P` gives a relocatable tree
 #   P/bin/keel                    the CLI; RPATH $ORIGIN/../lib finds libkeel
 #   P/lib/libkeel.so*             the framework (with its soname links)
-#   P/lib/keel/*.so               keel's stock component libraries (found next to libkeel)
+#   P/lib/keel/*.so               keel's stock component libraries (found next to libkeel), the
+#                                 test robot's among them
+#   P/bin/keel-host               a component process of keel run (found next to bin/keel)
+#   P/bin/keel_motion_board       the robot's board program (robot/CMakeLists.txt)
+#   P/share/keel/profiles/        the stock components' profiles (components/CMakeLists.txt)
+#   P/share/keel/robot/           the robot's profiles and scenarios (robot/CMakeLists.txt)
 #   P/include/keel/**             the public headers
 #   P/lib/cmake/keel/             the CMake package: find_package(keel CONFIG) gives keel::keel,
 #                                 keel::cli and keel_add_component()

@@ -11,6 +11,10 @@
    the log shows both instances reaching Active and then Destroyed, and no fault.
 5. `cmake --install` of the project puts libgreeters.so into <prefix>/lib/keel; the same
    application run from the installed profiles finds it there, through libkeel's location.
+6. The installed robot: `<prefix>/bin/keel run <prefix>/share/keel/robot/navigation.xml` with
+   the installed segfault scenario, from elsewhere: keel finds the robot's library, its motion
+   board program and keel-host through its own location; both faults are detected and
+   recovered, every component ends Destroyed, and nothing keel started is left running.
 
 Exits non-zero, naming the step and showing the command's output, on any failure.
 Called by CTest (tests/package/CMakeLists.txt); runnable by hand with the same arguments.
@@ -161,7 +165,8 @@ def check_shipped(keel, prefix, libdir):
     for lib in sorted((libdir / "keel").glob("*.so")):
         out = run(f"keel inspect {lib.name}", [keel, "inspect", lib], timeout=60)
         expect("component" in out, f"keel inspect {lib}: lists no component:\n{out}")
-    profiles = sorted((prefix / "share" / "keel").rglob("*.xml"))
+    # Fault scenarios are not profiles: the robot's run below loads one.
+    profiles = sorted(p for p in (prefix / "share" / "keel").rglob("*.xml") if "scenarios" not in p.parts)
     if profiles:
         run("keel validate the installed profiles", [keel, "validate", *profiles], timeout=60)
 
@@ -208,6 +213,34 @@ def check_installed_run(args, work, prefix, libdir, build):
     check_run(prefix / "bin" / "keel", profile, elsewhere, elsewhere / "installed-run.jsonl")
 
 
+def check_installed_robot(work, prefix):
+    robot = prefix / "share" / "keel" / "robot"
+    for path in (robot / "navigation.xml", robot / "scenarios" / "segfault.xml", prefix / "bin" / "keel_motion_board"):
+        expect(path.exists(), f"installed robot: missing {path}")
+    elsewhere = work / "robot-run"
+    elsewhere.mkdir()
+    log = elsewhere / "robot.jsonl"
+    out = run("keel run the installed robot", [prefix / "bin" / "keel", "run", robot / "navigation.xml",
+                                               "--inject", robot / "scenarios" / "segfault.xml",
+                                               "--duration", "6", "--log", log], cwd=elsewhere, timeout=120)
+    records = [json.loads(line) for line in log.read_text().splitlines() if line.strip()]
+    # The scenario's two signals, once each (a busy machine may add a late cycle's heartbeat).
+    signals = sorted(r["component"] for r in records if r["event"] == "detected" and r["kind"] == "signal")
+    recovered = {r["component"] for r in records if r["event"] == "recovered"}
+    expect(signals == ["detector", "planner"], f"installed robot: signals of {signals}, want the scenario's two\n{out}")
+    expect({"detector", "planner"} <= recovered, f"installed robot: recovered {recovered}\n{out}")
+    last = {}
+    for r in records:
+        if r["event"] == "state":
+            last[r["component"]] = r["to"]
+    expect(len(last) >= 14 and all(s == "Destroyed" for s in last.values()),
+           f"installed robot: not every component ended Destroyed: {last}")
+    left = run("list processes", ["ps", "-eo", "args"])
+    for program in ("keel_motion_board", "keel-host"):
+        expect(not any(line.startswith(str(prefix / "bin" / program)) for line in left.splitlines()),
+               f"installed robot: {program} still running after keel run ended")
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--cmake", required=True)
@@ -240,6 +273,7 @@ def main():
         check_inspect(keel, lib)
         check_run(keel, "app.xml", lib.parent, "run.jsonl")
         check_installed_run(args, work, prefix, libdir, build)
+        check_installed_robot(work, prefix)
     except Failure as e:
         print(f"FAILED: {e}", file=sys.stderr, flush=True)
         return 1
