@@ -16,9 +16,6 @@ namespace {
 using runtime::coreOf;
 using namespace std::chrono_literals;
 
-// How long the emergency stop waits for an executor to run onEmergencyStop before it runs it
-// on its own thread (the executor is taken to be hung).
-constexpr auto kEmergencyBound = 20ms;
 // How long a fault stop waits for a hung callback to come back after it was interrupted.
 constexpr auto kInterruptBound = 200ms;
 
@@ -118,7 +115,7 @@ std::vector<std::string> Containment::emergencyStop(std::string_view by, std::ui
       runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);
       done->store(true, std::memory_order_release);
     };
-    if (!onItsThread(*c, kEmergencyBound, job)) {
+    if (!onItsThread(*c, emergency_bound_, job)) {
       if (!claimed->exchange(true)) {
         runtime::invokeRecovery(*c, runtime::Callback::EmergencyStop);  // its executor is hung
         direct.push_back(c->instanceName());

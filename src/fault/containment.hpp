@@ -7,6 +7,7 @@
 #pragma once
 
 #include <atomic>
+#include <chrono>
 #include <functional>
 #include <mutex>
 #include <set>
@@ -39,7 +40,7 @@ class Containment {
   Outcome stopScope(FaultReport& r, ComponentHandling& h);
 
   /// Latches the emergency and runs every component's onEmergencyStop, on its executor when
-  /// that answers within 20 ms, else on the calling thread. Returns the components whose
+  /// that answers within emergencyBound() (20 ms), else on the calling thread. Returns the components whose
   /// onEmergencyStop ran. `by` is logged; so are `fault_id` and `component` when a fault of
   /// that component called for it (0 and empty: an operator).
   std::vector<std::string> emergencyStop(std::string_view by, std::uint64_t fault_id = 0,
@@ -47,6 +48,9 @@ class Containment {
   /// Clears the latch (an explicit operator action, logged). False if none was latched.
   bool clearEmergency(std::string_view by);
   bool emergencyLatched() const { return emergency_.load(std::memory_order_acquire); }
+  /// How long the emergency stop waits for an executor before it takes it to be hung.
+  std::chrono::nanoseconds emergencyBound() const { return emergency_bound_; }
+  void setEmergencyBound(std::chrono::nanoseconds bound) { emergency_bound_ = bound; }
 
   std::set<std::string> stoppedComponents() const;
   std::set<std::string> stoppedApplications() const;
@@ -64,6 +68,7 @@ class Containment {
   const DependencyGraph* graph_ = nullptr;
 
   std::atomic<bool> emergency_{false};
+  std::chrono::nanoseconds emergency_bound_ = std::chrono::milliseconds(20);
   std::mutex emergency_mutex_;  // one emergency stop at a time
 
   mutable std::mutex mutex_;  // guards the two sets

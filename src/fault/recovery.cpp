@@ -45,6 +45,9 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
     r.add(ActionKind::Reset, false, t, "{}", why.detailText());
     return Outcome::Failed;
   }
+  // The watchdog's "not executed" counts from here, not from the step that failed (a hung one
+  // began longer ago than the timeout: a second fault before the next step could run).
+  core.watch.last_beat_ns.store(t, std::memory_order_relaxed);
   r.noteState(runtime::setStateQuiet(c, State::Active));
   r.add(ActionKind::Reset, true, t, "onError → onReset → onRecover");
   if (!core.critical.empty()) {

@@ -1,6 +1,8 @@
 // The keel command as a user runs it: run, validate, inspect, graph.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
+
 #include <filesystem>
 
 #include "fault/log_schema.hpp"
@@ -177,19 +179,30 @@ TEST_F(Cli, TheHelloExampleRunsAndDeliversEvents) {
 }
 
 TEST_F(Cli, TheFaultDetectionExampleCatchesEachFaultAndKeepsTheRestRunning) {
+  // 4 s: the second sonar's fault comes at ~1.6 s, later on a loaded machine.
   auto r = test::runProcess(
-      {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "2", "--log", log_});
+      {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "4", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   auto log = test::readLog(log_);
   auto detected = test::eventsOf(log, ev::kDetected);
   ASSERT_GE(detected.size(), 3u);
-  EXPECT_EQ(detected[0][fd::kComponent], "sonar_left");
-  EXPECT_EQ(detected[0][fd::kKind], "signal");
   EXPECT_EQ(test::statesOf(log, "sonar_left"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
-  // its <fault_policy> has the default severity, reset: each fault it raises resets it
-  EXPECT_EQ(test::statesOf(log, "avoider"), (std::vector<std::string>{"Ready", "Active", "Error", "Active", "Error",
-                                                                      "Active", "Inactive", "Destroyed"}));
-  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 2u);
+  std::vector<std::string> kinds_of_sonars;
+  int user_faults = 0, avoider_faults = 0;
+  for (const auto& d : detected) {
+    if (d[fd::kComponent] == "avoider") {
+      ++avoider_faults;  // its two `user` faults, and on a loaded machine maybe a late step
+      user_faults += d[fd::kKind] == "user";
+    } else kinds_of_sonars.push_back(d[fd::kComponent].get<std::string>() + " " + d[fd::kKind].get<std::string>());
+  }
+  EXPECT_EQ(kinds_of_sonars, (std::vector<std::string>{"sonar_left signal", "sonar_right exception"}));
+  EXPECT_EQ(user_faults, 2);
+  // its <fault_policy> has the default severity, reset: each of its faults resets it
+  std::vector<std::string> expected{"Ready", "Active"};
+  for (int i = 0; i < avoider_faults; ++i) expected.insert(expected.end(), {"Error", "Active"});
+  expected.insert(expected.end(), {"Inactive", "Destroyed"});
+  EXPECT_EQ(test::statesOf(log, "avoider"), expected);
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), static_cast<std::size_t>(avoider_faults));
 }
 
 TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
@@ -223,14 +236,17 @@ TEST_F(Cli, TheConsoleLatchesAnEmergencyStopUntilItIsCleared) {
 
 TEST_F(Cli, TheSummaryShowsEachFaultsHandlingAndRecoveryLatency) {
   auto r = test::runProcess(
-      {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "2", "--log", log_});
+      {KEEL_CLI, "run", std::string(KEEL_EXAMPLES) + "/02_fault_detection/app.xml", "--duration", "4", "--log", log_});
   ASSERT_EQ(r.status, 0) << r.err;
   const auto at = r.out.find("handling:");
   ASSERT_NE(at, std::string::npos) << r.out;
   EXPECT_NE(r.out.find("sonar_left           signal     stop      stop", at), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("avoider              user       reset     reset", at), std::string::npos) << r.out;
   EXPECT_NE(r.out.find(" us\n", at), std::string::npos) << r.out;  // a recovery latency
-  EXPECT_NE(r.out.find("recovered 2 of", at), std::string::npos) << r.out;
+  // Both of the avoider's faults, and any late step's on a loaded machine: all reset.
+  const auto recovered = test::eventsOf(test::readLog(log_), ev::kRecovered).size();
+  EXPECT_GE(recovered, 2u);
+  EXPECT_NE(r.out.find(fmt::format("recovered {} of", recovered), at), std::string::npos) << r.out;
 }
 
 }  // namespace

@@ -119,9 +119,9 @@ TEST_F(Isolation, ValuesCrossToAPassiveComponentThroughAPumpWholeInOrderAndWitho
 
 TEST_F(Isolation, AKilledProcessIsTakenOverByItsStandbyWithItsCheckpointAndAFreshStandbyFollows) {
   writeScenario(
-      "  <fault at=\"400\" component=\"source\" kind=\"kill\"/>\n"
-      "  <fault at=\"900\" component=\"source\" kind=\"kill\"/>\n");
-  auto r = test::runProcess({KEEL_CLI, "run", profile("stream.xml"), "--duration", "1.5", "--log", log_, "--inject",
+      "  <fault at=\"400\" component=\"source\" kind=\"kill\"/>\n"     // a second apart: the fresh standby
+      "  <fault at=\"1400\" component=\"source\" kind=\"kill\"/>\n");  // is ready (a sanitizer is slow)
+  auto r = test::runProcess({KEEL_CLI, "run", profile("stream.xml"), "--duration", "2.0", "--log", log_, "--inject",
                              scenario_, "--set", "checker.report=" + report_});
   ASSERT_EQ(r.status, 0) << r.err;
   const auto log = test::readLog(log_);
@@ -217,7 +217,7 @@ class IsolationDeath : public Isolation, public ::testing::WithParamInterface<st
 
 TEST_P(IsolationDeath, IsAProcessFaultWithItsCauseRespawnedOnceThenStopped) {
   const auto [how, detail] = GetParam();
-  auto r = test::runProcess({KEEL_CLI, "run", profile("doomed.xml"), "--duration", "1.2", "--log", log_, "--set",
+  auto r = test::runProcess({KEEL_CLI, "run", profile("doomed.xml"), "--duration", "2.5", "--log", log_, "--set",
                              std::string("doomed.how=") + how, "--set", "doomed.after_ms=250", "--set",
                              "checker.report=" + report_});
   ASSERT_EQ(r.status, 0) << r.err;
@@ -260,11 +260,11 @@ TEST_F(Isolation, AProcessThatStopsWholeIsKilledOnItsHeartbeatAndItsStandbyTakes
 TEST_F(Isolation, AnAbandonedThreadThatHoldsTheRoleComesBackAndTheNextStandbyDoesNotTakeOver) {
   writeScenario("  <fault at=\"300\" component=\"stuck\" kind=\"kill\"/>\n");
   auto r = test::runProcess(
-      {KEEL_CLI, "run", profile("stubborn.xml"), "--duration", "2.0", "--log", log_, "--inject", scenario_});
+      {KEEL_CLI, "run", profile("stubborn.xml"), "--duration", "3.5", "--log", log_, "--inject", scenario_});
   ASSERT_EQ(r.status, 0) << r.err;
   const auto log = test::readLog(log_);
   ASSERT_EQ(hostRecords(log, "took_over").size(), 1u) << r.out;
-  // The taker hung at ~900 ms and came back at ~1300 ms, 700 ms before the end.
+  // The taker hung at ~900 ms and came back at ~2400 ms, a second before the end.
   bool abandoned = false;
   for (const auto& a : test::eventsOf(log, ev::kAction))
     abandoned |= a.value(fd::kDetail, "").rfind("executor abandoned", 0) == 0;

@@ -629,7 +629,7 @@ TEST_F(Handling, CheckpointsTakenEveryCycleOnSeveralExecutorsAreNeverTornAndLose
 
 TEST_F(Handling, AHungCallbackIsInterruptedAndTheComponentIsResetAndExecutesAgain) {
   start("hang.xml", "hang_injected.xml");
-  ASSERT_TRUE(waitFor([&] { return recovered("hanger"); })) << "the hung callback was never interrupted";
+  ASSERT_TRUE(waitFor([&] { return recovered("hanger"); }, 5000ms)) << "the hung callback was never interrupted";
   EXPECT_TRUE(keepsExecuting("hanger", 20));
   EXPECT_TRUE(keepsExecuting("mate", 20)) << "the shared executor is free again";
   EXPECT_TRUE(keepsExecuting("bystander", 10));

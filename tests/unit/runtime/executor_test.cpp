@@ -38,7 +38,9 @@ class Tracer : public Component {
   ReturnCode note(const char* what) {
     last_thread = std::this_thread::get_id();
     std::lock_guard lock(*mutex_);
+    // The first 63 callbacks, and the latest in the last slot, however late the test stops it.
     if (trace_->size() < 64) trace_->push_back(instanceName() + "." + what);
+    else trace_->back() = instanceName() + "." + what;
     return ReturnCode::Ok;
   }
   std::vector<std::string>* trace_;
@@ -168,13 +170,16 @@ TEST_F(ExecutorTest, PeriodicExecutorKeepsItsRateOverTime) {
   ready(a, "a");
   Executor ex({"p", ExecutorKind::Periodic, 5ms, 0, Policy::Other});
   ex.add(a);
+  const auto t0 = std::chrono::steady_clock::now();
   ex.start();
   std::this_thread::sleep_for(500ms);
   ex.requestStop();
   ASSERT_TRUE(ex.join(5s));
-  // 100 releases in 500 ms; absolute-time sleeps do not drift. Generous: a busy CI machine.
+  const auto releases = (std::chrono::steady_clock::now() - t0) / 5ms + 1;  // however late the stop
+  // Absolute-time sleeps do not drift, and missed releases are skipped, not caught up: never
+  // more steps than releases. Generous below: a busy CI machine.
   EXPECT_GE(a.executions.load(), 50);
-  EXPECT_LE(a.executions.load(), 102);
+  EXPECT_LE(a.executions.load(), releases + 1);
 }
 
 TEST_F(ExecutorTest, AllCallbacksOfAMemberRunOnTheExecutorThread) {
@@ -326,12 +331,12 @@ TEST_F(ExecutorTest, EventsAreDeliveredToOnEventOnTheReceiversExecutorInOrder) {
   ready(c, "c");
   std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
   test::wire(p.events, c.events, keep);
-  Executor ex({"slow", ExecutorKind::Periodic, 200ms, 0, Policy::Other});
+  Executor ex({"slow", ExecutorKind::Periodic, 1h, 0, Policy::Other});
   ex.add(c);
   ex.start();
   for (const char* n : {"one", "two", "three"}) p.events.send(Event{n, 0, 0});
-  // Delivered as they arrive, not at the next 200 ms release.
-  ASSERT_TRUE(eventually([&] { return c.event_count.load() == 3; }, 150ms));
+  // Delivered as they arrive, not at the next release, an hour away.
+  ASSERT_TRUE(eventually([&] { return c.event_count.load() == 3; }));
   ex.requestStop();
   ASSERT_TRUE(ex.join(5s));
   EXPECT_EQ(c.event_names, (std::vector<std::string>{"one", "two", "three"}));
