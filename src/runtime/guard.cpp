@@ -48,7 +48,9 @@ void onSignal(int signo, siginfo_t* info, void*) {
   }
   frame->t_ns = steadyNs();  // the moment of detection
   frame->signo = signo;
-  frame->addr = info ? info->si_addr : nullptr;
+  frame->sent = info == nullptr || info->si_code <= 0;  // SI_USER, SI_TKILL, SI_QUEUE: sent
+  frame->addr = frame->sent ? nullptr : info->si_addr;
+  frame->sender = frame->sent && info ? info->si_pid : 0;
   unblockBeforeJump();
   siglongjmp(frame->env, 1);
 }
@@ -61,7 +63,9 @@ void onInterrupt(int signo, siginfo_t*, void*) {
   if (frame == nullptr || frame->interrupt == nullptr || !frame->interrupt->load(std::memory_order_acquire)) return;
   frame->t_ns = steadyNs();
   frame->signo = signo;
+  frame->sent = true;
   frame->addr = nullptr;
+  frame->sender = 0;
   unblockBeforeJump();
   siglongjmp(frame->env, 1);
 }
@@ -100,7 +104,19 @@ FaultKind GuardOutcome::faultKind() const {
 void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
   fault.kind = faultKind();
   switch (kind) {
-    case Kind::Signal: formatDetail(fault, "{} in {} (address {})", signalName(signo), callback, addr); break;
+    case Kind::Signal:
+      if (!sent) {  // a fault: where it happened
+        const bool code = signo == SIGFPE || signo == SIGILL;
+        formatDetail(fault, "{} in {} ({} {})", signalName(signo), callback, code ? "instruction" : "address", addr);
+      } else if (sender == ::getpid()) {
+        formatDetail(fault, "{} in {} (raised by its own process: abort(), raise() or kill)", signalName(signo),
+                     callback);
+      } else if (sender != 0) {
+        formatDetail(fault, "{} in {} (sent by process {})", signalName(signo), callback, sender);
+      } else {
+        formatDetail(fault, "{} in {}", signalName(signo), callback);
+      }
+      break;
     case Kind::Exception: formatDetail(fault, "exception in {}: {}", callback, what.data()); break;
     case Kind::ErrorCode:
       formatDetail(fault, "{} returned {} ({})", callback, static_cast<int>(rc), toString(rc));

@@ -32,7 +32,12 @@ struct GuardOutcome {
   Kind kind = Kind::Ok;
   ReturnCode rc = ReturnCode::Ok;
   int signo = 0;
-  const void* addr = nullptr;    // faulting address for SIGSEGV/SIGBUS
+  // The kernel's own signals (a fault: si_code > 0) carry the faulting address (SIGSEGV,
+  // SIGBUS) or instruction (SIGFPE, SIGILL); a signal sent (abort(), raise(), kill) carries the
+  // sender's pid instead, and its si_addr means nothing.
+  bool sent = false;
+  const void* addr = nullptr;
+  int sender = 0;
   std::int64_t t_ns = 0;         // Signal, Exception: steady-clock ns when caught
   std::array<char, 120> what{};  // exception message (truncated)
 
@@ -46,7 +51,9 @@ namespace guard_detail {
 struct GuardFrame {
   sigjmp_buf env;
   volatile int signo = 0;
+  volatile bool sent = false;
   const void* volatile addr = nullptr;
+  volatile int sender = 0;
   volatile std::int64_t t_ns = 0;
   const std::atomic<bool>* interrupt = nullptr;  // set: interruptSignal() ends this call
   Component* owner = nullptr;                    // whose callback this is (runningComponent)
@@ -96,7 +103,9 @@ template <class F>
   } else {
     out.kind = GuardOutcome::Kind::Signal;
     out.signo = frame.signo;
+    out.sent = frame.sent;
     out.addr = frame.addr;
+    out.sender = frame.sender;
     out.t_ns = frame.t_ns;
   }
   guard_detail::currentFrame() = frame.prev;

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/syscall.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <stdexcept>
@@ -100,6 +103,49 @@ TEST_F(Guard, CatchesAbort) {
   GuardOutcome out = guarded([]() -> ReturnCode { std::abort(); });
   ASSERT_EQ(out.kind, GuardOutcome::Kind::Signal);
   EXPECT_EQ(out.signo, SIGABRT);
+  // Sent (tgkill), not a fault: no address, which would be the sender's pid and uid read as one.
+  FaultEvent fault;
+  out.describe(fault, "onExecute");
+  EXPECT_EQ(std::string(fault.detailText()),
+            "SIGABRT in onExecute (raised by its own process: abort(), raise() or kill)");
+}
+
+TEST_F(Guard, AFaultsDetailGivesItsAddressAndASignalSentByAnotherProcessItsSender) {
+  GuardOutcome segv = guarded([] {
+    test::segfault();
+    return ReturnCode::Ok;
+  });
+  FaultEvent fault;
+  segv.describe(fault, "onExecute");
+  EXPECT_EQ(std::string(fault.detailText()), "SIGSEGV in onExecute (address 0x10)");
+
+  // Another process's kill -ABRT at this thread: a child, once the parent knows its pid.
+  const pid_t self = ::getpid();
+  const pid_t tid = static_cast<pid_t>(::syscall(SYS_gettid));
+  int go[2];
+  ASSERT_EQ(::pipe(go), 0);
+  volatile pid_t child = 0;
+  GuardOutcome sent = guarded([&]() -> ReturnCode {
+    const pid_t c = ::fork();
+    if (c == 0) {
+      char byte = 0;
+      if (::read(go[0], &byte, 1) == 1) ::syscall(SYS_tgkill, self, tid, SIGABRT);
+      ::_exit(0);
+    }
+    child = c;
+    const char byte = 1;
+    if (::write(go[1], &byte, 1) != 1) return ReturnCode::PreconditionNotMet;
+    for (;;) ::pause();  // until the signal arrives
+  });
+  ::close(go[0]);
+  ::close(go[1]);
+  ASSERT_GT(child, 0);
+  ::waitpid(child, nullptr, 0);
+  ASSERT_EQ(sent.kind, GuardOutcome::Kind::Signal);
+  FaultEvent from_other;
+  sent.describe(from_other, "onExecute");
+  EXPECT_EQ(std::string(from_other.detailText()),
+            "SIGABRT in onExecute (sent by process " + std::to_string(child) + ")");
 }
 
 TEST_F(Guard, KeepsCatchingAfterManyFaultsOnOneThread) {
