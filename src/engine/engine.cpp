@@ -294,6 +294,12 @@ Result<void> Engine::start() {
         [this](Component& proxy, const FaultEvent& fault) { fault_manager_.onFault(proxy, fault, "supervisor"); });
     if (auto r = supervisor_->launch(); !r) return r;
   }
+  if (options_.host && options_.host->role().standby) {
+    // A standby's components serve only if it takes over: their `state` records wait for it
+    // (the log's records of a name are the lifecycle of the one in service).
+    std::lock_guard lock(held_mutex_);
+    hold_records_ = true;
+  }
   for (auto& inst : instances_) {
     if (runtime::transition(*inst.component, Transition::Initialize)) continue;
     const auto& w = inst.plan->where;
@@ -319,12 +325,15 @@ Result<void> Engine::start() {
     std::vector<HeldState> held;
     {
       std::lock_guard lock(held_mutex_);
+      if (!taken->phase) {  // stopped while standing by: its components never served, and the
+        held_.clear();      // log's `state` records of their names stay the active host's
+        return {};          // (hold_records_ stays set: their onDestroy goes unrecorded too)
+      }
       hold_records_ = false;
       held.swap(held_);
     }
     for (const auto& h : held)
       log_.write(fault::schema::componentState(h.component->instanceName(), toString(h.from), toString(h.to), 0, h.t));
-    if (!taken->phase) return {};  // stopped while standing by
     started_ = true;
     startDetectors();
     options_.host->becameActive();
@@ -400,15 +409,22 @@ void Engine::shutdown() {
     runtime::transition(c, Transition::Stop);
   }
   fault_manager_.flushUndetected(components());
+  // The log's `state` records of a name are the lifecycle of the one in service: a primary it
+  // replaced and an alternative standing by get onDestroy without records of their own.
+  auto destroyQuietly = [](Component& c) {
+    detail::ComponentCore& core = runtime::coreOf(c);
+    core.hooks = nullptr;
+    core.fault_sink = nullptr;
+    runtime::transition(c, Transition::Destroy);
+  };
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
     if (!stuck(*it->active())) runtime::transition(*it->active(), Transition::Destroy);
-    if (it->active() != it->component.get() && !stuck(*it->component))
-      runtime::transition(*it->component, Transition::Destroy);  // replaced
+    if (it->active() != it->component.get() && !stuck(*it->component)) destroyQuietly(*it->component);  // replaced
   }
   {
     std::lock_guard lock(alternatives_mutex_);
     for (auto& alt : alternatives_)  // alternatives still standing by
-      if (alt->state() != State::Destroyed && !stuck(*alt)) runtime::transition(*alt, Transition::Destroy);
+      if (alt->state() != State::Destroyed && !stuck(*alt)) destroyQuietly(*alt);
   }
   if (supervisor_) supervisor_->stop(options_.stop_timeout);  // hosts the proxies' onStop did not stop
   cpu_latency_ = runtime::CpuLatencyRequest();                // the CPUs may sleep again

@@ -138,6 +138,10 @@ TEST_F(Isolation, AKilledProcessIsTakenOverByItsStandbyWithItsCheckpointAndAFres
   for (const auto& t : took_over) EXPECT_EQ(t.value("restored", 0), 1) << t.dump();
   EXPECT_NE(took_over[0].value(fd::kPid, 0L), took_over[1].value(fd::kPid, 0L));
   EXPECT_EQ(hostRecords(log, "died").size(), 2u);
+  // The name's lifecycle is the serving host's: the standby still waiting at the end leaves no
+  // `state` record of its own.
+  const auto states = test::statesOf(log, "source");
+  EXPECT_EQ(std::count(states.begin(), states.end(), "Destroyed"), 1) << ::testing::PrintToString(states);
   const Report got = readReport(report_);
   EXPECT_EQ(got.torn, 0u);
   EXPECT_EQ(got.gaps, 0u) << "the standby resumed after the last checkpoint";

@@ -8,6 +8,7 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <functional>
@@ -332,6 +333,28 @@ TEST_F(Handling, AnAlternativeColdOrPreloadedTakesOverWithTheCheckpointedCount) 
                 "(preloaded)"),
             std::string::npos);
   EXPECT_TRUE(engine_->faultManager().stoppedComponents().empty());
+}
+
+// One lifecycle per name in the log: a preloaded alternative standing by, and a primary it
+// replaced, are destroyed at the end without records of their own.
+TEST_F(Handling, APreloadedAlternativeStandingByLeavesNoRecordOfItsOwn) {
+  start("replace.xml", "");  // no fault: `warm`'s preloaded alternative stands by to the end
+  EXPECT_TRUE(keepsExecuting("warm", 10));
+  const std::vector<json> log = finish();
+  EXPECT_EQ(test::statesOf(log, "warm"), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+}
+
+TEST_F(Handling, AReplacedPrimaryLeavesOneDestroyedRecordForItsName) {
+  start("replace.xml", "replace_segfault.xml");  // both replaced
+  ASSERT_TRUE(waitFor([&] { return recovered("cold") && recovered("warm"); })) << "not recovered";
+  const std::vector<json> log = finish();
+  for (const std::string name : {"cold", "warm"}) {
+    SCOPED_TRACE(name);
+    const auto states = test::statesOf(log, name);
+    ASSERT_FALSE(states.empty());
+    EXPECT_EQ(std::count(states.begin(), states.end(), "Destroyed"), 1);
+    EXPECT_EQ(states.back(), "Destroyed");
+  }
 }
 
 // ---- 3. fault stop over Fig. 7 -------------------------------------------------------------
