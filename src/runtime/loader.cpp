@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 
@@ -70,13 +71,16 @@ Result<std::string> Loader::resolve(const std::string& library_name, const std::
 }
 
 Result<std::string> Loader::search(const std::string& library_name, const std::string& profile_dir) const {
-  std::vector<std::string> tried;
+  std::vector<std::string> tried;  // each file once, however often its directory is named
   auto tryDir = [&](const fs::path& dir) -> std::string {
     for (const auto& c : candidates(library_name)) {
       fs::path p = fs::path(c).is_absolute() ? fs::path(c) : dir / c;
       std::error_code ec;
+      fs::path key = fs::weakly_canonical(p, ec);
+      if (ec) key = p.lexically_normal();
+      if (std::find(tried.begin(), tried.end(), key.string()) != tried.end()) continue;
       if (fs::is_regular_file(p, ec)) return fs::canonical(p, ec).string();
-      tried.push_back(p.string());
+      tried.push_back(key.string());
     }
     return {};
   };

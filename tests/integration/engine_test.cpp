@@ -155,5 +155,24 @@ TEST_F(EngineTest, NamesTheLibraryItCannotFind) {
   EXPECT_NE(engine.error().message.find("/nonexistent/keel/libkeel_test_components.so"), std::string::npos);
 }
 
+TEST_F(EngineTest, NamesEachFileItTriedOnceHoweverOftenItsDirectoryIsNamed) {
+  auto set = profile::load(profilePath("pipeline.xml"));
+  ASSERT_TRUE(set);
+  EngineOptions eo;
+  // KEEL_COMPONENT_PATH naming keel's own directory, or the profiles' one, again.
+  eo.search_path = {"/nonexistent/keel", "/nonexistent/keel/", "/nonexistent/other/../keel", KEEL_TEST_PROFILES};
+  auto engine = Engine::create(std::move(*set), eo);
+  ASSERT_FALSE(engine);
+  // The first component's message (each component that needs the library has one).
+  const std::string& all = engine.error().message;
+  const std::string m = all.substr(0, all.find(" not found; tried:", all.find(" not found; tried:") + 1));
+  for (const std::string& file : {std::string("/nonexistent/keel/libkeel_test_components.so"),
+                                  std::string(KEEL_TEST_PROFILES) + "/libkeel_test_components.so"}) {
+    const auto first = m.find(file + "\n");
+    ASSERT_NE(first, std::string::npos) << m;
+    EXPECT_EQ(m.find(file + "\n", first + 1), std::string::npos) << "named twice:\n" << m;
+  }
+}
+
 }  // namespace
 }  // namespace keel::engine
