@@ -26,7 +26,12 @@ void addBenchCommand(CLI::App& app, std::function<int()>& run) {
       const auto self = std::filesystem::canonical("/proc/self/exe", ec);
       const std::string harness = (self.parent_path() / "keel-bench").string();
       if (ec || ::access(harness.c_str(), X_OK) != 0) {
-        std::cerr << "keel bench: " << harness << " not found (keel was built without KEEL_BUILD_BENCH)\n";
+        if (KEEL_WITH_BENCH)
+          std::cerr << "keel bench: its harness " << harness
+                    << " is missing: build it (the keel_bench target) or install keel again\n";
+        else
+          std::cerr << "keel bench: this keel was configured with -DKEEL_BUILD_BENCH=OFF: it has no benchmark "
+                       "harness\n";
         return 2;
       }
       std::vector<std::string> argv_s{harness};

@@ -161,3 +161,24 @@ TEST(BenchCli, AnUnknownMechanismIsRefusedBeforeAnythingRuns) {
 }
 
 }  // namespace
+
+namespace {
+
+// A keel whose keel-bench is missing (only the keel target built, or the file removed) names
+// the file it looked for; it does not blame a configuration it was not built with.
+TEST(BenchCli, AKeelWithoutItsHarnessBesideItNamesTheMissingFile) {
+  const fs::path dir = fs::temp_directory_path() / ("keel_bench_alone_" + std::to_string(::getpid()));
+  fs::create_directories(dir / "bin");
+  const fs::path keel = dir / "bin" / "keel";
+  fs::copy_file(KEEL_CLI, keel, fs::copy_options::overwrite_existing);
+  fs::create_directory_symlink(fs::path(KEEL_CLI).parent_path().parent_path() / "lib", dir / "lib");  // its RPATH
+  const auto r = runProcess({keel.string(), "bench", "recovery", "--quick"});
+  fs::remove_all(dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("keel bench: its harness " + (dir / "bin" / "keel-bench").string() + " is missing"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("KEEL_BUILD_BENCH"), std::string::npos) << r.err;
+}
+
+}  // namespace
