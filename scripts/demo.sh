@@ -42,9 +42,15 @@ PY
 }
 
 scripts/deps.sh
-cmake -S . -B build -G Ninja >/dev/null
-cmake --build build --target keel_cli keel_robot keel_stock keel_motion_board
+# The build's output in a log, shown only if it fails: the first screen is the robot's.
 mkdir -p demo
+echo "demo.sh: building keel and the robot (a few minutes the first time); output: demo/build.log"
+if ! { cmake -S . -B build -G Ninja &&
+  cmake --build build --target keel_cli keel_robot keel_stock keel_motion_board; } >demo/build.log 2>&1; then
+  echo "demo.sh: the build failed; the end of demo/build.log:" >&2
+  tail -n 30 demo/build.log >&2
+  exit 1
+fi
 experiments=("$@")
 ((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off
                                        avoidance_replaced)

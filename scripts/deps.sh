@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs what keel needs to build, test and benchmark on Debian 12 (bookworm).
 # Quiet and offline when everything is already installed, so scripts/test.sh can call it
-# every time. Runs apt-get as root, through sudo when not root.
+# every time; otherwise one line, with apt's output in a log shown only if it fails. Runs
+# apt-get as root, through sudo when not root.
 set -euo pipefail
 
 packages=(
@@ -37,7 +38,13 @@ else
   exit 1
 fi
 
-echo "deps.sh: installing ${missing[*]}"
-"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update
-"${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
-  apt-get install -y --no-install-recommends "${missing[@]}"
+# One line on the screen; apt's own output goes to a log, shown only if it fails.
+log="${TMPDIR:-/tmp}/keel-deps.log"
+echo "deps.sh: installing ${#missing[@]} Debian packages (${missing[*]}); apt's output: $log"
+if ! { "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive apt-get update &&
+  "${as_root[@]}" env DEBIAN_FRONTEND=noninteractive \
+    apt-get install -y --no-install-recommends "${missing[@]}"; } >"$log" 2>&1; then
+  echo "deps.sh: apt-get failed; the end of $log:" >&2
+  tail -n 20 "$log" >&2
+  exit 1
+fi
