@@ -1,10 +1,12 @@
 // keel validate FILE.xml... [--load]: exit 0, or `file:line: message` per problem and exit 2.
+// Profiles, and fault scenarios (checked as `keel run --inject` reads them, before a run).
 // With --load, libraries are also loaded and every port of code checked against its profile
 // (nothing is initialized or run).
 #include <iostream>
 
 #include "cli/commands.hpp"
 #include "engine/engine.hpp"
+#include "fault/scenario.hpp"
 #include "profile/loader.hpp"
 
 namespace keel::cli {
@@ -18,6 +20,18 @@ struct ValidateOptions {
 int validateFiles(const ValidateOptions& o) {
   int problems = 0;
   for (const auto& f : o.files) {
+    if (profile::rootElementName(f) == "fault_scenario") {
+      auto scenario = fault::loadScenario(f);
+      if (!scenario) {
+        for (const auto& d : scenario.error()) std::cerr << d.str() << '\n';
+        problems += static_cast<int>(scenario.error().size());
+      } else {
+        int injections = 0;
+        for (const auto& fault : scenario->faults) injections += fault.repeat;
+        std::cout << f << ": ok (a fault scenario: " << injections << " injections)\n";
+      }
+      continue;
+    }
     auto set = profile::load(f);
     if (!set) {
       for (const auto& d : set.error()) std::cerr << d.str() << '\n';
@@ -43,8 +57,8 @@ int validateFiles(const ValidateOptions& o) {
 
 void addValidateCommand(CLI::App& app, std::function<int()>& run) {
   auto opts = std::make_shared<ValidateOptions>();
-  CLI::App* cmd = app.add_subcommand("validate", "Check profiles (and what they reference)");
-  cmd->add_option("files", opts->files, "profiles to check")->required();
+  CLI::App* cmd = app.add_subcommand("validate", "Check profiles (and what they reference) and fault scenarios");
+  cmd->add_option("files", opts->files, "profiles and fault scenarios to check")->required();
   cmd->add_flag("--load", opts->load, "also load the libraries and check ports against code");
   cmd->callback([opts, &run] { run = [opts] { return validateFiles(*opts); }; });
 }

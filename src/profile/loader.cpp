@@ -215,4 +215,10 @@ Result<ProfileSet, Diagnostics> load(const std::string& path) {
   }
 }
 
+std::string rootElementName(const std::string& path) {
+  pugi::xml_document doc;
+  if (!doc.load_file(path.c_str())) return {};
+  return doc.document_element().name();
+}
+
 }  // namespace keel::profile

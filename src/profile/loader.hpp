@@ -41,4 +41,8 @@ using Diagnostics = std::vector<Diagnostic>;
 /// Loads and validates `path` and all it references. On failure, every problem found.
 Result<ProfileSet, Diagnostics> load(const std::string& path);
 
+/// The name of `path`'s root element, without checking anything else; empty when the file
+/// cannot be read or parsed (load() then says why).
+std::string rootElementName(const std::string& path);
+
 }  // namespace keel::profile

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
 
 #include "fault/log_schema.hpp"
 #include "support/log_reader.hpp"
@@ -149,6 +150,25 @@ TEST_F(Cli, ValidateAcceptsGoodProfilesAndNamesEveryProblemInBadOnes) {
   auto missing = test::runProcess({KEEL_CLI, "validate", profile("no_such_file.xml")});
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("no_such_file.xml"), std::string::npos) << missing.err;
+}
+
+// A fault scenario is checked as keel run --inject reads it, before anything runs.
+TEST_F(Cli, ValidateChecksAFaultScenarioAndNamesItsProblemsLine) {
+  const std::string dir = ::testing::TempDir();
+  const std::string good = dir + "keel_validate_good_scenario.xml", bad = dir + "keel_validate_bad_scenario.xml";
+  auto writeFile = [](const std::string& path, const char* text) { std::ofstream(path) << text; };
+  writeFile(good,
+            "<fault_scenario>\n  <fault at=\"100\" component=\"counter\" kind=\"segfault\"/>\n"
+            "  <fault at=\"200\" component=\"counter\" kind=\"throw\" repeat=\"3\" every=\"10\"/>\n"
+            "</fault_scenario>\n");
+  writeFile(bad, "<fault_scenario>\n  <fault at=\"100\" component=\"counter\" kind=\"melt\"/>\n</fault_scenario>\n");
+  auto ok = test::runProcess({KEEL_CLI, "validate", good});
+  EXPECT_EQ(ok.status, 0) << ok.err;
+  EXPECT_EQ(ok.out, good + ": ok (a fault scenario: 4 injections)\n");
+  auto wrong = test::runProcess({KEEL_CLI, "validate", bad});
+  EXPECT_EQ(wrong.status, 2);
+  EXPECT_NE(wrong.err.find(bad + ":2:"), std::string::npos) << wrong.err;
+  EXPECT_NE(wrong.err.find("melt"), std::string::npos) << wrong.err;
 }
 
 TEST_F(Cli, InspectListsEveryComponentOfALibraryWithItsPorts) {
