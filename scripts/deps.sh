@@ -13,6 +13,7 @@ packages=(
   stress-ng
   erlang-base
   cyclonedds-tools
+  graphviz  # dot, for the docs' `keel graph` examples (tests/docs/examples_test.py)
 )
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
