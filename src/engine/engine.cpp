@@ -212,8 +212,8 @@ runtime::Executor* Engine::roleExecutor() const {
 
 void Engine::standBy(runtime::Executor& self) {
   auto taken = takeRoleAsHost();  // this thread sleeps here, and holds the role from here
-  if (taken && taken->phase) runComponents(&self);
   const bool runs = taken && taken->phase;
+  if (runs) runComponents(&self);
   role_taken_ = std::move(taken);  // the main thread reads it once role_settled_ says so
   role_settled_.store(1, std::memory_order_release);
   if (!runs) {

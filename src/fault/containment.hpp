@@ -40,9 +40,9 @@ class Containment {
   Outcome stopScope(FaultReport& r, ComponentHandling& h);
 
   /// Latches the emergency and runs every component's onEmergencyStop, on its executor when
-  /// that answers within emergencyBound() (20 ms), else on the calling thread. Returns the components whose
-  /// onEmergencyStop ran. `by` is logged; so are `fault_id` and `component` when a fault of
-  /// that component called for it (0 and empty: an operator).
+  /// that answers within emergencyBound() (20 ms), else on the calling thread. Returns the
+  /// components whose onEmergencyStop ran. `by` is logged; so are `fault_id` and `component`
+  /// when a fault of that component called for it (0 and empty: an operator).
   std::vector<std::string> emergencyStop(std::string_view by, std::uint64_t fault_id = 0,
                                          std::string_view component = {});
   /// Clears the latch (an explicit operator action, logged). False if none was latched.

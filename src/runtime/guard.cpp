@@ -105,9 +105,11 @@ void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
   fault.kind = faultKind();
   switch (kind) {
     case Kind::Signal:
-      if (!sent) {  // a fault: where it happened
-        const bool code = signo == SIGFPE || signo == SIGILL;
-        formatDetail(fault, "{} in {} ({} {})", signalName(signo), callback, code ? "instruction" : "address", addr);
+      if (!sent) {
+        // A fault: where it happened (SIGFPE's and SIGILL's si_addr is the instruction's).
+        const bool at_instruction = signo == SIGFPE || signo == SIGILL;
+        formatDetail(fault, "{} in {} ({} {})", signalName(signo), callback, at_instruction ? "instruction" : "address",
+                     addr);
       } else if (sender == ::getpid()) {
         formatDetail(fault, "{} in {} (raised by its own process: abort(), raise() or kill)", signalName(signo),
                      callback);

@@ -76,8 +76,8 @@ class Workspace:
                 (self.run_dir / entry.name).symlink_to(entry)
         # build/bin/keel is the keel under test; only its bin/ and lib/ are linked, so nothing an
         # example runs can configure or build in the real build directory.
+        (self.run_dir / "build").mkdir()
         for part in ("bin", "lib"):
-            (self.run_dir / "build").mkdir(exist_ok=True)
             (self.run_dir / "build" / part).symlink_to(keel.parent.parent / part)
         self.count = 0
 
