@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -20,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -85,6 +87,17 @@ sigset_t blockStopSignals() {
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   return set;
 }
+
+/// The run's log when there is no --log: a memory file, kept until the summary is read.
+struct AnonymousLog {
+  int fd = -1;
+  AnonymousLog() = default;
+  AnonymousLog(const AnonymousLog&) = delete;
+  AnonymousLog& operator=(const AnonymousLog&) = delete;
+  ~AnonymousLog() {
+    if (fd >= 0) ::close(fd);
+  }
+};
 
 /// Why the wait ended: a signal's number, kEnded (a component ended the run) or 0 (duration).
 constexpr int kEnded = -1;
@@ -156,8 +169,19 @@ int runProfile(const RunOptions& o) {
     std::cerr << planned.error().message << '\n';
     return 1;
   }
+  // The run always has a log: the summary is read from it after shutdown. Without --log it is an
+  // anonymous file, which component processes join by its /proc path.
   engine::EngineOptions eo;
+  AnonymousLog anonymous_log;
   eo.log_path = o.log;
+  if (o.log.empty()) {
+    anonymous_log.fd = ::memfd_create("keel-run-log", MFD_CLOEXEC);
+    if (anonymous_log.fd < 0) {
+      std::cerr << "keel run: cannot create the run's log: " << std::generic_category().message(errno) << '\n';
+      return 1;
+    }
+    eo.log_path = fmt::format("/proc/{}/fd/{}", ::getpid(), anonymous_log.fd);
+  }
   eo.cpu_dma_latency_us = o.cpu_dma_latency_us;
   auto settings = applySettings(o, planned->plan);
   if (!settings) return 2;
@@ -175,8 +199,7 @@ int runProfile(const RunOptions& o) {
   for (const auto& text : o.sets) eo.host_launch.args.insert(eo.host_launch.args.end(), {"--set", text});
   if (!o.inject.empty())
     eo.host_launch.args.insert(eo.host_launch.args.end(), {"--inject", std::filesystem::absolute(o.inject).string()});
-  if (!o.log.empty())
-    eo.host_launch.args.insert(eo.host_launch.args.end(), {"--log", std::filesystem::absolute(o.log).string()});
+  eo.host_launch.args.insert(eo.host_launch.args.end(), {"--log", std::filesystem::absolute(eo.log_path).string()});
   auto engine = engine::Engine::create(std::move(*planned), eo);
   if (!engine) {
     std::cerr << engine.error().message << '\n';
@@ -187,21 +210,18 @@ int runProfile(const RunOptions& o) {
     (*engine)->shutdown();
     return 1;
   }
-  auto t0 = std::chrono::steady_clock::now();
   std::atomic<bool> stop_console{false};
   std::thread console_thread;
   if (o.console) console_thread = std::thread([&] { console(**engine, stop_console); });
   const int why = waitForEnd(stop_signals, o.duration_s, **engine);
   stop_console.store(true, std::memory_order_release);
   if (console_thread.joinable()) console_thread.join();
-  double ran = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json stopping = fault::schema::engine("stopping");
   stopping[fault::schema::field::kReason] = stopReason(why, **engine);
   (*engine)->log().write(std::move(stopping));
-  (*engine)->faultManager().drain();       // every handling logged and counted
-  printSummary(std::cout, **engine, ran);  // counters, before instances are destroyed
-  (*engine)->shutdown();                   // a component may still end the run from its onStop
-  if (auto end = (*engine)->runEnd()) std::cout << "ended by " << end->component << ": " << end->summary << '\n';
+  (*engine)->shutdown();  // a component may still end the run from its onStop
+  std::ifstream log(eo.log_path);
+  printSummary(std::cout, summarize(log));
   return 0;
 }
 

@@ -49,6 +49,9 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
   if (!host) {
     nlohmann::json load = fault::schema::engine("load");
     load[fault::schema::field::kProfile] = e->set().root;
+    load[fault::schema::field::kName] = e->planned_.plan.name;
+    nlohmann::json& names = load[fault::schema::field::kComponents] = nlohmann::json::array();
+    for (const auto& pi : e->planned_.plan.instances) names.push_back(pi.name);
     load[fault::schema::field::kInstances] = e->planned_.plan.instances.size();
     for (const auto& s : e->options_.property_settings) load[fault::schema::field::kSet].push_back(s.text);
     e->log_.write(std::move(load));
@@ -409,6 +412,7 @@ void Engine::shutdown() {
     runtime::transition(c, Transition::Stop);
   }
   fault_manager_.flushUndetected(components());
+  if (started_) logCounts();
   // The log's `state` records of a name are the lifecycle of the one in service: a primary it
   // replaced and an alternative standing by get onDestroy without records of their own.
   auto destroyQuietly = [](Component& c) {
@@ -441,6 +445,33 @@ void Engine::shutdown() {
   alternatives_.clear();
   for (auto& ex : executors_)
     if (std::find(abandoned.begin(), abandoned.end(), ex.get()) != abandoned.end()) (void)ex.release();
+}
+
+void Engine::logCounts() {
+  auto tagged = [this](nlohmann::json r) {
+    if (options_.host) r[fault::schema::field::kProcess] = myProcess();
+    log_.write(std::move(r));
+  };
+  for (const auto& inst : instances_) {
+    if (!isLocal(*inst.plan)) continue;
+    const Component& c = *inst.active();
+    const auto& core = runtime::coreOf(c);
+    std::uint64_t executions = core.executions.load();
+    std::uint64_t misses = core.deadline_overruns.load();
+    if (&c != inst.component.get()) {  // replaced: the name's counts include the first one's
+      executions += runtime::coreOf(*inst.component).executions.load();
+      misses += runtime::coreOf(*inst.component).deadline_overruns.load();
+    }
+    tagged(fault::schema::componentCounts(inst.plan->name, core.class_name,
+                                          inst.executor ? inst.executor->config().name : "passive", executions,
+                                          misses));
+  }
+  for (const auto& ex : executors_) {
+    const auto& c = ex->config();
+    const auto s = ex->stats();
+    const double period_ms = c.kind == runtime::ExecutorKind::Periodic ? c.period.count() / 1e6 : 0;
+    tagged(fault::schema::executorCounts(c.name, period_ms, s.cycles, s.overruns));
+  }
 }
 
 void Engine::stateChanged(Component& c, State from, State to) {

@@ -96,8 +96,8 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
 
   /// initialize → connect → start executors. On failure, what failed and why.
   Result<void> start();
-  /// Stops executors (members get onStop), then destroys instances in reverse order.
-  /// Idempotent; called by the destructor if not before.
+  /// Stops executors (members get onStop), logs the run's `counts`, then destroys instances in
+  /// reverse order. Idempotent; called by the destructor if not before.
   void shutdown();
 
   /// The component in service under `instance` (a replacement after a replacement).
@@ -178,6 +178,8 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   void standBy(runtime::Executor& self);
   /// On `self`'s thread, as it ends: releases the role if it holds it (see process_host.hpp).
   void leaveRole(const runtime::Executor& self) const;
+  /// Logs a `counts` record per component of this process and per executor (at shutdown).
+  void logCounts();
   void holdCpuLatency();
   /// In a host, the calling thread at the highest real-time priority of the process's tasks
   /// (none: unchanged).

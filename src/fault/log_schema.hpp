@@ -28,6 +28,7 @@ inline constexpr char kEngine[] = "engine";               // the run's phases: l
 inline constexpr char kWarning[] = "warning";             // something the run goes on without
 inline constexpr char kEndRequested[] = "end_requested";  // a component asked to end the run
 inline constexpr char kHost[] = "host";                   // a component process (<process>) changed state
+inline constexpr char kCounts[] = "counts";               // a component's or an executor's totals, at its engine's end
 }  // namespace event
 
 /// Field names.
@@ -69,6 +70,14 @@ inline constexpr char kExecutors[] = "executors";                 // engine `sta
 inline constexpr char kCpuDmaLatencyUs[] = "cpu_dma_latency_us";  // engine `started`
 inline constexpr char kProcess[] = "process";                     // `host`: the <process> name
 inline constexpr char kPid[] = "pid";                             // `host`: its OS process id
+inline constexpr char kName[] = "name";                           // engine `load`: the run's (root profile's) name
+inline constexpr char kClass[] = "class";                         // `counts`: the component's class
+inline constexpr char kExecutor[] = "executor";                   // `counts`: the executor's name, or "passive"
+inline constexpr char kExecutions[] = "executions";               // `counts`: onExecute calls
+inline constexpr char kDeadlineMisses[] = "deadline_misses";      // `counts`: onExecute calls over <deadline>
+inline constexpr char kPeriodMs[] = "period_ms";                  // `counts`: a periodic executor's period
+inline constexpr char kCycles[] = "cycles";                       // `counts`: an executor's cycles
+inline constexpr char kLateCycles[] = "late_cycles";              // `counts`: cycles that ended after the next release
 }  // namespace field
 
 /// `outcome` values.
@@ -147,6 +156,24 @@ inline nlohmann::json engine(std::string_view phase) {
 /// A host process of `process` changed state: loading, standby, active, exited, died, failed.
 inline nlohmann::json host(std::string_view process, long pid, std::string_view state) {
   return {{field::kEvent, event::kHost}, {field::kProcess, process}, {field::kPid, pid}, {field::kPhase, state}};
+}
+
+/// A component's totals at the end of its engine: `executor` its executor's name or "passive".
+inline nlohmann::json componentCounts(std::string_view component, std::string_view cls, std::string_view executor,
+                                      std::uint64_t executions, std::uint64_t deadline_misses) {
+  return {{field::kEvent, event::kCounts}, {field::kComponent, component},   {field::kClass, cls},
+          {field::kExecutor, executor},    {field::kExecutions, executions}, {field::kDeadlineMisses, deadline_misses}};
+}
+
+/// An executor's totals at the end of its engine; `period_ms` 0 for an aperiodic one (left out).
+inline nlohmann::json executorCounts(std::string_view executor, double period_ms, std::uint64_t cycles,
+                                     std::uint64_t late_cycles) {
+  nlohmann::json r = {{field::kEvent, event::kCounts},
+                      {field::kExecutor, executor},
+                      {field::kCycles, cycles},
+                      {field::kLateCycles, late_cycles}};
+  if (period_ms > 0) r[field::kPeriodMs] = period_ms;
+  return r;
 }
 
 inline nlohmann::json warning(std::string_view message) {

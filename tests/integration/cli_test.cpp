@@ -5,6 +5,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <regex>
 
 #include "fault/log_schema.hpp"
 #include "support/log_reader.hpp"
@@ -93,6 +95,52 @@ TEST_F(Cli, AFailedOnStopIsNotResetButItsEmergencyStopRuns) {
   EXPECT_EQ(test::statesOf(log, "driver"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
 }
 
+// The summary is printed after shutdown, from the run's log (an anonymous one without --log): a
+// fault in onStop and the emergency stop it causes are in it, as they are in the log.
+TEST_F(Cli, TheSummaryIsPrintedAfterShutdownAndHasWhatTheStopDid) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("unacknowledged_stop.xml"), "--duration", "0.5"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto faults = r.out.find("\nfaults:\n  driver ");
+  ASSERT_NE(faults, std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("in onStop", faults), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("EMERGENCY STOP LATCHED", faults), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("no faults"), std::string::npos) << r.out;
+  // Each column says what it counts; the counts are the engine's, as its `counts` records say.
+  EXPECT_NE(r.out.find("at stop   executions deadline misses  faults  executor"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("period_ms     cycles  late cycles"), std::string::npos) << r.out;
+  std::smatch counter;
+  ASSERT_TRUE(std::regex_search(r.out, counter, std::regex(R"(\ncounter +Active +(\d+) +0 +0  )"))) << r.out;
+  EXPECT_GT(std::stoul(counter[1]), 0u) << r.out;
+  EXPECT_NE(r.out.find("(stopped: duration)"), std::string::npos) << r.out;
+}
+
+// The summary's counts are those of the log's `counts` records, a record per component and
+// executor at the engine's end.
+TEST_F(Cli, TheLogCountsEachComponentsExecutionsAndEachExecutorsCyclesAtTheEnd) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("unacknowledged_stop.xml"), "--duration", "0.5", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  const auto log = test::readLog(log_);
+  std::map<std::string, nlohmann::json> components, executors;
+  for (const auto& c : test::eventsOf(log, ev::kCounts))
+    (c.contains(fd::kComponent) ? components[c[fd::kComponent]] : executors[c[fd::kExecutor]]) = c;
+  ASSERT_EQ(components.size(), 2u) << r.out;
+  ASSERT_EQ(executors.size(), 2u) << r.out;  // a task per periodic component without <executor>
+  const auto& counter = components["counter"];
+  ASSERT_EQ(executors.count(counter[fd::kExecutor]), 1u) << counter.dump();
+  const auto& ex = executors[counter[fd::kExecutor]];
+  EXPECT_EQ(ex[fd::kPeriodMs], 5.0);
+  EXPECT_GT(counter[fd::kExecutions].get<std::uint64_t>(), 0u);
+  EXPECT_LE(counter[fd::kExecutions].get<std::uint64_t>(), ex[fd::kCycles].get<std::uint64_t>());
+  EXPECT_EQ(counter[fd::kDeadlineMisses], 0);
+  EXPECT_EQ(counter[fd::kClass], "Counter");
+  std::smatch line;
+  ASSERT_TRUE(std::regex_search(r.out, line, std::regex(R"(\ncounter +Active +(\d+) )"))) << r.out;
+  EXPECT_EQ(std::stoul(line[1]), counter[fd::kExecutions].get<std::uint64_t>()) << r.out;
+  const auto load = test::eventsOf(log, ev::kEngine).front();
+  EXPECT_EQ(load[fd::kName], "unacknowledged_stop");
+  EXPECT_EQ(load[fd::kComponents], (nlohmann::json{"driver", "counter"}));
+}
+
 // --cpu-dma-latency: the engine holds the request while it runs and says so in its log; a
 // machine that refuses it gets a warning and the run goes on.
 TEST_F(Cli, RunHoldsTheCpusWakeUpLatencyWhileRunning) {
@@ -152,7 +200,6 @@ TEST_F(Cli, ValidateAcceptsGoodProfilesAndNamesEveryProblemInBadOnes) {
   EXPECT_NE(missing.err.find("no_such_file.xml"), std::string::npos) << missing.err;
 }
 
-// A fault scenario is checked as keel run --inject reads it, before anything runs.
 TEST_F(Cli, ValidateChecksAFaultScenarioAndNamesItsProblemsLine) {
   const std::string dir = ::testing::TempDir();
   const std::string good = dir + "keel_validate_good_scenario.xml", bad = dir + "keel_validate_bad_scenario.xml";

@@ -4,6 +4,7 @@
 // respawn); a standby's task thread that took the role keeps it while its process lives; a port
 // type that cannot cross is refused; when keel run itself is killed, the actuators it left are
 // stopped and no process stays behind.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -15,6 +16,7 @@
 #include <iostream>
 #include <map>
 #include <random>
+#include <regex>
 #include <set>
 #include <sstream>
 
@@ -90,7 +92,11 @@ TEST_F(Isolation, ValuesCrossProcessesWholeInOrderAndWithoutLoss) {
   auto r = test::runProcess({KEEL_CLI, "run", profile("stream.xml"), "--duration", "1.5", "--log", log_, "--set",
                              "checker.report=" + report_});
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_NE(r.out.find("process:source"), std::string::npos) << "the summary names where it ran\n" << r.out;
+  // The summary names where the source ran and counts its executions there (its process's log).
+  std::smatch line;
+  ASSERT_TRUE(std::regex_search(r.out, line, std::regex(R"(\nsource +Active +(\d+) +0 +0  \w+ \(process source\)\n)")))
+      << r.out;
+  EXPECT_GT(std::stoul(line[1]), 300u) << r.out;
   const Report got = readReport(report_);
   EXPECT_GT(got.received, 300u);  // a sample every 2 ms for 1.5 s, on a busy machine
   EXPECT_EQ(got.torn, 0u);
@@ -146,6 +152,14 @@ TEST_F(Isolation, AKilledProcessIsTakenOverByItsStandbyWithItsCheckpointAndAFres
   EXPECT_EQ(got.torn, 0u);
   EXPECT_EQ(got.gaps, 0u) << "the standby resumed after the last checkpoint";
   EXPECT_LE(got.back, 2u) << "at most the sample sent after the last checkpoint, once per kill";
+  // The summary counts what the last host ran and says what it could not count.
+  const auto died = hostRecords(log, "died");
+  EXPECT_NE(r.out.find(fmt::format("(not counted: what ran in source (pid {}), source (pid {}), which died)",
+                                   died[0].value(fd::kPid, 0L), died[1].value(fd::kPid, 0L))),
+            std::string::npos)
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(\nsource +Active +[1-9]\d* +0 +2  \w+ \(process source\)\n)")))
+      << r.out;
 }
 
 // The issue's campaign: kill -9 the active producer at random moments, many times, while it

@@ -46,6 +46,7 @@ const Constant kEvents[] = {
     {"kWarning", ev::kWarning},
     {"kEndRequested", ev::kEndRequested},
     {"kHost", ev::kHost},
+    {"kCounts", ev::kCounts},
 };
 
 const Constant kFields[] = {
@@ -86,6 +87,14 @@ const Constant kFields[] = {
     {"kCpuDmaLatencyUs", fd::kCpuDmaLatencyUs},
     {"kProcess", fd::kProcess},
     {"kPid", fd::kPid},
+    {"kName", fd::kName},
+    {"kClass", fd::kClass},
+    {"kExecutor", fd::kExecutor},
+    {"kExecutions", fd::kExecutions},
+    {"kDeadlineMisses", fd::kDeadlineMisses},
+    {"kPeriodMs", fd::kPeriodMs},
+    {"kCycles", fd::kCycles},
+    {"kLateCycles", fd::kLateCycles},
 };
 
 /// The values of `outcome` (schema::kOk, schema::kFailed).
