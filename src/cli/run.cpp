@@ -164,6 +164,8 @@ int runProfile(const RunOptions& o) {
     for (const auto& d : set.error()) std::cerr << d.str() << '\n';
     return 2;
   }
+  for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
+  const profile::Diagnostics warnings = set->warnings;
   auto planned = plan::planProfiles(std::move(*set));  // the run's one plan
   if (!planned) {
     std::cerr << planned.error().message << '\n';
@@ -205,6 +207,7 @@ int runProfile(const RunOptions& o) {
     std::cerr << engine.error().message << '\n';
     return 1;
   }
+  for (const auto& w : warnings) (*engine)->log().write(fault::schema::warning(w.str()));
   if (auto r = (*engine)->start(); !r) {
     std::cerr << r.error().message << '\n';
     (*engine)->shutdown();

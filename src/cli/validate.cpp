@@ -1,4 +1,5 @@
 // keel validate FILE.xml... [--load]: exit 0, or `file:line: message` per problem and exit 2.
+// What loads but has no effect is a `file:line: warning: message` (exit 0).
 // Profiles, and fault scenarios (checked as `keel run --inject` reads them, before a run).
 // With --load, libraries are also loaded and every port of code checked against its profile
 // (nothing is initialized or run).
@@ -38,6 +39,8 @@ int validateFiles(const ValidateOptions& o) {
       problems += static_cast<int>(set.error().size());
       continue;
     }
+    for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
+    const std::size_t warnings = set->warnings.size();
     bool runnable = set->root_kind == profile::RootKind::Package || set->root_kind == profile::RootKind::System;
     if (o.load && runnable) {
       engine::EngineOptions eo;
@@ -48,7 +51,8 @@ int validateFiles(const ValidateOptions& o) {
         continue;
       }
     }
-    std::cout << f << ": ok\n";
+    if (warnings == 0) std::cout << f << ": ok\n";
+    else std::cout << f << ": ok, with " << warnings << " warning(s)\n";
   }
   return problems == 0 ? 0 : 2;
 }

@@ -33,6 +33,7 @@ struct PolicyReader {
     const auto [it, inserted] = kind_lines.emplace(key, ctx.where(n).line);
     if (!inserted) return duplicate(n, fmt::format("<severity kind=\"{}\">", key), it->second);
     if (value) out.severity_by_kind[key] = *value;
+    out.severity_kind_where[key] = ctx.where(n);
   }
 
   void duplicate(pugi::xml_node n, const std::string& what, int first) {
@@ -82,23 +83,31 @@ FaultPolicy parseFaultPolicy(Ctx& ctx, pugi::xml_node node, const std::string& o
   policy.where = ctx.where(node);
   const std::string who = fmt::format("subcomponent '{}'", owner);
   PolicyReader r{ctx, policy, who, "fault_policy of " + who, 0, {}};
-  readChildren(
-      ctx, node,
-      {{"severity", [&](pugi::xml_node n) { r.severity(n); }, true},
-       {"dependency",
-        [&](pugi::xml_node n) {
-          if (auto v = readWord(ctx, n, leafText(ctx, n), "<dependency> of " + r.owner, scopes())) {
-            policy.dependency = *v;
-          }
-        }},
-       {"heartbeat", [&](pugi::xml_node n) { policy.heartbeat_timeout_ms = r.positiveAttribute(n, "timeout"); }},
-       {"deadline",
-        [&](pugi::xml_node n) {
-          policy.deadline_ms = readPositive(ctx, n, leafText(ctx, n), "<deadline> of " + r.owner);
-        }},
-       {"checkpoint", [&](pugi::xml_node n) { policy.checkpoint_period_ms = r.positiveAttribute(n, "period"); }},
-       {"alternative", [&](pugi::xml_node n) { r.alternative(n); }},
-       {"restart", [&](pugi::xml_node n) { r.restart(n); }}});
+  readChildren(ctx, node,
+               {{"severity", [&](pugi::xml_node n) { r.severity(n); }, true},
+                {"dependency",
+                 [&](pugi::xml_node n) {
+                   if (auto v = readWord(ctx, n, leafText(ctx, n), "<dependency> of " + r.owner, scopes())) {
+                     policy.dependency = *v;
+                   }
+                 }},
+                {"heartbeat",
+                 [&](pugi::xml_node n) {
+                   policy.heartbeat_timeout_ms = r.positiveAttribute(n, "timeout");
+                   policy.heartbeat_where = ctx.where(n);
+                 }},
+                {"deadline",
+                 [&](pugi::xml_node n) {
+                   policy.deadline_ms = readPositive(ctx, n, leafText(ctx, n), "<deadline> of " + r.owner);
+                   policy.deadline_where = ctx.where(n);
+                 }},
+                {"checkpoint",
+                 [&](pugi::xml_node n) {
+                   policy.checkpoint_period_ms = r.positiveAttribute(n, "period");
+                   policy.checkpoint_where = ctx.where(n);
+                 }},
+                {"alternative", [&](pugi::xml_node n) { r.alternative(n); }},
+                {"restart", [&](pugi::xml_node n) { r.restart(n); }}});
   return policy;
 }
 

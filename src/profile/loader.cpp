@@ -22,6 +22,8 @@ std::string Diagnostic::str() const {
   return fmt::format("{}:{}: {}", where.file, where.line, message);
 }
 
+std::string Diagnostic::warningStr() const { return Diagnostic{where, "warning: " + message}.str(); }
+
 const PackageProfile* ProfileSet::rootPackage() const {
   if (root_kind != RootKind::Package) return nullptr;
   const auto it = packages.find(root);

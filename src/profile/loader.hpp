@@ -20,7 +20,11 @@ struct Diagnostic {
   std::string message;
   /// "file:line: message" (line omitted when 0).
   std::string str() const;
+  /// "file:line: warning: message".
+  std::string warningStr() const;
 };
+
+using Diagnostics = std::vector<Diagnostic>;
 
 enum class RootKind { Component, Composite, Package, System };
 
@@ -32,11 +36,12 @@ struct ProfileSet {
   std::map<std::string, CompositeProfile> composites;
   std::map<std::string, PackageProfile> packages;
   std::optional<SystemProfile> system;
+  /// What loads but has no effect in this keel, each `file:line: message` (docs/profiles.md):
+  /// the run goes on, and `keel run` and `keel validate` print them as warnings.
+  Diagnostics warnings;
 
   const PackageProfile* rootPackage() const;
 };
-
-using Diagnostics = std::vector<Diagnostic>;
 
 /// Loads and validates `path` and all it references. On failure, every problem found.
 Result<ProfileSet, Diagnostics> load(const std::string& path);

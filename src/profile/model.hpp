@@ -140,6 +140,8 @@ struct FaultPolicy {
   std::optional<double> heartbeat_timeout_ms;
   std::optional<double> deadline_ms;
   std::optional<double> checkpoint_period_ms;
+  Where heartbeat_where, deadline_where, checkpoint_where;  // where each was set
+  std::map<std::string, Where> severity_kind_where;         // where each <severity kind=".."> is
   std::optional<Alternative> alternative;
   Restart restart;
   Where where;

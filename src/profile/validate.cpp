@@ -16,6 +16,7 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkConnections(set, composite.subcomponents, composite.connections, diags);
     checkExports(set, composite, diags);
     checkAlternatives(set, composite.subcomponents, diags);
+    checkIneffectivePolicies(set, composite.subcomponents);
   }
   for (auto& [path, pkg] : set.packages) {
     checkSubcomponents(set, pkg.subcomponents, diags);
@@ -23,6 +24,7 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkAlternatives(set, pkg.subcomponents, diags);
     checkTasks(set, pkg, diags);
     checkDepends(pkg, diags);
+    checkIneffectivePolicies(set, pkg.subcomponents);
   }
   if (set.system) checkSystem(set, *set.system, diags);
 }

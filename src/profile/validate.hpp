@@ -22,6 +22,8 @@ void validate(ProfileSet& set, Diagnostics& diags);
 void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagnostics& diags);
 void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& diags);
 void checkDepends(const PackageProfile& pkg, Diagnostics& diags);
+/// Warnings (set.warnings) for fault_policy settings that load but have no effect.
+void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs);
 
 // validate_ports.cpp: connections, exports, alternatives.
 void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& subs,

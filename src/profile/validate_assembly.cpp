@@ -154,4 +154,28 @@ void checkDepends(const PackageProfile& pkg, Diagnostics& diags) {
   reportCycles(graph, diags);
 }
 
+void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs) {
+  for (const Subcomponent& sub : subs) {
+    if (!sub.fault_policy) continue;
+    const FaultPolicy& p = *sub.fault_policy;
+    if (const auto it = p.severity_kind_where.find("remote"); it != p.severity_kind_where.end())
+      set.warnings.push_back({it->second, fmt::format("<severity kind=\"remote\"> of subcomponent '{}' has no effect: "
+                                                      "remote faults come from DDS subscriptions, which this keel "
+                                                      "does not have",
+                                                      sub.name)});
+    const auto c = set.components.find(sub.reference);
+    if (c == set.components.end() || c->second.execution.type != ExecutionType::Passive) continue;
+    if (p.heartbeat_timeout_ms)
+      set.warnings.push_back({p.heartbeat_where, fmt::format("<heartbeat> of subcomponent '{}' has no effect: '{}' is "
+                                                             "passive, and its calls run on their callers' threads, "
+                                                             "whose own heartbeat sees a call that hangs",
+                                                             sub.name, c->second.name)});
+    if (p.deadline_ms)
+      set.warnings.push_back({p.deadline_where, fmt::format("<deadline> of subcomponent '{}' has no effect: '{}' is "
+                                                            "passive, and a deadline bounds onExecute, which only an "
+                                                            "executor calls",
+                                                            sub.name, c->second.name)});
+  }
+}
+
 }  // namespace keel::profile::detail

@@ -2,6 +2,7 @@
 
 #include <mutex>
 
+#include "runtime/checkpoint.hpp"
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
@@ -174,8 +175,12 @@ void dispatchEvents(Component& c) {
 }
 
 void dispatchEventsPassive(Component& c) {
-  std::lock_guard lock(coreOf(c).passive_mutex);
+  detail::ComponentCore& core = coreOf(c);
+  std::lock_guard lock(core.passive_mutex);
   dispatchEvents(c);
+  // A passive component's cycle boundary: its events handled, none of its callbacks running.
+  if (c.state() == State::Active && !core.fault.pending.load(std::memory_order_relaxed))
+    checkpointIfDue(core, steadyNs());
 }
 
 }  // namespace keel::runtime

@@ -8,6 +8,8 @@
 #include <thread>
 
 #include "keel/service_port.hpp"
+#include "runtime/checkpoint.hpp"
+#include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/invoke.hpp"
@@ -55,7 +57,10 @@ std::string keel::detail::invokeService(Component& provider, const std::string& 
     if (!lock.owns_lock())
       return fmt::format("service '{}' of '{}': timed out after {} ms waiting for the provider", port,
                          provider.instanceName(), timeout.count() / 1e6);
-    return runCall(provider, port, *call);
+    std::string why = runCall(provider, port, *call);
+    // A passive provider's cycle boundary: between two calls, under its lock (docs/fault-handling.md).
+    if (ex == nullptr && why.empty() && provider.state() == State::Active) checkpointIfDue(core, steadyNs());
+    return why;
   }
   if (provider.state() != State::Active)
     return fmt::format("service '{}' of '{}': provider is {}, not Active", port, provider.instanceName(),

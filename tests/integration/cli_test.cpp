@@ -200,6 +200,26 @@ TEST_F(Cli, ValidateAcceptsGoodProfilesAndNamesEveryProblemInBadOnes) {
   EXPECT_NE(missing.err.find("no_such_file.xml"), std::string::npos) << missing.err;
 }
 
+// A fault scenario is checked as keel run --inject reads it, before anything runs.
+// A setting that loads but has no effect is a `file:line: warning:`: validate says the file is
+// ok with it, run prints it, logs it, and runs.
+TEST_F(Cli, ASettingWithoutEffectIsAWarningAtItsLineAndTheRunGoesOn) {
+  const std::string file = profile("passive_heartbeat.xml");
+  const std::string what = "<heartbeat> of subcomponent 'doubler' has no effect";
+  const std::string warning = file + ":12: warning: " + what;
+  auto checked = test::runProcess({KEEL_CLI, "validate", file});
+  EXPECT_EQ(checked.status, 0) << checked.err;
+  EXPECT_EQ(checked.err.rfind(warning, 0), 0u) << checked.err;
+  EXPECT_EQ(checked.out, file + ": ok, with 1 warning(s)\n");
+  auto ran = test::runProcess({KEEL_CLI, "run", file, "--duration", "0.3", "--log", log_});
+  EXPECT_EQ(ran.status, 0) << ran.err;
+  EXPECT_EQ(ran.err.rfind(warning, 0), 0u) << ran.err;
+  const auto warnings = test::eventsOf(test::readLog(log_), ev::kWarning);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0][fd::kMessage].get<std::string>().rfind(file + ":12: " + what, 0), 0u) << warnings[0].dump();
+  EXPECT_NE(ran.out.find("1 warning (in the log)"), std::string::npos) << ran.out;
+}
+
 TEST_F(Cli, ValidateChecksAFaultScenarioAndNamesItsProblemsLine) {
   const std::string dir = ::testing::TempDir();
   const std::string good = dir + "keel_validate_good_scenario.xml", bad = dir + "keel_validate_bad_scenario.xml";

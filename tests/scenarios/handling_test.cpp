@@ -156,6 +156,14 @@ std::uint64_t injectedId(const std::vector<json>& log, const std::string& compon
   return 0;
 }
 
+/// The id of `component`'s first detected fault.
+std::uint64_t detectedId(const std::vector<json>& log, const std::string& component) {
+  for (const auto& r : test::eventsOf(log, ev::kDetected))
+    if (r[fd::kComponent] == component) return r[fd::kFaultId];
+  ADD_FAILURE() << "no detected record of " << component;
+  return 0;
+}
+
 /// The first record of fault `id` with `event` (and `action`, for actions); null if none.
 json record(const std::vector<json>& log, std::uint64_t id, const std::string& event, const std::string& action = "") {
   for (const auto& r : ofFault(log, id))
@@ -273,6 +281,27 @@ TEST_F(Handling, ResetRestoresTheCounterFromItsCheckpoint) {
   EXPECT_EQ(h[0].severity, "reset");
   EXPECT_GT(h[0].recovered_ns, h[0].detected_ns);
   EXPECT_TRUE(handlingsOf("bystander").empty());
+}
+
+// A passive component's <checkpoint period> is taken between its calls (under its lock, after a
+// call that did not fault): its reset restores the count of a recent call, not of its start.
+TEST_F(Handling, APassiveComponentIsCheckpointedBetweenItsCallsAndResetToARecentCount) {
+  start("passive_reset.xml", "");
+  ASSERT_TRUE(waitFor([&] { return recovered("tally") && recovered("fresh"); })) << "not recovered";
+  ASSERT_TRUE(waitFor([&] { return probeOr0("tally_client", "last") > 60 && probeOr0("fresh_client", "last") > 30; }));
+  const std::vector<json> log = finish();
+
+  EXPECT_EQ(probeOr0("tally", "at_error"), 40);
+  const long restored = probeOr0("tally", "restored");
+  EXPECT_GT(restored, 0) << "restarted from 0 instead of a checkpoint between calls";
+  EXPECT_LT(restored, 40) << "the faulty call's count was checkpointed";
+  EXPECT_EQ(probeOr0("tally_client", "max_drop"), std::max(0L, 38 - restored));  // 39, then restored + 1
+  // fresh (no <checkpoint>): only the checkpoint after onStart, the count starts over.
+  EXPECT_EQ(probeOr0("fresh", "at_error"), 40);
+  EXPECT_EQ(probe("fresh", "restored"), 0L);
+  EXPECT_EQ(probeOr0("fresh_client", "max_drop"), 38);
+  EXPECT_GT(restoredAgeMs(record(log, detectedId(log, "fresh"), ev::kAction, "restore")),
+            restoredAgeMs(record(log, detectedId(log, "tally"), ev::kAction, "restore")));
 }
 
 // ---- 2. replacement ------------------------------------------------------------------------

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <stdexcept>
 #include <string>
 
 namespace htest {
@@ -253,6 +254,62 @@ class Twin : public keel::Component {
 
 }  // namespace htest
 
+namespace htest {
+
+/// A passive tally: each call of its service `next` adds `step` to the count (critical memory)
+/// and returns it; at the count `fail_at` (once) the call throws. Probe: at_error, restored, as
+/// Tally's.
+class PassiveTally : public keel::Component {
+ public:
+  keel::ProvidedServicePort<int(int)> next{this, "next", [this](int step) { return add(step); }};
+  keel::ReturnCode onInitialize() override {
+    critical(n_);
+    fail_at_ = property<int>("fail_at", 0);
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onError() override {
+    set(*this, "at_error", n_);
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onRecover() override {
+    set(*this, "restored", n_);
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  int add(int step) {
+    n_ += step;
+    if (n_ == fail_at_ && !failed_) {
+      failed_ = true;  // not critical: once per run
+      throw std::runtime_error("tally corrupted");
+    }
+    return n_;
+  }
+  int n_ = 0;
+  int fail_at_ = 0;
+  bool failed_ = false;
+};
+
+/// Calls `next(1)` every cycle; probe: last (the latest answer) and max_drop (the largest fall
+/// between two answers).
+class TallyClient : public keel::Component {
+ public:
+  keel::RequiredServicePort<int(int)> next{this, "next"};
+  keel::ReturnCode onExecute() override {
+    auto r = next.call(1);
+    if (!r) return keel::ReturnCode::Ok;  // the failed call: the tally's fault, not ours
+    if (last_ - *r > max_drop_) set(*this, "max_drop", max_drop_ = last_ - *r);
+    set(*this, "last", last_ = *r);
+    return keel::ReturnCode::Ok;
+  }
+
+ private:
+  int last_ = 0;
+  int max_drop_ = 0;
+};
+
+}  // namespace htest
+
 /// The probe, read by the test through dlsym: 1 and the value in *out when `instance/key` was
 /// set, 0 otherwise.
 extern "C" int keel_handling_probe(const char* instance, const char* key, long* out) {
@@ -272,6 +329,8 @@ extern "C" void keel_handling_probe_clear() {
 KEEL_REGISTER_COMPONENT_AS(htest::Tally, "Tally")
 KEEL_REGISTER_COMPONENT_AS(htest::TallyBackup, "TallyBackup")
 KEEL_REGISTER_COMPONENT_AS(htest::Tap, "Tap")
+KEEL_REGISTER_COMPONENT_AS(htest::PassiveTally, "PassiveTally")
+KEEL_REGISTER_COMPONENT_AS(htest::TallyClient, "TallyClient")
 KEEL_REGISTER_COMPONENT_AS(htest::Actuator, "Actuator")
 KEEL_REGISTER_COMPONENT_AS(htest::Motor, "Motor")
 KEEL_REGISTER_COMPONENT_AS(htest::Twin, "Twin")

@@ -206,5 +206,32 @@ TEST(FaultPolicyErrors, RejectsAnUnknownPolicyElement) {
               ElementsAre("errors/fault/unknown_policy_element.xml:9: unknown element <watchdog> in <fault_policy>"));
 }
 
+// What loads but has no effect is a warning at its line: a passive component's <heartbeat> and
+// <deadline> (only an executor times its callbacks) and the `remote` kind (nothing in this keel produces it). A
+// passive component's <checkpoint> works (taken between its calls) and a periodic one's
+// <deadline> works: no warning for them.
+TEST(FaultPolicyWarnings, SettingsWithoutEffectAreWarningsAtTheirLine) {
+  const auto set = load(dataPath("warnings/ineffective_policy.xml"));
+  ASSERT_TRUE(set.ok()) << joined(set);
+  std::vector<std::string> warnings;
+  for (const Diagnostic& w : set->warnings) warnings.push_back(relative(w.warningStr()));
+  EXPECT_THAT(
+      warnings,
+      ElementsAre("warnings/ineffective_policy.xml:8: warning: <heartbeat> of subcomponent 'map' has no effect: "
+                  "'MapServer' is passive, and its calls run on their callers' threads, whose own heartbeat "
+                  "sees a call that hangs",
+                  "warnings/ineffective_policy.xml:9: warning: <deadline> of subcomponent 'map' has no effect: "
+                  "'MapServer' is passive, and a deadline bounds onExecute, which only an executor calls",
+                  "warnings/ineffective_policy.xml:15: warning: <severity kind=\"remote\"> of subcomponent "
+                  "'sonar' has no effect: remote faults come from DDS subscriptions, which this keel does not "
+                  "have"));
+}
+
+TEST(FaultPolicyWarnings, AValidProfileHasNone) {
+  const auto set = load(dataPath("valid/app.xml"));
+  ASSERT_TRUE(set.ok()) << joined(set);
+  EXPECT_TRUE(set->warnings.empty());
+}
+
 }  // namespace
 }  // namespace keel::profile::test
