@@ -95,6 +95,23 @@ TEST_F(Cli, AFailedOnStopIsNotResetButItsEmergencyStopRuns) {
   EXPECT_EQ(test::statesOf(log, "driver"), (std::vector<std::string>{"Ready", "Active", "Error", "Destroyed"}));
 }
 
+// A reset ends in Active directly, as OPRoS's reset() does, through the paper's callbacks: no
+// Ready between, no second onInitialize or onStart (docs/decisions/0012).
+TEST_F(Cli, AResetRunsOnErrorOnResetOnRecoverAndNeverStartsTheComponentAgain) {
+  const std::string trace = test::tempPath("keel_cli_reset_trace");
+  std::filesystem::remove(trace);
+  auto r = test::runProcess({KEEL_CLI, "run", profile("reset_trace.xml"), "--duration", "0.5", "--log", log_, "--set",
+                             "driver.trace=" + trace});
+  const std::string callbacks = test::slurp(trace);
+  std::filesystem::remove(trace);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(callbacks, "onInitialize\nonStart\nonError\nonReset\nonRecover\nonStop\nonDestroy\n");
+  const auto log = test::readLog(log_);
+  EXPECT_EQ(test::statesOf(log, "driver"),
+            (std::vector<std::string>{"Ready", "Active", "Error", "Active", "Inactive", "Destroyed"}));
+  EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 1u);
+}
+
 // The summary is printed after shutdown, from the run's log (an anonymous one without --log): a
 // fault in onStop and the emergency stop it causes are in it, as they are in the log.
 TEST_F(Cli, TheSummaryIsPrintedAfterShutdownAndHasWhatTheStopDid) {

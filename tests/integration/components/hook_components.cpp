@@ -82,7 +82,8 @@ class Driver : public keel::Component, public keel::HardwareDriver {
 /// Writes the name of each lifecycle and recovery callback keel calls to the file `trace`, and
 /// fails its onInitialize when `refuse` is set, as a driver whose device is missing does. Its
 /// onStop then dereferences what onInitialize never set up, as such a driver would. With
-/// `fail_stop` its onStop throws, as a driver whose stop command is not acknowledged.
+/// `fail_stop` its onStop throws, as a driver whose stop command is not acknowledged. With
+/// `throw_at` N its Nth onExecute throws (once).
 class Refuser : public keel::Component {
  public:
   keel::ReturnCode onInitialize() override {
@@ -93,6 +94,10 @@ class Refuser : public keel::Component {
     return keel::ReturnCode::Ok;
   }
   keel::ReturnCode onStart() override { return note("onStart"); }
+  keel::ReturnCode onExecute() override {
+    if (++executions_ == property<int>("throw_at", 0)) throw std::runtime_error("a bad reading");
+    return keel::ReturnCode::Ok;
+  }
   keel::ReturnCode onStop() override {
     note("onStop");
     *device_ = 0;  // a null pointer unless onInitialize succeeded
@@ -116,6 +121,7 @@ class Refuser : public keel::Component {
   std::string trace_;
   int opened_ = 0;
   int* device_ = nullptr;
+  int executions_ = 0;
 };
 
 }  // namespace itest
