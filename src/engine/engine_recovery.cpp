@@ -74,10 +74,14 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   detail::ComponentCore& alt_core = runtime::coreOf(*alt);
   alt_core.hooks = nullptr;
   alt_core.fault_sink = nullptr;
-  const bool initialized = runtime::transition(*alt, Transition::Initialize);
+  if (!runtime::transition(*alt, Transition::Initialize)) {
+    // As any component whose onInitialize failed: onDestroy, never onStart or onStop.
+    const std::string why = alt_core.transition_fault;
+    runtime::transition(*alt, Transition::Destroy);
+    return fail(fmt::format("{}: {}", cp.name, why.empty() ? "onInitialize returned an error" : why));
+  }
   alt_core.hooks = this;
   alt_core.fault_sink = &fault_manager_;
-  if (!initialized) return fail(fmt::format("onInitialize of alternative {} failed", cp.name));
   // Allocates its checkpoint buffers now, off the fault path (the switch copies into them).
   if (!runtime::coreOf(*alt).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alt), runtime::steadyNs());
   // Outputs and required services now (it sends nothing before it starts); inputs at the switch.

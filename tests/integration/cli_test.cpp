@@ -112,6 +112,29 @@ TEST_F(Cli, AResetRunsOnErrorOnResetOnRecoverAndNeverStartsTheComponentAgain) {
   EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 1u);
 }
 
+// An alternative whose onInitialize fails is destroyed as any such component is (onDestroy, no
+// onStart or onStop), and the failed replacement says why.
+TEST_F(Cli, AnAlternativeThatFailsToInitializeIsDestroyedAndTheReplacementSaysWhy) {
+  const std::string trace = test::tempPath("keel_cli_unplugged_trace");
+  std::filesystem::remove(trace);
+  auto r = test::runProcess({KEEL_CLI, "run", profile("unplugged_alternative.xml"), "--duration", "0.5", "--log", log_,
+                             "--set", "driver.trace=" + trace});
+  const std::string callbacks = test::slurp(trace);
+  std::filesystem::remove(trace);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(callbacks.find("Unplugged.onInitialize\nUnplugged.onDestroy\n"), std::string::npos) << callbacks;
+  EXPECT_EQ(callbacks.find("Unplugged.onStart"), std::string::npos) << callbacks;
+  EXPECT_EQ(callbacks.find("Unplugged.onStop"), std::string::npos) << callbacks;
+  bool failed_with_reason = false;
+  for (const auto& a : test::eventsOf(test::readLog(log_), ev::kAction))
+    if (a[fd::kAction] == "replace")
+      failed_with_reason = a[fd::kOutcome] == fault::schema::kFailed &&
+                           a.value(fd::kDetail, "") ==
+                               "loading the alternative failed: Unplugged: exception in onInitialize: no device at "
+                               "/dev/spare";
+  EXPECT_TRUE(failed_with_reason) << r.out;
+}
+
 // The summary is printed after shutdown, from the run's log (an anonymous one without --log): a
 // fault in onStop and the emergency stop it causes are in it, as they are in the log.
 TEST_F(Cli, TheSummaryIsPrintedAfterShutdownAndHasWhatTheStopDid) {

@@ -124,8 +124,33 @@ class Refuser : public keel::Component {
   int executions_ = 0;
 };
 
+/// An alternative whose device is missing: its onInitialize throws. Writes "Unplugged." and the
+/// callback's name to the file `trace`.
+class Unplugged : public keel::Component {
+ public:
+  keel::ReturnCode onInitialize() override {
+    trace_ = property<std::string>("trace");
+    note("onInitialize");
+    throw std::runtime_error("no device at /dev/spare");
+  }
+  keel::ReturnCode onStart() override { return note("onStart"); }
+  keel::ReturnCode onStop() override { return note("onStop"); }
+  keel::ReturnCode onDestroy() override { return note("onDestroy"); }
+
+ private:
+  keel::ReturnCode note(const char* callback) const {
+    if (std::FILE* f = std::fopen(trace_.c_str(), "a")) {
+      std::fprintf(f, "Unplugged.%s\n", callback);
+      std::fclose(f);
+    }
+    return keel::ReturnCode::Ok;
+  }
+  std::string trace_;
+};
+
 }  // namespace itest
 
 KEEL_REGISTER_COMPONENT_AS(itest::Finisher, "Finisher")
+KEEL_REGISTER_COMPONENT_AS(itest::Unplugged, "Unplugged")
 KEEL_REGISTER_COMPONENT_AS(itest::Refuser, "Refuser")
 KEEL_REGISTER_COMPONENT_AS(itest::Driver, "Driver")
