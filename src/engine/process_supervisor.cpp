@@ -132,8 +132,7 @@ struct ProcessSupervisor::Proxy final : Component, runtime::ProcessTarget {
 ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& session,
                                      std::vector<ipc::SharedMemory> rings, HostLaunch launch, Warn warn,
                                      fault::FaultLog& log)
-    : plan_(plan), session_(session), rings_(std::move(rings)), launch_(std::move(launch)), warn_(std::move(warn)),
-      log_(log) {
+    : session_(session), rings_(std::move(rings)), launch_(std::move(launch)), warn_(std::move(warn)), log_(log) {
   const std::vector<std::size_t> crossing = crossingConnections(plan);
   for (std::size_t i = 0; i < plan.processes.size(); ++i) {
     auto g = std::make_unique<Group>();

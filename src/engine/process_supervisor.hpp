@@ -95,7 +95,6 @@ class ProcessSupervisor {
   void watchBeats(Group& g);  // a thread per process with a heartbeat: kills a hung host
   Result<void> waitState(Group& g, std::size_t slot, std::chrono::milliseconds within);
 
-  const plan::Plan& plan_;
   runtime::ipc::Session& session_;
   std::vector<runtime::ipc::SharedMemory> rings_;
   HostLaunch launch_;
