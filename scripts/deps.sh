@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs what keel needs to build, test and benchmark on Debian 12 (bookworm).
+# Installs what keel needs to build, test and benchmark on Debian 12 (bookworm), and the
+# packages named as arguments (`scripts/deps.sh clang-14`: what another script needs).
 # Quiet and offline when everything is already installed, so scripts/test.sh can call it
 # every time; otherwise one line, with apt's output in a log shown only if it fails. Runs
 # apt-get as root, through sudo when not root.
@@ -15,6 +16,7 @@ packages=(
   cyclonedds-tools
   graphviz  # dot, for the docs' `keel graph` examples (tests/docs/examples_test.py)
 )
+packages+=("$@")  # a script's own (scripts/fuzz.sh: clang and libFuzzer)
 
 if ! command -v dpkg-query >/dev/null 2>&1 || ! command -v apt-get >/dev/null 2>&1; then
   echo "deps.sh: not a Debian system (no dpkg/apt-get); install these yourself:" >&2

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# Builds and runs keel's libFuzzer targets (fuzz/, docs/fuzzing.md).
+#
+#   scripts/fuzz.sh --list             the targets, a line each
+#   scripts/fuzz.sh TARGET SECONDS     runs one for SECONDS
+#   scripts/fuzz.sh --all SECONDS      runs each in turn for SECONDS (what CI does)
+#
+# The targets are built by the `fuzz` preset (clang 14, ASan+UBSan, in build-fuzz/); the
+# packages they need (clang-14, libclang-rt-14-dev, libfuzzer-14-dev) are installed by
+# scripts/deps.sh. Each run starts from the checked-in seeds (fuzz/corpus/TARGET, read only)
+# and keeps what it finds in build-fuzz/corpus/TARGET; XML targets use fuzz/xml.dict. A crash,
+# a leak, a UBSan finding, a timeout (10 s per input) or a failed check exits non-zero, with
+# the input kept in build-fuzz/findings/TARGET/ and the command that reproduces it printed.
+# Jobs for the build: $KEEL_JOBS, else the number of cores.
+set -euo pipefail
+
+usage() { sed -n '2,14s/^# \{0,1\}//p' "$0"; }
+
+cd "$(dirname "${BASH_SOURCE[0]}")/.."
+targets=(profile_component profile_composite profile_package profile_system scenario motion_board)
+
+case "${1:-}" in
+  --list) printf '%s\n' "${targets[@]}"; exit 0 ;;
+  -h | --help) usage; exit 0 ;;
+  --all) (($# == 2)) || { usage >&2; exit 2; } ;;
+  "") usage >&2; exit 2 ;;
+  *)
+    (($# == 2)) || { usage >&2; exit 2; }
+    [[ " ${targets[*]} " == *" $1 "* ]] || { echo "fuzz.sh: no target '$1' (scripts/fuzz.sh --list)" >&2; exit 2; }
+    ;;
+esac
+seconds=$2
+[[ "$seconds" =~ ^[0-9]+$ ]] || { echo "fuzz.sh: SECONDS must be a whole number, got '$seconds'" >&2; exit 2; }
+
+scripts/deps.sh clang-14 libclang-rt-14-dev libfuzzer-14-dev
+jobs=${KEEL_JOBS:-$(nproc)}
+cmake --preset fuzz >/dev/null
+cmake --build build-fuzz --target keel_fuzz --parallel "$jobs"
+
+# libFuzzer's own leak check is ASan's; UBSan stops at its first finding.
+export ASAN_OPTIONS="detect_leaks=1:abort_on_error=1"
+export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1"
+
+run() {
+  local target=$1 work=build-fuzz/corpus/$1 findings=build-fuzz/findings/$1
+  mkdir -p "$work" "$findings"
+  local dict=()
+  [[ $target == motion_board ]] || dict=(-dict=fuzz/xml.dict)
+  echo "fuzz.sh: $target for $seconds s (seeds: fuzz/corpus/$target, corpus: $work)"
+  # The first corpus directory gets what is new; the seeds stay as checked in.
+  if ! build-fuzz/fuzz/"$target" "$work" "fuzz/corpus/$target" "${dict[@]}" -max_total_time="$seconds" \
+    -timeout=10 -rss_limit_mb=2048 -artifact_prefix="$findings/" -print_final_stats=1 2>"$findings/log"; then
+    tail -n 40 "$findings/log" >&2
+    echo "fuzz.sh: $target FAILED; the input is in $findings/; reproduce: build-fuzz/fuzz/$target $findings/<file>" >&2
+    return 1
+  fi
+  grep -E '^stat::number_of_executed_units|^stat::peak_rss_mb|^#[0-9]+.*DONE' "$findings/log" | sed "s/^/  /" || true
+}
+
+if [[ $1 == --all ]]; then
+  for t in "${targets[@]}"; do run "$t"; done
+else
+  run "$1"
+fi
