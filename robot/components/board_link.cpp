@@ -72,7 +72,9 @@ void BoardLink::spawn(const BoardLinkConfig& config) {
                                    "--period-ms",
                                    std::to_string(config.period_ms),
                                    "--noise",
-                                   std::to_string(config.sim.sonar_noise_cm)};
+                                   std::to_string(config.sim.sonar_noise_cm),
+                                   "--parent",  // it ends with this process, even one killed with -9
+                                   std::to_string(getpid())};
   if (!config.sim.truth_path.empty()) {
     args.push_back("--truth");
     args.push_back(config.sim.truth_path);

@@ -2,7 +2,9 @@
 // pseudo-terminal, driving the body in a world (--world, default the paper arena) and
 // publishing the ground truth (--truth PATH) for the camera and the referee. Prints the slave
 // path (one line on stdout), then serves the board in real time (robot/sim/board_server.hpp)
-// until SIGINT/SIGTERM. Touches only its pty and the truth file.
+// until SIGINT/SIGTERM, or until the process named by --parent PID is gone: a main board
+// killed with -9 does not leave its motion board running. Touches only its pty and the truth
+// file.
 #include <fcntl.h>
 #include <poll.h>
 #include <termios.h>
@@ -20,6 +22,7 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include "robot/sim/board_server.hpp"
 
@@ -31,9 +34,11 @@ void onSignal(int) { g_stop.store(true); }
 struct Options {
   keel::robot::SimHostConfig host;
   int period_ms = 20;
+  long long parent = 0;  // --parent: serve while this process is our parent (0: for ever)
 };
 
-constexpr const char* kUsage = "use --seed N, --deadman-ms N, --period-ms N, --world NAME, --truth PATH, --noise CM";
+constexpr const char* kUsage =
+    "use --seed N, --deadman-ms N, --period-ms N, --world NAME, --truth PATH, --noise CM, --parent PID";
 
 bool parseInt(const char* text, long long min, long long& out) {
   char* end = nullptr;
@@ -55,13 +60,14 @@ bool parseNumberOption(const std::string& flag, const char* text, Options& optio
   }
   long long value = 0;
   const long long min = flag == "--period-ms" ? 1 : 0;
-  const long long max = flag == "--seed" ? std::numeric_limits<long long>::max() : 3'600'000;
+  const long long max = flag == "--seed" || flag == "--parent" ? std::numeric_limits<long long>::max() : 3'600'000;
   if (!parseInt(text, min, value) || value > max) {
     std::fprintf(stderr, "keel_motion_board: %s needs an integer in [%lld, %lld]\n", flag.c_str(), min, max);
     return false;
   }
   if (flag == "--seed") options.host.seed = static_cast<std::uint64_t>(value);
   else if (flag == "--deadman-ms") options.host.deadman_ms = static_cast<int>(value);
+  else if (flag == "--parent") options.parent = value;
   else options.period_ms = static_cast<int>(value);
   return true;
 }
@@ -70,7 +76,7 @@ bool parseOptions(int argc, char** argv, Options& options) {
   for (int i = 1; i < argc; i += 2) {
     const std::string flag = argv[i];
     const bool known = flag == "--seed" || flag == "--deadman-ms" || flag == "--period-ms" || flag == "--world" ||
-                       flag == "--truth" || flag == "--noise";
+                       flag == "--truth" || flag == "--noise" || flag == "--parent";
     if (!known) {
       std::fprintf(stderr, "keel_motion_board: unknown option %s (%s)\n", flag.c_str(), kUsage);
       return false;
@@ -131,7 +137,20 @@ int main(int argc, char** argv) {
   std::printf("%s\n", slave_path.c_str());
   std::fflush(stdout);
 
+  // The parent's death reparents us: watched every 20 ms by a thread of its own, so the board's
+  // loop stays as it is in-process. A parent already gone before we looked is caught too.
+  std::thread watch;
+  if (options.parent > 0) {
+    watch = std::thread([parent = static_cast<pid_t>(options.parent)] {
+      while (!g_stop.load()) {
+        if (getppid() != parent) g_stop.store(true);
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
+    });
+  }
   keel::robot::serveBoard(master, *host, options.period_ms, g_stop);
+  g_stop.store(true);
+  if (watch.joinable()) watch.join();
   close(slave_fd);
   close(master);
   return 0;

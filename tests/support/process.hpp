@@ -1,4 +1,5 @@
-// Test support: runs a command (the keel CLI) and captures its exit status, stdout and stderr.
+// Test support: runs a command (the keel CLI) and captures its exit status, stdout and stderr;
+// looks at processes through /proc.
 #pragma once
 
 #include <signal.h>
@@ -58,6 +59,39 @@ inline Ran runProcess(const std::vector<std::string>& argv,
   std::filesystem::remove(out_path);
   std::filesystem::remove(err_path);
   return r;
+}
+
+/// Whether process `pid` has ended: no such process, or a zombie no one reaped yet.
+inline bool processGone(long pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  if (!stat) return true;
+  std::string line;
+  std::getline(stat, line);
+  const auto paren = line.rfind(')');
+  return paren != std::string::npos && paren + 2 < line.size() && line[paren + 2] == 'Z';
+}
+
+/// The processes whose parent is `parent`, with their command names (/proc/PID/comm).
+inline std::vector<std::pair<long, std::string>> childrenOf(long parent) {
+  std::vector<std::pair<long, std::string>> out;
+  for (const auto& entry : std::filesystem::directory_iterator("/proc")) {
+    const std::string name = entry.path().filename().string();
+    if (name.find_first_not_of("0123456789") != std::string::npos) continue;
+    std::ifstream stat(entry.path() / "stat");
+    std::string line;
+    if (!std::getline(stat, line)) continue;
+    const auto paren = line.rfind(')');
+    if (paren == std::string::npos) continue;
+    std::istringstream rest(line.substr(paren + 2));
+    std::string state;
+    long ppid = 0;
+    rest >> state >> ppid;
+    if (ppid != parent) continue;
+    std::string comm = slurp((entry.path() / "comm").string());
+    while (!comm.empty() && comm.back() == '\n') comm.pop_back();
+    out.emplace_back(std::stol(name), comm);
+  }
+  return out;
 }
 
 }  // namespace keel::test
