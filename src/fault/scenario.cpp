@@ -21,6 +21,11 @@ constexpr const char* kKinds =
 constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck",   "sensor_ok",
                                                "motor_power_off",  "motor_power_on", "noise"};
 
+// Bounds that keep the injector's arithmetic in range: times in ms up to about 11.6 days (in ns
+// they fit an int64 many times over), and a million repetitions of one fault.
+constexpr double kMaxMs = 1e9;
+constexpr double kMaxRepeat = 1e6;
+
 class FaultReader {
  public:
   FaultReader(const profile::detail::XmlFile& file, Diagnostics& diags) : file_(file), diags_(diags) {}
@@ -31,14 +36,14 @@ class FaultReader {
     const std::size_t before = diags_.size();
     for (pugi::xml_attribute a : n.attributes()) {
       std::string_view name = a.name();
-      if (name == "at") f.at_ms = number(n, a, 0);
+      if (name == "at") f.at_ms = number(n, a, 0, false, kMaxMs);
       else if (name == "component") f.component = a.value();
       else if (name == "kind") f.kind_name = a.value();
       else if (name == "port") f.port = a.value();
       else if (name == "value") f.value = number(n, a, -std::numeric_limits<double>::infinity(), true);
-      else if (name == "duration") f.duration_ms = number(n, a, 0);
-      else if (name == "repeat") f.repeat = static_cast<int>(number(n, a, 1));
-      else if (name == "every") f.every_ms = number(n, a, 0);
+      else if (name == "duration") f.duration_ms = number(n, a, 0, false, kMaxMs);
+      else if (name == "repeat") f.repeat = count(n, a);
+      else if (name == "every") f.every_ms = number(n, a, 0, false, kMaxMs);
       else if (name == "args") f.args = profile::detail::trim(a.value());
       else
         error(n, fmt::format("<fault>: unknown attribute '{}' (known: at, component, kind, port, value, "
@@ -79,16 +84,25 @@ class FaultReader {
     error(n, fmt::format("<fault>: unknown kind '{}' (kinds: {})", f.kind_name, kKinds));
   }
 
-  double number(pugi::xml_node n, pugi::xml_attribute a, double min, bool allow_nan = false) {
+  double number(pugi::xml_node n, pugi::xml_attribute a, double min, bool allow_nan = false,
+                double max = std::numeric_limits<double>::infinity()) {
     std::string_view text = a.value();
     if (allow_nan && (text == "nan" || text == "NaN")) return std::numeric_limits<double>::quiet_NaN();
     auto v = profile::detail::parseDouble(text, allow_nan);
-    if (!v || *v < min) {
-      error(n, fmt::format("<fault>: attribute '{}' must be a number{}, got '{}'", a.name(),
-                           std::isfinite(min) ? fmt::format(" >= {}", min) : "", text));
+    if (!v || *v < min || *v > max) {
+      error(n, fmt::format("<fault>: attribute '{}' must be a number{}{}, got '{}'", a.name(),
+                           std::isfinite(min) ? fmt::format(" >= {}", min) : "",
+                           std::isfinite(max) ? fmt::format(" and <= {}", max) : "", text));
       return min;
     }
     return *v;
+  }
+  /// `repeat`: a whole number in [1, kMaxRepeat].
+  int count(pugi::xml_node n, pugi::xml_attribute a) {
+    const double v = number(n, a, 1, false, kMaxRepeat);
+    if (v == std::floor(v)) return static_cast<int>(v);
+    error(n, fmt::format("<fault>: attribute 'repeat' must be a whole number, got '{}'", a.value()));
+    return 1;
   }
   const profile::detail::XmlFile& file_;
   Diagnostics& diags_;

@@ -19,12 +19,26 @@ class Component;
 
 namespace keel::detail {
 
+/// `x` as an E, for an injected out-of-range value: a number E cannot hold saturates to E's
+/// range (NaN to an integer type's lowest value), where a plain cast would be undefined.
+template <class E>
+E saturatingCast(double x) {
+  using L = std::numeric_limits<E>;
+  if constexpr (std::is_integral_v<E>) {
+    if (std::isnan(x) || x <= static_cast<double>(L::lowest())) return L::lowest();
+    if (x >= static_cast<double>(L::max())) return L::max();
+  } else {
+    if (std::isfinite(x) && std::fabs(x) > static_cast<double>(L::max())) return x > 0 ? L::infinity() : -L::infinity();
+  }
+  return static_cast<E>(x);
+}
+
 template <class T>
 struct NumericTraits {
   static constexpr bool numeric = std::is_arithmetic_v<T> && !std::is_same_v<T, bool>;
   static std::size_t size(const T&) { return 1; }
   static double at(const T& v, std::size_t) { return static_cast<double>(v); }
-  static void fill(T& v, double x) { v = static_cast<T>(x); }
+  static void fill(T& v, double x) { v = saturatingCast<T>(x); }
 };
 template <class E>
 struct NumericTraits<std::vector<E>> {
@@ -33,7 +47,7 @@ struct NumericTraits<std::vector<E>> {
   static double at(const std::vector<E>& v, std::size_t i) { return static_cast<double>(v[i]); }
   static void fill(std::vector<E>& v, double x) {
     if (v.empty()) v.resize(1);
-    for (auto& e : v) e = static_cast<E>(x);
+    for (auto& e : v) e = saturatingCast<E>(x);
   }
 };
 template <class E, std::size_t N>
@@ -42,7 +56,7 @@ struct NumericTraits<std::array<E, N>> {
   static std::size_t size(const std::array<E, N>&) { return N; }
   static double at(const std::array<E, N>& v, std::size_t i) { return static_cast<double>(v[i]); }
   static void fill(std::array<E, N>& v, double x) {
-    for (auto& e : v) e = static_cast<E>(x);
+    for (auto& e : v) e = saturatingCast<E>(x);
   }
 };
 

@@ -64,7 +64,7 @@ TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
   const std::string f = path_;
   EXPECT_EQ(problems(s),
             (std::vector<std::string>{
-                f + ":2: <fault>: attribute 'at' must be a number >= 0, got '-5'",
+                f + ":2: <fault>: attribute 'at' must be a number >= 0 and <= 1000000000, got '-5'",
                 f + ":3: <fault>: attribute 'component' is required",
                 f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
                     "throw, error_code, hang, stall_heartbeat, out_of_range, kill; hardware: sensor_unplugged, "
@@ -86,6 +86,29 @@ TEST_F(ScenarioFile, RejectsRepeatWithoutEvery) {
       write(R"(<fault_scenario><fault at="1" component="a" kind="throw" repeat="2"/></fault_scenario>)"));
   ASSERT_FALSE(s);
   EXPECT_EQ(s.error().front().message, "<fault>: repeat needs every (ms) > 0");
+}
+
+// Found by the scenario fuzzer: repeat="6.6e56" was cast to int (undefined). Times and counts
+// beyond what the injector can compute with are errors.
+TEST_F(ScenarioFile, RejectsTimesAndCountsBeyondItsBounds) {
+  auto s = loadScenario(write(R"(<fault_scenario>
+  <fault at="1e300" component="a" kind="throw"/>
+  <fault at="1" component="a" kind="throw" repeat="6.66667e+56" every="1"/>
+  <fault at="1" component="a" kind="throw" repeat="2.5" every="1"/>
+  <fault at="1" component="a" kind="hang" duration="1e10"/>
+  <fault at="1" component="a" kind="throw" every="1e12"/>
+</fault_scenario>)"));
+  ASSERT_FALSE(s);
+  EXPECT_EQ(problems(s), (std::vector<std::string>{
+                             path_ + ":2: <fault>: attribute 'at' must be a number >= 0 and <= 1000000000, got '1e300'",
+                             path_ + ":3: <fault>: attribute 'repeat' must be a number >= 1 and <= 1000000, got "
+                                     "'6.66667e+56'",
+                             path_ + ":4: <fault>: attribute 'repeat' must be a whole number, got '2.5'",
+                             path_ + ":5: <fault>: attribute 'duration' must be a number >= 0 and <= 1000000000, got "
+                                     "'1e10'",
+                             path_ + ":6: <fault>: attribute 'every' must be a number >= 0 and <= 1000000000, got "
+                                     "'1e12'",
+                         }));
 }
 
 TEST_F(ScenarioFile, ReadsHardwareFaultsWithTheirArgs) {

@@ -56,6 +56,32 @@ TEST(ValidityRule, SeveralBoundsApplyElementWiseAndFixTheLength) {
   EXPECT_EQ(v.size_got, 3u);
 }
 
+// An injected value a port's type cannot hold saturates to the type's range (a plain cast of
+// 1e300 to int is undefined; on x86 it gives INT_MIN).
+TEST(NumericTraits, AValueTheTypeCannotHoldSaturates) {
+  int i = 0;
+  NumericTraits<int>::fill(i, 1e300);
+  EXPECT_EQ(i, std::numeric_limits<int>::max());
+  NumericTraits<int>::fill(i, -1e300);
+  EXPECT_EQ(i, std::numeric_limits<int>::lowest());
+  NumericTraits<int>::fill(i, std::nan(""));
+  EXPECT_EQ(i, std::numeric_limits<int>::lowest());
+  NumericTraits<int>::fill(i, -42.7);
+  EXPECT_EQ(i, -42);
+  std::uint16_t u = 0;
+  NumericTraits<std::uint16_t>::fill(u, -1);
+  EXPECT_EQ(u, 0);
+  float f = 0;
+  NumericTraits<float>::fill(f, 1e300);
+  EXPECT_EQ(f, std::numeric_limits<float>::infinity());
+  std::vector<std::int64_t> v;
+  NumericTraits<std::vector<std::int64_t>>::fill(v, 1e300);
+  EXPECT_EQ(v, std::vector<std::int64_t>{std::numeric_limits<std::int64_t>::max()});
+  std::array<std::int8_t, 2> a{};
+  NumericTraits<std::array<std::int8_t, 2>>::fill(a, 300);
+  EXPECT_EQ(a, (std::array<std::int8_t, 2>{127, 127}));
+}
+
 TEST(NumericTraits, KnowsWhichTypesCanBeChecked) {
   EXPECT_TRUE(NumericTraits<double>::numeric);
   EXPECT_TRUE(NumericTraits<int>::numeric);
