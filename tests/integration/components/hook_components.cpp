@@ -148,9 +148,16 @@ class Unplugged : public keel::Component {
   std::string trace_;
 };
 
+/// A component whose constructor throws, as one that reads a missing calibration file there.
+class Fragile : public keel::Component {
+ public:
+  Fragile() { throw std::runtime_error("no calibration file at /etc/fragile.yaml"); }
+};
+
 }  // namespace itest
 
 KEEL_REGISTER_COMPONENT_AS(itest::Finisher, "Finisher")
+KEEL_REGISTER_COMPONENT_AS(itest::Fragile, "Fragile")
 KEEL_REGISTER_COMPONENT_AS(itest::Unplugged, "Unplugged")
 KEEL_REGISTER_COMPONENT_AS(itest::Refuser, "Refuser")
 KEEL_REGISTER_COMPONENT_AS(itest::Driver, "Driver")
