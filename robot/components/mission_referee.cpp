@@ -69,9 +69,14 @@ void MissionReferee::finish(const char* how) {
   const bool goal = std::string_view(how) == "goal";
   const double clearance_cm = std::isfinite(t.min_clearance_m) ? 100.0 * t.min_clearance_m : -1.0;
   const double duration = first_t_s_ < 0 ? 0.0 : t.t_s - first_t_s_;
+  // What put the motors in neutral for this final rest, first: a stop command of the main board
+  // (the actuator's onStop or onEmergencyStop, the planner at the goal), or the board's deadman
+  // when the main board stopped sending (a safety net, not a stop keel made).
+  const bool by_command = t.neutral_since_s >= 0 && (t.deadman_since_s < 0 || t.neutral_since_s <= t.deadman_since_s);
+  const char* held_by = by_command ? "command" : t.deadman_since_s >= 0 ? "deadman" : "none";
   const std::string fields = fmt::format(
-      R"("goal_reached":{},"collisions":{},"min_clearance_cm":{:.1f},"duration_s":{:.2f},"ended":"{}","distance_to_target_m":{:.2f},"x_m":{:.3f},"y_m":{:.3f})",
-      goal, static_cast<int>(t.collisions), clearance_cm, duration, how, distance, t.x_m, t.y_m);
+      R"("goal_reached":{},"collisions":{},"min_clearance_cm":{:.1f},"duration_s":{:.2f},"ended":"{}","distance_to_target_m":{:.2f},"x_m":{:.3f},"y_m":{:.3f},"neutral_by":"{}")",
+      goal, static_cast<int>(t.collisions), clearance_cm, duration, how, distance, t.x_m, t.y_m, held_by);
   const std::string summary =
       fmt::format("mission {} — goal {}, {} collision{}, min clearance {:.1f} cm, {:.1f} s, {:.2f} m from the target",
                   how, goal ? "reached" : "not reached", static_cast<int>(t.collisions), t.collisions == 1 ? "" : "s",

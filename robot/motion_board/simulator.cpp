@@ -37,6 +37,8 @@ Simulator::Simulator(SimulatorConfig config) : config_(std::move(config)), rng_(
 }
 
 void Simulator::command(const MotionCommand& command) {
+  if (command.type != MotionType::Stop) neutral_since_s_ = -1.0;
+  else if (neutral_since_s_ < 0) neutral_since_s_ = time_s_;  // a repeated stop holds since the first
   command_ = command;
   last_command_s_ = time_s_;
   deadman_tripped_ = false;
@@ -85,7 +87,10 @@ double Simulator::targetRpm(Wheel wheel) const {
 
 void Simulator::checkDeadman() {
   if (config_.deadman_ms <= 0 || deadman_tripped_) return;
-  if (time_s_ - last_command_s_ >= config_.deadman_ms / 1000.0) deadman_tripped_ = true;
+  if (time_s_ - last_command_s_ >= config_.deadman_ms / 1000.0) {
+    deadman_tripped_ = true;
+    deadman_since_s_ = time_s_;
+  }
 }
 
 void Simulator::step(double dt_s) {

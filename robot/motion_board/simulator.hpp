@@ -70,6 +70,11 @@ class Simulator {
   [[nodiscard]] std::uint16_t sonarCm(SonarId id) const { return sonar_cm_[static_cast<std::size_t>(id)]; }
   [[nodiscard]] StatusReport status() const;
   [[nodiscard]] bool deadmanTripped() const { return deadman_tripped_; }
+  /// Since when (simulated s) the command in effect is a stop, i.e. the main board holds the
+  /// motors in neutral; -1 while it asks for motion, or has sent nothing yet.
+  [[nodiscard]] double neutralSinceS() const { return neutral_since_s_; }
+  /// Since when the deadman holds the motors (no command for deadman_ms); -1 while it does not.
+  [[nodiscard]] double deadmanSinceS() const { return deadman_tripped_ ? deadman_since_s_ : -1.0; }
   [[nodiscard]] bool motorPowered(Wheel wheel) const { return powered_[index(wheel)]; }
 
  private:
@@ -85,6 +90,8 @@ class Simulator {
   double time_s_ = 0.0;
   double last_command_s_ = 0.0;
   bool deadman_tripped_ = false;
+  double deadman_since_s_ = -1.0;
+  double neutral_since_s_ = -1.0;
   MotionCommand command_{};
   Pose pose_{};
   std::array<double, 2> rpm_{};

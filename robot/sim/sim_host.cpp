@@ -65,6 +65,8 @@ void SimHost::observe() {
   if (colliding && !in_collision_) truth_.collisions += 1;
   in_collision_ = colliding;
   truth_.deadman = sim.deadmanTripped() ? 1.0 : 0.0;
+  truth_.neutral_since_s = sim.neutralSinceS();
+  truth_.deadman_since_s = sim.deadmanSinceS();
   truth_.powered_left = sim.motorPowered(Wheel::Left) ? 1.0 : 0.0;
   truth_.powered_right = sim.motorPowered(Wheel::Right) ? 1.0 : 0.0;
   truth_.steps += 1;

@@ -27,7 +27,9 @@ struct TruthSample {
   double deadman = 0.0;          // 1 while the deadman holds the motors
   double powered_left = 1.0;     // 0 while that driver has no power
   double powered_right = 1.0;
-  std::uint64_t steps = 0;  // simulation steps so far
+  double neutral_since_s = -1.0;  // since when the main board commands neutral (-1: it does not)
+  double deadman_since_s = -1.0;  // since when the deadman holds the motors (-1: it does not)
+  std::uint64_t steps = 0;        // simulation steps so far
 };
 
 /// The shared-memory path for a simulation named `name` ("robot" -> /dev/shm/keel-robot-<pid>

@@ -273,6 +273,32 @@ TEST(MotionBoardSimulator, DeadmanStopsTheMotorsWhenCommandsStop) {
   EXPECT_EQ(sim.targetRpm(Wheel::Left), 100);
 }
 
+// What holds the motors, for the referee: the main board's stop (held since the first of a
+// repeated stop) or the deadman (since it tripped), each -1 while it does not.
+TEST(MotionBoardSimulator, TellsSinceWhenAStopCommandAndSinceWhenTheDeadmanHoldTheMotors) {
+  Simulator sim;  // deadman 300 ms
+  EXPECT_EQ(sim.neutralSinceS(), -1.0) << "nothing commanded yet";
+  const MotionCommand forward{MotionType::Forward, 100}, stop{MotionType::Stop, 0};
+  runFor(sim, 1.0, &forward);
+  EXPECT_EQ(sim.neutralSinceS(), -1.0);
+  EXPECT_EQ(sim.deadmanSinceS(), -1.0);
+
+  const double stopped_at = sim.timeS();
+  runFor(sim, 0.2, &stop);  // sent at once, then again after 100 ms: held since the first
+  EXPECT_DOUBLE_EQ(sim.neutralSinceS(), stopped_at);
+  EXPECT_EQ(sim.deadmanSinceS(), -1.0);
+  runFor(sim, 0.5);  // silence: the deadman trips too, after the stop
+  EXPECT_DOUBLE_EQ(sim.neutralSinceS(), stopped_at);
+  EXPECT_GT(sim.deadmanSinceS(), stopped_at + 0.29);
+
+  sim.command(forward);
+  EXPECT_EQ(sim.neutralSinceS(), -1.0);
+  EXPECT_EQ(sim.deadmanSinceS(), -1.0);
+  runFor(sim, 0.5);  // silent while moving: only the deadman holds the motors
+  EXPECT_EQ(sim.neutralSinceS(), -1.0);
+  EXPECT_GT(sim.deadmanSinceS(), 0.0);
+}
+
 // ---- sonars --------------------------------------------------------------------------------
 
 TEST(MotionBoardSimulator, SonarsReadTheRayCastClampedToTheValidRange) {
