@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <fstream>
 #include <functional>
 #include <optional>
 #include <set>
@@ -20,6 +21,7 @@
 #include "fault/log_schema.hpp"
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
+#include "runtime/injection.hpp"
 #include "support/log_reader.hpp"
 #include "support/temp_log.hpp"
 
@@ -384,6 +386,46 @@ TEST_F(Handling, AReplacedPrimaryLeavesOneDestroyedRecordForItsName) {
     EXPECT_EQ(std::count(states.begin(), states.end(), "Destroyed"), 1);
     EXPECT_EQ(states.back(), "Destroyed");
   }
+}
+
+/// Whether a file named `library` is mapped into this process (/proc/self/maps).
+bool mapped(const std::string& library) {
+  std::ifstream maps("/proc/self/maps");
+  for (std::string line; std::getline(maps, line);)
+    if (line.size() >= library.size() && line.compare(line.size() - library.size(), library.size(), library) == 0)
+      return true;
+  return false;
+}
+
+// A cold replacement loads code at fault time: the alternative's library (its only component)
+// is not in the process until the fault, then it is, and the alternative counts on from the
+// checkpoint. The fault is armed by the test, not by a scenario's clock, so that "before the
+// fault" is certain on a loaded machine.
+TEST_F(Handling, AColdAlternativesLibraryIsLoadedOnlyAtFaultTimeAndTakesOverFromTheCheckpoint) {
+  const std::string library = "/libkeel_test_cold_spare.so";
+  engine::Engine& e = start("replace_cold.xml", "");
+  ASSERT_TRUE(waitFor([&] { return probeOr0("cold", "n") > 20; }));
+  ASSERT_FALSE(mapped(library)) << "the cold alternative's library was loaded before any fault";
+  const std::uint64_t id = e.faultManager().nextId();
+  ASSERT_TRUE(runtime::arm(*e.find("cold"), runtime::InjectKind::Throw, id));
+  ASSERT_TRUE(waitFor([&] { return recovered("cold"); })) << "not recovered";
+  EXPECT_TRUE(mapped(library)) << "replaced without loading the alternative's library";
+  Component* now = e.find("cold");
+  ASSERT_NE(now, nullptr);
+  EXPECT_EQ(runtime::coreOf(*now).class_name, "TallyColdSpare");
+  EXPECT_EQ(now->state(), State::Active);
+  // The tap downstream sees the count go on from the checkpoint (taken every 20 ms, 5 ms per
+  // count), well past where the primary stopped.
+  const long last = probeOr0("cold", "n");
+  ASSERT_TRUE(waitFor([&] { return probeOr0("cold_tap", "last") > last + 20; }))
+      << "the alternative publishes nothing: tap at " << probeOr0("cold_tap", "last") << ", primary at " << last;
+  EXPECT_LE(probeOr0("cold_tap", "max_drop"), 10) << "the alternative did not start from the checkpoint";
+  const std::vector<json> log = finish();
+  json replace = record(log, id, ev::kAction, "replace");
+  ASSERT_FALSE(replace.is_null());
+  EXPECT_EQ(replace[fd::kOutcome], schema::kOk);
+  EXPECT_EQ(replace[fd::kReplacement], "TallyColdSpare");
+  EXPECT_NE(replace[fd::kDetail].get<std::string>().find("loaded at fault time"), std::string::npos) << replace;
 }
 
 // ---- 3. fault stop over Fig. 7 -------------------------------------------------------------
