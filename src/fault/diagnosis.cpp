@@ -1,5 +1,6 @@
 #include "fault/diagnosis.hpp"
 
+#include <algorithm>
 #include <mutex>
 
 #include "fault/escalation.hpp"
@@ -26,6 +27,25 @@ void attributeInjection(FaultReport& r, detail::ComponentCore& core, FaultIds& i
   r.id = id != 0 ? id : ids.next();
 }
 
+/// The component a fault event names, as its reporter names it: a monitor or voter inside a
+/// composite names its siblings (its author cannot know the composite's instance name), so the
+/// name is looked up in the reporter's composite first, then in each enclosing one, then as
+/// written (qualified from the top: an application's `navigation.planner`). Composed on the
+/// stack: no allocation on the fault path.
+Component* named(const Component& reporter, std::string_view name,
+                 const std::function<Component*(std::string_view)>& find) {
+  const std::string_view self = reporter.instanceName();
+  char qualified[2 * sizeof(FaultEvent{}.component)];
+  for (std::size_t dot = self.rfind('.'); dot != std::string_view::npos; dot = self.rfind('.', dot - 1)) {
+    if (dot + 1 + name.size() > sizeof qualified) continue;
+    std::copy_n(self.data(), dot + 1, qualified);
+    std::copy_n(name.data(), name.size(), qualified + dot + 1);
+    if (Component* c = find(std::string_view(qualified, dot + 1 + name.size()))) return c;
+    if (dot == 0) break;
+  }
+  return find(name);
+}
+
 }  // namespace
 
 FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_view detector,
@@ -33,7 +53,7 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
   const std::int64_t detected = fault.t_ns ? fault.t_ns : steadyNs();
   Component* accused = &reporter;
   if (fault.component[0] != '\0' && fault.componentName() != reporter.instanceName()) {
-    if (Component* c = find(fault.componentName())) accused = c;
+    if (Component* c = named(reporter, fault.componentName(), find)) accused = c;
   }
   auto& core = coreOf(*accused);
   core.faults.fetch_add(1, std::memory_order_relaxed);
@@ -41,10 +61,9 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
   FaultReport r;
   r.event = fault;
   r.event.t_ns = detected;
-  // The records name the accused: the reporter itself, or when the component the event names
-  // is unknown, the reporter too (it reported a fault of nothing that runs).
-  if (fault.component[0] == '\0' || accused == &reporter)
-    FaultEvent::copyInto(r.event.component, accused->instanceName());
+  // The records name the accused by its full instance name: the component the event names, or
+  // when that is unknown, the reporter (it reported a fault of nothing that runs).
+  FaultEvent::copyInto(r.event.component, accused->instanceName());
   FaultEvent::copyInto(r.detector, detector.empty() ? std::string_view(reporter.instanceName()) : detector);
   r.accused = accused;
   attributeInjection(r, core, ids);

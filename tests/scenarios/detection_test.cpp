@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <map>
+#include <set>
 #include <string>
 #include <thread>
 
@@ -214,6 +216,26 @@ TEST_F(Detection, ASonarStuckAtZeroIsMaskedByTheVoterAndReportedAsAVoteFault) {
   for (const auto& e : test::eventsOf(r.log, ev::kDetected)) votes += e[fd::kKind] == "vote";
   EXPECT_EQ(votes, 1) << "one fault per episode";
   keptRunning(r, "voter");
+}
+
+// A voter inside a composite names its sources as the composite's author wrote them (its
+// siblings); used twice, each instance's outlier is the sonar of its own composite, whose own
+// policy (stop on a vote fault) applies, while its voter and twins carry on.
+TEST_F(Detection, AVoterInsideACompositeAccusesTheSonarOfItsOwnInstanceAndThatSonarsPolicyApplies) {
+  RunResult r = run("none.xml", FaultKind::Vote, 700ms, "voted_composites.xml");
+  std::map<std::string, std::string> accused;  // detector -> component
+  for (const auto& d : test::eventsOf(r.log, ev::kDetected))
+    if (d[fd::kKind] == "vote") accused[d[fd::kDetector]] = d[fd::kComponent];
+  EXPECT_EQ(accused,
+            (std::map<std::string, std::string>{{"front.voter", "front.sonar_b"}, {"rear.voter", "rear.sonar_b"}}));
+  std::set<std::string> stopped;
+  for (const auto& a : test::eventsOf(r.log, ev::kAction))
+    if (a[fd::kAction] == "stop") stopped.insert(a[fd::kComponent]);
+  EXPECT_EQ(stopped, (std::set<std::string>{"front.sonar_b", "rear.sonar_b"}));
+  for (const char* who : {"front.voter", "front.sonar_a", "rear.voter", "rear.sonar_c", "bystander"}) {
+    SCOPED_TRACE(who);
+    keptRunning(r, who);
+  }
 }
 
 }  // namespace
