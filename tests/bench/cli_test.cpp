@@ -4,9 +4,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <map>
 #include <set>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "support/process.hpp"
 
@@ -78,6 +82,72 @@ TEST(BenchCli, QuickRecoveryMeasuresEveryMechanismAndPeerAtEveryLoadAndPolicy) {
     }
   EXPECT_NE(r.ran.out.find("paper, Linux-Pentium4"), std::string::npos) << r.ran.out;
   EXPECT_TRUE(r.plotted) << r.ran.out;
+}
+
+/// The lines of `text` that start with `prefix`, in order.
+std::vector<std::string> linesStartingWith(const std::string& text, const std::string& prefix) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind(prefix, 0) == 0) out.push_back(line);
+  return out;
+}
+
+// The paper's Table 3 as `keel bench recovery` gives it, on its shape only (not its numbers):
+// the table has a row per load, ascending whatever order the loads were given in, each with the
+// paper's Linux-Pentium4 figure for that load beside keel's columns, then keel ÷ peer per load;
+// the JSON has a cell per load and mechanism in the order measured, keel's carrying their ratio
+// to the peer of the same load.
+TEST(BenchCli, QuickRecoveryGivesTable3WithARowPerLoadThePapersColumnAndKeelToPeerRatios) {
+  const auto r = quick({"recovery", "--loads", "80,10", "--policy", "other", "--only",
+                        "reset,replace_preloaded,peer_respawn", "--no-plot"});
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  const std::string& out = r.ran.out;
+  ASSERT_NE(out.find("(the paper's Table 3: without (with) preloading)"), std::string::npos) << out;
+  const auto header = linesStartingWith(out, "| load (achieved) |");
+  ASSERT_EQ(header.size(), 1u) << out;
+  EXPECT_EQ(header[0], "| load (achieved) | reset | replace_preloaded | peer_respawn | paper, Linux-Pentium4 |");
+  const auto rows = linesStartingWith(out, "| ~");
+  ASSERT_EQ(rows.size(), 4u) << "a row per load in the table, and in the ratios below it: " << out;
+  EXPECT_EQ(rows[0].rfind("| ~10% (", 0), 0u) << rows[0];
+  EXPECT_TRUE(rows[0].ends_with("| 20 ms (< 1 ms) |")) << rows[0];
+  EXPECT_EQ(rows[1].rfind("| ~80% (", 0), 0u) << rows[1];
+  EXPECT_TRUE(rows[1].ends_with("| > 100 ms (< 20 ms) |")) << rows[1];
+  EXPECT_EQ(std::count(rows[0].begin(), rows[0].end(), '|'), 6) << "load, 3 mechanisms, the paper: " << rows[0];
+  const auto ratios_header = linesStartingWith(out,
+                                               "| load | reset ÷ peer_respawn | replace_preloaded ÷ peer_respawn |");
+  EXPECT_EQ(ratios_header.size(), 1u) << out;
+  EXPECT_EQ(rows[2].rfind("| ~10% |", 0), 0u) << rows[2];
+  EXPECT_EQ(rows[3].rfind("| ~80% |", 0), 0u) << rows[3];
+  for (std::size_t i = 2; i < 4; ++i) EXPECT_EQ(rows[i].find("—"), std::string::npos) << "a ratio missing: " << rows[i];
+
+  ASSERT_TRUE(r.cells.is_array()) << out;
+  ASSERT_EQ(r.cells.size(), 6u) << r.cells.dump();
+  const std::vector<std::string> mechanisms{"reset", "replace_preloaded", "peer_respawn"};
+  for (std::size_t i = 0; i < r.cells.size(); ++i) {
+    const auto& c = r.cells[i];
+    SCOPED_TRACE(c.dump());
+    EXPECT_EQ(c["load"], i < 3 ? 80 : 10);  // measured in the order asked
+    EXPECT_EQ(c["mechanism"], mechanisms[i % 3]);
+    EXPECT_EQ(c["policy"], "other");
+    EXPECT_FALSE(c.value("skipped", false));
+    EXPECT_GT(c["n"].get<int>(), 0);
+    if (c["mechanism"] == "peer_respawn") {
+      EXPECT_FALSE(c.contains("vs_peer_respawn")) << "a peer has no ratio to itself";
+      continue;
+    }
+    ASSERT_TRUE(c.contains("vs_peer_respawn"));
+    for (const char* p : {"p50", "p99"}) {
+      const double ratio = c["vs_peer_respawn"][p].get<double>();
+      EXPECT_GT(ratio, 0.0) << p;
+      EXPECT_NEAR(ratio,
+                  c[std::string(p) + "_us"].get<double>() /
+                      r.cells[i - i % 3 + 2][std::string(p) + "_us"].get<double>(),
+                  0.01 + ratio * 0.01)
+          << p << ": keel ÷ the peer of the same load";
+    }
+  }
+  expectCellsSound(r.cells, "mechanism");
 }
 
 TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
