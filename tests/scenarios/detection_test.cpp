@@ -150,12 +150,19 @@ TEST_F(Detection, AHungCallbackIsFoundByTheWatchdogAfterItsTimeout) {
   keptRunning(r, "bystander");
 }
 
-TEST_F(Detection, AStalledHeartbeatIsFoundByTheWatchdog) {
+TEST_F(Detection, AStalledHeartbeatIsFoundByTheWatchdogOncePerStall) {
   RunResult r = run("stall_heartbeat.xml", FaultKind::Heartbeat);
   json d = detected(r, "heartbeat");
   EXPECT_EQ(d[fd::kComponent], "staller");
   EXPECT_NE(d[fd::kDetail].get<std::string>().find("not executed for"), std::string::npos);
+  // The staller's policy ignores it, so it stays Active through the 300 ms stall: one fault,
+  // not one per watchdog poll (the timeout is 30 ms).
+  int beats = 0;
+  for (const auto& e : test::eventsOf(r.log, ev::kDetected)) beats += e[fd::kComponent] == "staller";
+  EXPECT_EQ(beats, 1);
   keptRunning(r, "bystander");
+  ASSERT_TRUE(r.executions_at_fault.count("staller"));
+  EXPECT_GT(r.executions_at_end.at("staller"), r.executions_at_fault.at("staller")) << "not executed after the stall";
 }
 
 TEST_F(Detection, AnOutOfRangeValueIsCaughtOnPushOnDeliveryAndInArrays) {
