@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cstdint>
@@ -46,8 +47,9 @@ class PatternSource : public keel::Component {
 };
 
 /// Checks every Pattern: torn (a word that does not match its seq), a gap (seq jumped ahead),
-/// back (seq not above the last: a restart from a checkpoint). Writes its counts to the file
-/// `report` when it stops: "received gaps back torn last".
+/// back (seq not above the last: a restart from a checkpoint) and how far back at most (a restart
+/// from a checkpoint falls by a sample or two, one from scratch by the whole count). Writes its
+/// counts to the file `report` when it stops: "received gaps back torn last max_back".
 class PatternCheck : public keel::Component {
  public:
   keel::InputDataPort<Pattern> in{this, "in"};
@@ -62,7 +64,8 @@ class PatternCheck : public keel::Component {
   keel::ReturnCode onStop() override {
     take();  // a passive checker takes everything here: nothing runs it before
     if (!report_.empty())
-      std::ofstream(report_) << received_ << ' ' << gaps_ << ' ' << back_ << ' ' << torn_ << ' ' << last_ << '\n';
+      std::ofstream(report_) << received_ << ' ' << gaps_ << ' ' << back_ << ' ' << torn_ << ' ' << last_ << ' '
+                             << max_back_ << '\n';
     return keel::ReturnCode::Ok;
   }
 
@@ -76,12 +79,15 @@ class PatternCheck : public keel::Component {
           break;
         }
       if (last_ != 0 && p->seq > last_ + 1) ++gaps_;
-      if (last_ != 0 && p->seq <= last_) ++back_;
+      if (last_ != 0 && p->seq <= last_) {
+        ++back_;
+        max_back_ = std::max(max_back_, last_ - p->seq + 1);
+      }
       last_ = p->seq;
     }
   }
   std::string report_;
-  std::uint64_t received_ = 0, gaps_ = 0, back_ = 0, torn_ = 0, last_ = 0;
+  std::uint64_t received_ = 0, gaps_ = 0, back_ = 0, torn_ = 0, last_ = 0, max_back_ = 0;
 };
 
 /// Dies as a process does, from a thread of its own (outside the guard), `after_ms` after it
