@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <thread>
+#include <vector>
 
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
@@ -26,7 +27,7 @@ class EngineTest : public ::testing::Test {
     if (!set) return nullptr;
     EngineOptions eo;
     eo.log_path = log_path_;
-    eo.search_path = {KEEL_TEST_COMPONENTS};
+    eo.search_path = {KEEL_TEST_COMPONENTS, KEEL_STOCK_COMPONENTS};
     eo.warn = [](const std::string&) {};
     auto engine = Engine::create(std::move(*set), eo);
     EXPECT_TRUE(engine) << (engine ? "" : engine.error().message);
@@ -69,11 +70,34 @@ TEST_F(EngineTest, AppliesTypedPropertiesWithSubcomponentOverrides) {
   EXPECT_THROW(summer->property<int>("missing"), PropertyError);
 }
 
-TEST_F(EngineTest, ConfiguresInputQueuesFromTheProfile) {
-  auto engine = create("pipeline.xml");
+/// Sends `values` into `component`'s input port `port` of type T as a connection would, then
+/// returns what the port hands its component, in order.
+template <class T>
+std::vector<T> throughQueue(Engine& engine, const std::string& component, const std::string& port,
+                            const std::vector<T>& values) {
+  auto* in = static_cast<detail::InputPortBase*>(runtime::coreOf(*engine.find(component)).findPort(port));
+  auto connection = in->makeConnection();
+  for (const T& v : values) static_cast<detail::Connection<T>*>(connection.get())->send(v);
+  std::vector<T> out;
+  while (auto v = static_cast<InputDataPort<T>*>(in)->pop()) out.push_back(*v);
+  return out;
+}
+
+TEST_F(EngineTest, ConfiguresInputQueuesPolicyAndSizeFromTheProfile) {
+  auto engine = create("queues.xml");
   ASSERT_TRUE(engine);
   auto* in = static_cast<detail::InputPortBase*>(runtime::coreOf(*engine->find("summer")).findPort("in"));
-  EXPECT_EQ(in->capacity(), 64u);  // Summer.xml: queue_size 64
+  EXPECT_EQ(in->capacity(), 64u);  // Summer.xml: FIFO, queue_size 64: full, the oldest is dropped
+  std::vector<int> sent(70);
+  for (int i = 0; i < 70; ++i) sent[i] = i;
+  const auto fifo = throughQueue<int>(*engine, "summer", "in", sent);
+  ASSERT_EQ(fifo.size(), 64u);
+  EXPECT_EQ(fifo.front(), 6);
+  EXPECT_EQ(fifo.back(), 69);
+  // MedianVoter.xml: LAST, only the newest value counts; Brake.xml: LAST, whatever the size.
+  EXPECT_EQ(throughQueue<double>(*engine, "voter", "in0", {1.0, 2.0, 3.0}), std::vector<double>{3.0});
+  EXPECT_EQ(static_cast<detail::InputPortBase*>(runtime::coreOf(*engine->find("brake")).findPort("in"))->capacity(),
+            1u);
 }
 
 TEST_F(EngineTest, ServiceCallsEventsAndDataFlowBetweenComponents) {
