@@ -248,6 +248,28 @@ TEST_F(Robot, AWheelMonitorFaultWhileMovingStopsTheMotorsInNeutralAndTheRobotSto
   stoppedSafely(r);
 }
 
+// An operator's emergency stop (keel run's console) while the robot drives: no component is at
+// fault, so the actuator keeps running — latched, it holds the motors in neutral on its own
+// commands (never left to the deadman) and the robot stays stopped instead of driving on.
+TEST_F(Robot, AnOperatorsEmergencyStopHoldsTheDrivingRobotInNeutralWhileLatched) {
+  const std::string log = (dir_ / "run.jsonl").string();
+  const std::string cmd = "(sleep 2; echo emergency) | " + std::string(KEEL_CLI) + " run " + KEEL_ROBOT +
+                          "/navigation.xml --duration 60 --console --log " + log;
+  RobotRun r;
+  r.ran = runProcess({"/bin/sh", "-c", cmd});
+  r.log = readLog(log);
+  if (!r.log.empty()) r.mission = r.log.back();
+  ASSERT_NE(r.ran.out.find("keel: emergency stop latched"), std::string::npos) << r.ran.out;
+  stoppedSafely(r);
+  EXPECT_EQ(r.mission.value("neutral_by", ""), "command") << r.mission.dump();
+  EXPECT_EQ(r.detections(), 0u) << "nothing at fault: " << r.ran.out;
+  std::vector<std::string> ran;
+  for (const auto& a : eventsOf(r.log, ev::kAction))
+    if (a.value(fd::kAction, "") == "emergency_stop" && a.value(fd::kBy, "") == "console")
+      ran = a.value(fd::kComponents, std::vector<std::string>{});
+  EXPECT_NE(std::find(ran.begin(), ran.end(), "actuator"), ran.end()) << r.ran.out;
+}
+
 TEST_F(Robot, Fig7NavigationStopsWithObstacleDetectionAndHriKeepsRunning) {  // §5.2
   const RobotRun r = run("system.xml", "fig7_sonars_lost.xml", 1, "navigation.");
   EXPECT_EQ(r.detected("range", "obstacle_detection.sonar_b").size(), 1u) << r.ran.out;
