@@ -1,0 +1,44 @@
+// Where the loader looks for component libraries by default (docs/author-api.md): each directory
+// of KEEL_COMPONENT_PATH in order (separated by `:`), then <directory of libkeel.so>/keel.
+#include "runtime/loader.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace keel::runtime {
+namespace {
+
+/// Sets KEEL_COMPONENT_PATH for one test and puts back what was there.
+class ComponentPathEnv {
+ public:
+  explicit ComponentPathEnv(const char* value) {
+    if (const char* old = std::getenv("KEEL_COMPONENT_PATH")) old_ = old;
+    ::setenv("KEEL_COMPONENT_PATH", value, 1);
+  }
+  ~ComponentPathEnv() {
+    if (old_) ::setenv("KEEL_COMPONENT_PATH", old_->c_str(), 1);
+    else ::unsetenv("KEEL_COMPONENT_PATH");
+  }
+  ComponentPathEnv(const ComponentPathEnv&) = delete;
+  ComponentPathEnv& operator=(const ComponentPathEnv&) = delete;
+
+ private:
+  std::optional<std::string> old_;
+};
+
+TEST(LoaderSearchPath, HasEveryDirectoryOfTheComponentPathInOrderThenKeelsOwn) {
+  const ComponentPathEnv env("/opt/a::/opt/b:/opt/c:");
+  const std::vector<std::string> path = Loader::defaultSearchPath();
+  ASSERT_EQ(path.size(), 4u) << ::testing::PrintToString(path);
+  EXPECT_EQ(path[0], "/opt/a");
+  EXPECT_EQ(path[1], "/opt/b");  // an empty entry names nothing
+  EXPECT_EQ(path[2], "/opt/c");
+  EXPECT_TRUE(path[3].ends_with("/keel")) << path[3];  // beside libkeel.so
+}
+
+}  // namespace
+}  // namespace keel::runtime
