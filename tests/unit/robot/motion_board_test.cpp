@@ -21,6 +21,7 @@
 #include <vector>
 
 #include "robot/motion_board/board.hpp"
+#include "robot/sim/sim_host.hpp"
 #include "robot/sim/truth.hpp"
 #include "robot/world/world.hpp"
 
@@ -271,6 +272,26 @@ TEST(MotionBoardSimulator, DeadmanStopsTheMotorsWhenCommandsStop) {
   sim.command(forward);  // a new command re-arms it
   EXPECT_FALSE(sim.deadmanTripped());
   EXPECT_EQ(sim.targetRpm(Wheel::Left), 100);
+}
+
+// The referee's collision count comes from here: driven straight into obstacle A, the body
+// touches it once — one episode however long it keeps pushing — and the clearance falls to 0.
+TEST(SimHost, CountsOneCollisionPerEpisodeOfTheBodyInAnObstacle) {
+  SimHost host(SimHostConfig{});
+  const MotionCommand forward{MotionType::Forward, 200};
+  EXPECT_GT(host.truth().clearance_m, 0.2);                         // clear of everything at the start
+  for (int i = 0; i < 1000 && host.truth().collisions == 0; ++i) {  // 20 s at most
+    if (i % 5 == 0) host.onBytes(encode(forward));
+    (void)host.step(0.020);
+  }
+  ASSERT_EQ(host.truth().collisions, 1.0) << "never hit obstacle A";
+  EXPECT_EQ(host.truth().clearance_m, 0.0);
+  EXPECT_EQ(host.truth().min_clearance_m, 0.0);
+  for (int i = 0; i < 50; ++i) {  // pushing on: the same episode
+    if (i % 5 == 0) host.onBytes(encode(forward));
+    (void)host.step(0.020);
+  }
+  EXPECT_EQ(host.truth().collisions, 1.0);
 }
 
 // What holds the motors, for the referee: the main board's stop (held since the first of a
