@@ -59,15 +59,6 @@ std::vector<nlohmann::json> processFaults(const std::vector<nlohmann::json>& log
 }
 
 /// Whether `pid` is gone (or a zombie nobody reaped yet: it runs nothing).
-bool gone(long pid) {
-  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-  if (!stat) return true;
-  std::string line;
-  std::getline(stat, line);
-  const auto paren = line.rfind(')');
-  return paren != std::string::npos && paren + 2 < line.size() && line[paren + 2] == 'Z';
-}
-
 class Isolation : public ::testing::Test {
  protected:
   void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
@@ -348,7 +339,7 @@ TEST_F(Isolation, WhenKeelRunIsKilledTheActuatorsStopAndNoProcessStaysBehind) {
   for (int i = 0; i < 100 && !all_gone; ++i) {
     std::this_thread::sleep_for(20ms);
     all_gone = true;
-    for (long pid : hosts) all_gone &= gone(pid);
+    for (long pid : hosts) all_gone &= test::processGone(pid);
   }
   EXPECT_TRUE(all_gone) << "a component process outlived keel run";
   EXPECT_EQ(test::slurp(trace_), "emergency " + std::to_string(active) + "\n")
