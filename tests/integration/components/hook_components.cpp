@@ -79,6 +79,16 @@ class Driver : public keel::Component, public keel::HardwareDriver {
   std::mutex mutex_;
 };
 
+/// Appends `prefix` and `callback`'s name as a line to the file `trace` (a test reads the
+/// callbacks keel called, in order); Ok.
+static keel::ReturnCode traceCallback(const std::string& trace, const char* prefix, const char* callback) {
+  if (std::FILE* f = std::fopen(trace.c_str(), "a")) {
+    std::fprintf(f, "%s%s\n", prefix, callback);
+    std::fclose(f);
+  }
+  return keel::ReturnCode::Ok;
+}
+
 /// Writes the name of each lifecycle and recovery callback keel calls to the file `trace`, and
 /// fails its onInitialize when `refuse` is set, as a driver whose device is missing does. Its
 /// onStop then dereferences what onInitialize never set up, as such a driver would. With
@@ -111,13 +121,7 @@ class Refuser : public keel::Component {
   keel::ReturnCode onRecover() override { return note("onRecover"); }
 
  private:
-  keel::ReturnCode note(const char* callback) const {
-    if (std::FILE* f = std::fopen(trace_.c_str(), "a")) {
-      std::fprintf(f, "%s\n", callback);
-      std::fclose(f);
-    }
-    return keel::ReturnCode::Ok;
-  }
+  keel::ReturnCode note(const char* callback) const { return traceCallback(trace_, "", callback); }
   std::string trace_;
   int opened_ = 0;
   int* device_ = nullptr;
@@ -138,13 +142,7 @@ class Unplugged : public keel::Component {
   keel::ReturnCode onDestroy() override { return note("onDestroy"); }
 
  private:
-  keel::ReturnCode note(const char* callback) const {
-    if (std::FILE* f = std::fopen(trace_.c_str(), "a")) {
-      std::fprintf(f, "Unplugged.%s\n", callback);
-      std::fclose(f);
-    }
-    return keel::ReturnCode::Ok;
-  }
+  keel::ReturnCode note(const char* callback) const { return traceCallback(trace_, "Unplugged.", callback); }
   std::string trace_;
 };
 
