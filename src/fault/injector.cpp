@@ -95,10 +95,14 @@ void Injector::run(std::int64_t t0_ns) {
                 {schema::field::kFaultId, id},
                 {schema::field::kComponent, s.fault->component},
                 {schema::field::kKind, s.fault->kind_name}});
-    if (!runtime::arm(*c, s.fault->kind, id, args) && s.fault->kind == runtime::InjectKind::Kill)
+    if (runtime::arm(*c, s.fault->kind, id, args)) continue;
+    if (s.fault->kind == runtime::InjectKind::Kill)
       warn_(fmt::format(
           "kill of '{}' at {} ms: no process of it was running then, or its last death was still being handled",
           s.fault->component, s.fault->at_ms));
+    else if (s.fault->kind == runtime::InjectKind::StallHeartbeat)
+      warn_(fmt::format("stall_heartbeat of '{}' at {} ms: it was not running (not Active) then", s.fault->component,
+                        s.fault->at_ms));
   }
 }
 

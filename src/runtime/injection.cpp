@@ -88,6 +88,7 @@ bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs
       return false;
     }
     case InjectKind::StallHeartbeat:
+      if (c.state() != State::Active) return false;  // not running: it has no heartbeat to stall
       markManifested(core);
       core.injection.stalled_until_ns.store(args.duration_ns > 0 ? steadyNs() + args.duration_ns
                                                                  : std::numeric_limits<std::int64_t>::max(),

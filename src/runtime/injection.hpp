@@ -48,7 +48,8 @@ struct InjectArgs {
 /// Arms `kind` on `c` with the log's `fault_id`. StallHeartbeat and Kill take effect at once
 /// (the executor skips the component; its process is killed); the others fire at its next
 /// onExecute or push. Returns false if `kind` cannot apply to `c` (OutOfRange without a
-/// numeric output data port, Kill on a component that is not a ProcessTarget).
+/// numeric output data port, Kill on a component that is not a ProcessTarget, StallHeartbeat on
+/// a component that is not Active).
 bool arm(Component& c, InjectKind kind, std::uint64_t fault_id, const InjectArgs& args = {});
 
 /// The output data port OutOfRange would corrupt, or null.
