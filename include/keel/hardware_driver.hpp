@@ -11,7 +11,9 @@
 // component's callbacks and whatever its state: it must be thread-safe, and return soon.
 #pragma once
 
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "keel/return_code.hpp"
 
@@ -25,6 +27,10 @@ class HardwareDriver {
   /// Return Ok when the fault was applied; anything else, or an exception, is logged as the
   /// injection's outcome, with a warning.
   virtual ReturnCode onHardwareFault(std::string_view command) = 0;
+  /// The hardware faults this driver can simulate, each a command onHardwareFault takes: what
+  /// `keel soak` picks from at random. Offer only faults the application is meant to tolerate
+  /// or stop safely from, one at a time. Default: none.
+  virtual std::vector<std::string> simulatedFaults() const { return {}; }
 };
 
 }  // namespace keel

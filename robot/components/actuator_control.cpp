@@ -112,4 +112,13 @@ ReturnCode ActuatorControl::onHardwareFault(std::string_view command_text) {
   return link_ && link_->send(encode(*fault)) ? ReturnCode::Ok : ReturnCode::CallApiError;
 }
 
+std::vector<std::string> ActuatorControl::simulatedFaults() const {
+  // A sonar that reads 0 is a range fault of its sensor component; a wheel without power is
+  // seen by its encoder monitor and stops the robot; noise is what the voter masks. Not offered:
+  // a stuck sonar reads plausibly, and two of them, which a random campaign would pick sooner or
+  // later, outvote the third: a common-mode fault beyond the 2-of-3 voter the robot relies on.
+  return {"sensor_unplugged 0",   "sensor_unplugged 1",    "sensor_unplugged 2",
+          "motor_power_off left", "motor_power_off right", "noise 2"};
+}
+
 }  // namespace keel::robot

@@ -14,6 +14,8 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include <keel/component.hpp>
 #include <keel/hardware_driver.hpp>
@@ -44,6 +46,7 @@ class ActuatorControl : public Component, public HardwareDriver {
   ReturnCode onDestroy() override;
   ReturnCode onEmergencyStop() override;
   ReturnCode onHardwareFault(std::string_view command_text) override;
+  std::vector<std::string> simulatedFaults() const override;
 
  private:
   void onStatus(const StatusReport& status);

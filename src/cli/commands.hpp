@@ -16,5 +16,6 @@ void addValidateCommand(CLI::App& app, std::function<int()>& run);
 void addInspectCommand(CLI::App& app, std::function<int()>& run);
 void addGraphCommand(CLI::App& app, std::function<int()>& run);
 void addBenchCommand(CLI::App& app, std::function<int()>& run);
+void addSoakCommand(CLI::App& app, std::function<int()>& run);
 
 }  // namespace keel::cli

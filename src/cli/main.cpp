@@ -13,6 +13,7 @@ int main(int argc, char** argv) try {
   keel::cli::addInspectCommand(app, run);
   keel::cli::addGraphCommand(app, run);
   keel::cli::addBenchCommand(app, run);
+  keel::cli::addSoakCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -43,7 +43,7 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
   ProcessHost* host = e->options_.host;
   if (!e->options_.log_path.empty()) {
     auto opened = host ? e->log_.join(e->options_.log_path, host->session().logEpoch().load())
-                       : e->log_.open(e->options_.log_path);
+                       : e->log_.open(e->options_.log_path, e->options_.log_append);
     if (!opened) return opened.error();
   }
   if (!host) {

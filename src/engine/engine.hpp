@@ -45,7 +45,8 @@
 namespace keel::engine {
 
 struct EngineOptions {
-  std::string log_path;  // empty: no log file
+  std::string log_path;     // empty: no log file
+  bool log_append = false;  // append to log_path (keel soak's rounds) instead of truncating it
   std::vector<std::string> search_path = runtime::Loader::defaultSearchPath();
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   runtime::Warn warn;

@@ -18,8 +18,8 @@ FaultLog::~FaultLog() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-Result<void> FaultLog::open(const std::string& path) {
-  int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_APPEND | O_CLOEXEC, 0644);
+Result<void> FaultLog::open(const std::string& path, bool append) {
+  int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | (append ? 0 : O_TRUNC) | O_APPEND | O_CLOEXEC, 0644);
   if (fd < 0) return fail(fmt::format("cannot open log '{}': {}", path, std::generic_category().message(errno)));
   fd_ = fd;
   return {};

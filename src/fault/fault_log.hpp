@@ -23,8 +23,9 @@ class FaultLog {
   FaultLog(const FaultLog&) = delete;
   FaultLog& operator=(const FaultLog&) = delete;
 
-  /// Opens (truncates) `path`. Without a successful open, write() does nothing.
-  Result<void> open(const std::string& path);
+  /// Opens `path`, truncated unless `append` (keel soak's rounds share one log). Without a
+  /// successful open, write() does nothing.
+  Result<void> open(const std::string& path, bool append = false);
   /// Appends to the log at `path` another process opened (keel run's, from a component
   /// process), with that log's epoch: one log for the run.
   Result<void> join(const std::string& path, std::int64_t epoch_ns);
