@@ -29,12 +29,14 @@ std::string defaultProfile() {
 }
 
 std::string mb(std::uint64_t bytes) { return fmt::format("{:.1f} MB", static_cast<double>(bytes) / 1e6); }
+std::string mb2(std::uint64_t bytes) { return fmt::format("{:.2f} MB", static_cast<double>(bytes) / 1e6); }
 
 void printProgress(const soak::SoakProgress& p, bool tty) {
   const std::string line = fmt::format(
       "keel soak: {:.0f}/{:.0f} s, round {}, {} faults injected, {} handled, {} violation(s), rss {}, "
-      "{} fds",
-      p.elapsed_s, p.total_s, p.round, p.armed, p.handled, p.violations, mb(p.usage.rss_bytes), p.usage.fds);
+      "heap {}, {} fds",
+      p.elapsed_s, p.total_s, p.round, p.armed, p.handled, p.violations, mb(p.usage.rss_bytes), mb(p.usage.heap_bytes),
+      p.usage.fds);
   if (tty) {
     std::cerr << '\r' << line << "\x1b[K" << std::flush;
     return;
@@ -69,6 +71,10 @@ void printResult(const soak::SoakOptions& o, const soak::SoakResult& r) {
     fmt::print("  resident memory: {} after round 1, {} after the warm-up, {} at the end ({:+.1f} %)\n",
                mb(r.start.rss_bytes), mb(r.baseline->rss_bytes), mb(r.last.rss_bytes),
                pct(static_cast<double>(r.baseline->rss_bytes), static_cast<double>(r.last.rss_bytes)));
+    fmt::print("  heap in use: {} after round 1, {} after the warm-up, {} at the end ({:+.1f} %){}\n",
+               mb2(r.start.heap_bytes), mb2(r.baseline->heap_bytes), mb2(r.last.heap_bytes),
+               pct(static_cast<double>(r.baseline->heap_bytes), static_cast<double>(r.last.heap_bytes)),
+               soak::kUnderAsan ? " (judged instead of resident memory under ASan, whose own bookkeeping grows)" : "");
     fmt::print("  open descriptors: {} after round 1, {} after the warm-up, {} at the end ({:+.1f} %)\n", r.start.fds,
                r.baseline->fds, r.last.fds, pct(static_cast<double>(r.baseline->fds), static_cast<double>(r.last.fds)));
   } else {

@@ -142,10 +142,17 @@ class Campaign {
     r_.seconds = secondsSince(t0_);
     if (r_.baseline) {
       auto grew = [](double from, double to) { return from > 0 && to > from * (1 + kMaxGrowth); };
-      if (grew(static_cast<double>(r_.baseline->rss_bytes), static_cast<double>(r_.last.rss_bytes)))
+      if (kUnderAsan) {
+        if (r_.last.heap_bytes > r_.baseline->heap_bytes + kHeapSlackBytes &&
+            grew(static_cast<double>(r_.baseline->heap_bytes), static_cast<double>(r_.last.heap_bytes)))
+          r_.violations.push_back(
+              fmt::format("heap in use grew from {:.2f} MB after the warm-up to {:.2f} MB (> {:.0f} %)",
+                          r_.baseline->heap_bytes / 1e6, r_.last.heap_bytes / 1e6, kMaxGrowth * 100));
+      } else if (grew(static_cast<double>(r_.baseline->rss_bytes), static_cast<double>(r_.last.rss_bytes))) {
         r_.violations.push_back(
             fmt::format("resident memory grew from {:.1f} MB after the warm-up to {:.1f} MB (> {:.0f} %)",
                         r_.baseline->rss_bytes / 1e6, r_.last.rss_bytes / 1e6, kMaxGrowth * 100));
+      }
       if (grew(static_cast<double>(r_.baseline->fds), static_cast<double>(r_.last.fds)))
         r_.violations.push_back(fmt::format("open descriptors grew from {} after the warm-up to {} (> {:.0f} %)",
                                             r_.baseline->fds, r_.last.fds, kMaxGrowth * 100));
@@ -257,7 +264,7 @@ class Campaign {
   }
 
   void sample(int n) {
-    r_.last = usageNow();
+    r_.last = usageNow(true);  // between runs: nothing is allocating
     if (n == 1) r_.start = r_.last;
     if (!r_.baseline && secondsSince(t0_) >= o_.warmup_s) r_.baseline = r_.last;
     report(n);

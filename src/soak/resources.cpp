@@ -1,18 +1,31 @@
 #include "soak/resources.hpp"
 
+#include <malloc.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#if defined(__SANITIZE_ADDRESS__)
+// ASan's runtime (its header, sanitizer/allocator_interface.h, comes with clang, not with g++).
+extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
+#endif
+
 namespace keel::soak {
 
-Usage usageNow() {
+Usage usageNow(bool trim) {
+  if (trim) ::malloc_trim(0);
   Usage u;
   std::ifstream statm("/proc/self/statm");
   std::uint64_t size = 0, resident = 0;
   if (statm >> size >> resident) u.rss_bytes = resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
+#if defined(__SANITIZE_ADDRESS__)
+  u.heap_bytes = __sanitizer_get_current_allocated_bytes();
+#else
+  const struct mallinfo2 m = ::mallinfo2();
+  u.heap_bytes = m.uordblks + m.hblkhd;
+#endif
   std::error_code ec;
   for (auto it = std::filesystem::directory_iterator("/proc/self/fd", ec);
        !ec && it != std::filesystem::directory_iterator(); it.increment(ec))

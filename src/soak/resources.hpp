@@ -12,11 +12,23 @@ namespace keel::soak {
 
 struct Usage {
   std::uint64_t rss_bytes = 0;
+  std::uint64_t heap_bytes = 0;  // allocated and not freed (glibc's count, or ASan's allocator's)
   std::size_t fds = 0;
 };
 
-/// This process's resident memory and open descriptors now.
-Usage usageNow();
+/// Whether this build runs under AddressSanitizer. Its resident memory is then mostly ASan's
+/// shadow and bookkeeping (a record of every thread that ever ran, of every allocation's stack),
+/// which grows on its own run after run: the heap in use is what says whether keel leaks.
+#if defined(__SANITIZE_ADDRESS__)
+inline constexpr bool kUnderAsan = true;
+#else
+inline constexpr bool kUnderAsan = false;
+#endif
+
+/// This process's resident memory, heap in use and open descriptors now. With `trim`, free heap
+/// memory is given back to the system first (malloc_trim: it locks the allocator for a moment),
+/// so that resident memory is what is held, not what the allocator keeps from the busiest moment.
+Usage usageNow(bool trim = false);
 
 /// The processes whose parent is this process, as "pid (name)", zombies (ended, never waited
 /// for) included.
