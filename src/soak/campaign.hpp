@@ -36,7 +36,7 @@ struct SoakOptions {
 inline constexpr double kMaxGrowth = 0.05;
 /// The heap in use between runs is a few hundred KB that varies by tens of KB (buffers kept at
 /// the capacity they reached): under ASan, where it is judged, growth counts beyond this too.
-inline constexpr std::uint64_t kHeapSlackBytes = 256 * 1024;
+inline constexpr std::uint64_t kHeapSlackBytes = std::uint64_t{256} * 1024;
 
 /// Where the campaign is, after each round and while one runs.
 struct SoakProgress {
