@@ -2,11 +2,14 @@
 
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <climits>
 #include <cstring>
 #include <system_error>
 
@@ -16,6 +19,7 @@ FaultLog::FaultLog() : epoch_ns_(steadyNs()) {}
 
 FaultLog::~FaultLog() {
   if (fd_ >= 0) ::close(fd_);
+  if (tee_fd_ >= 0) ::close(tee_fd_);
 }
 
 Result<void> FaultLog::open(const std::string& path, bool append) {
@@ -47,20 +51,97 @@ void FaultLog::share(runtime::ipc::LogArena& arena, std::size_t participant, std
   participants_ = participants;
 }
 
+Result<void> FaultLog::openTee(const std::string& path) {
+  // Non-blocking open: a FIFO's open would otherwise wait for its reader. O_APPEND and O_CREAT
+  // are for a file; a pipe ignores the first, and the second creates nothing that exists.
+  const int fd = ::open(path.c_str(), O_WRONLY | O_NONBLOCK | O_APPEND | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    const int err = errno;
+    return fail(fmt::format("cannot open the log's tee '{}': {}", path,
+                            err == ENXIO ? "no process reads that FIFO (start its reader first)"
+                                         : std::generic_category().message(err)));
+  }
+  struct stat st {};
+  const bool pipe = ::fstat(fd, &st) == 0 && S_ISFIFO(st.st_mode);
+  if (!pipe) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a file, a terminal: whole lines
+  std::lock_guard lock(mutex_);
+  if (tee_fd_ >= 0) ::close(tee_fd_);
+  tee_fd_ = fd;
+  tee_is_pipe_ = pipe;
+  return {};
+}
+
+std::uint64_t FaultLog::teeDropped() const {
+  std::lock_guard lock(mutex_);
+  return tee_dropped_;
+}
+
+std::uint64_t FaultLog::teeLines() const {
+  std::lock_guard lock(mutex_);
+  return tee_lines_;
+}
+
 namespace {
-void pwriteAll(int fd, const char* p, std::size_t n, std::uint64_t offset) {
+bool writeAll(int fd, const std::string& line) {
+  const char* p = line.data();
+  std::size_t left = line.size();
+  while (left > 0) {
+    const ssize_t n = ::write(fd, p, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;  // disk full or closed: the run goes on, the log stops
+    p += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+bool pwriteAll(int fd, const char* p, std::size_t n, std::uint64_t offset) {
   while (n > 0) {
     const ssize_t w = ::pwrite(fd, p, n, static_cast<off_t>(offset));
     if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) return;  // disk full or closed: the run goes on, the log stops
+    if (w <= 0) return false;  // disk full or closed: the run goes on, the log stops
     p += w;
     n -= static_cast<std::size_t>(w);
     offset += static_cast<std::uint64_t>(w);
   }
+  return true;
 }
 }  // namespace
 
-void FaultLog::writeShared(const std::string& line) {
+void FaultLog::writeTee(const std::string& line) {
+  if (tee_fd_ < 0) return;
+  ++tee_lines_;
+  if (!tee_is_pipe_) {
+    if (!writeAll(tee_fd_, line)) ++tee_dropped_;
+    return;
+  }
+  // Whole or not at all: a write of at most PIPE_BUF bytes is atomic, and a non-blocking one
+  // fails (EAGAIN) rather than wait for a reader that is behind. The fault path never waits.
+  if (tee_reader_gone_ || line.size() > PIPE_BUF) {
+    ++tee_dropped_;
+    return;
+  }
+  // A reader that closed its end raises SIGPIPE, whose default action kills: held off on this
+  // thread for the write, and taken back if the write raised it.
+  sigset_t pipe_signal;
+  sigset_t old;
+  sigemptyset(&pipe_signal);
+  sigaddset(&pipe_signal, SIGPIPE);
+  pthread_sigmask(SIG_BLOCK, &pipe_signal, &old);
+  ssize_t n = 0;
+  do {
+    n = ::write(tee_fd_, line.data(), line.size());
+  } while (n < 0 && errno == EINTR);
+  if (n < 0 && errno == EPIPE) {
+    tee_reader_gone_ = true;
+    const timespec zero{0, 0};
+    (void)sigtimedwait(&pipe_signal, nullptr, &zero);
+  }
+  pthread_sigmask(SIG_SETMASK, &old, nullptr);
+  if (n != static_cast<ssize_t>(line.size())) ++tee_dropped_;
+}
+
+bool FaultLog::writeShared(const std::string& line) {
   runtime::ipc::LogStage& stage = runtime::ipc::logStage(*arena_, participant_);
   const bool staged = line.size() <= runtime::ipc::kLogStageBytes;
   if (staged) {
@@ -68,7 +149,7 @@ void FaultLog::writeShared(const std::string& line) {
     stage.length.store(static_cast<std::uint32_t>(line.size()), std::memory_order_release);
   }
   auto locked = arena_->lock.lock();
-  if (!locked) return;
+  if (!locked) return false;
   if (*locked == runtime::ipc::LockStatus::OwnerDied) {
     // Its holder died reserving: the stage that names the tail was reserved, the tail not moved
     // yet. Move it past that line (the survivor that repairs the dead writer writes it there).
@@ -83,8 +164,9 @@ void FaultLog::writeShared(const std::string& line) {
   if (staged) stage.offset.store(at, std::memory_order_release);  // before the tail moves
   arena_->tail.store(at + line.size(), std::memory_order_release);
   (void)arena_->lock.unlock();
-  pwriteAll(fd_, line.data(), line.size(), at);
+  const bool written = pwriteAll(fd_, line.data(), line.size(), at);
   if (staged) stage.offset.store(runtime::ipc::kNoOffset, std::memory_order_release);
+  return written;
 }
 
 void FaultLog::repair(std::size_t participant) {
@@ -94,7 +176,7 @@ void FaultLog::repair(std::size_t participant) {
   if (at == runtime::ipc::kNoOffset) return;
   const std::size_t n = std::min<std::size_t>(stage.length.load(std::memory_order_acquire),
                                               runtime::ipc::kLogStageBytes);
-  pwriteAll(fd_, stage.line, n, at);
+  (void)pwriteAll(fd_, stage.line, n, at);
   stage.offset.store(runtime::ipc::kNoOffset, std::memory_order_release);
 }
 
@@ -108,16 +190,8 @@ void FaultLog::write(nlohmann::json record) {
   std::string line = record.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
   line += '\n';
   std::lock_guard lock(mutex_);
-  if (arena_) return writeShared(line);
-  const char* p = line.data();
-  std::size_t left = line.size();
-  while (left > 0) {
-    ssize_t n = ::write(fd_, p, left);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) return;  // disk full or closed: the run goes on, the log stops
-    p += n;
-    left -= static_cast<std::size_t>(n);
-  }
+  const bool written = arena_ ? writeShared(line) : writeAll(fd_, line);
+  if (written) writeTee(line);  // after the log: what the tee shows, the log has
 }
 
 }  // namespace keel::fault

@@ -1,6 +1,7 @@
 // The fault log of SPEC §5: one JSON object per line, each written with a single write(2) as it
 // happens, so a crash loses at most the line being written. Every record gets `t_ns`
-// (steady clock, ns since the engine started) unless it carries one.
+// (steady clock, ns since the engine started) unless it carries one. A tee (keel run --log-tee)
+// gets each line right after the log has it, so what a reader of the tee saw is in the log.
 // Thread-safety: write() may be called from any thread (one mutex around the write).
 #pragma once
 
@@ -35,6 +36,17 @@ class FaultLog {
   void share(runtime::ipc::LogArena& arena, std::size_t participant, std::size_t participants);
   /// Writes again the line `participant` (a dead process) had staged and not finished.
   void repair(std::size_t participant);
+  /// Also writes every line to `path` (keel run --log-tee), right after the log has it. A pipe
+  /// or FIFO is written without blocking: a line is written whole or, when the reader is
+  /// behind (or gone, or the line is longer than PIPE_BUF), dropped and counted. Anything else
+  /// (a regular file, created if need be) is appended to.
+  Result<void> openTee(const std::string& path);
+  /// The tee's descriptor (another process opens /proc/<pid>/fd/<it>: the same pipe), or -1.
+  int teeDescriptor() const { return tee_fd_; }
+  /// Lines written to the log that the tee did not get, and all lines written to the log
+  /// while there was a tee.
+  std::uint64_t teeDropped() const;
+  std::uint64_t teeLines() const;
   bool enabled() const { return fd_ >= 0; }
   std::int64_t epoch() const { return epoch_ns_; }
 
@@ -52,9 +64,15 @@ class FaultLog {
   runtime::ipc::LogArena* arena_ = nullptr;  // shared: lines at reserved offsets
   std::size_t participant_ = 0;
   std::size_t participants_ = 0;  // this process's count, not the shared one: a scribble stays in bounds
-  void writeShared(const std::string& line);
+  int tee_fd_ = -1;
+  bool tee_is_pipe_ = false;
+  bool tee_reader_gone_ = false;  // EPIPE: nothing is written to it any more
+  std::uint64_t tee_lines_ = 0;
+  std::uint64_t tee_dropped_ = 0;
+  bool writeShared(const std::string& line);
+  void writeTee(const std::string& line);
   nlohmann::json tags_ = nlohmann::json::object();  // set before any other thread writes
-  std::mutex mutex_;
+  mutable std::mutex mutex_;
 };
 
 /// keel's one clock (runtime/clock.hpp), for the fault layer's own code.
