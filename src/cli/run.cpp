@@ -1,5 +1,5 @@
-// keel run PROFILE [--duration S] [--log FILE] [--inject SCENARIO] [--set I.P=V]... [--console]
-//          [--cpu-dma-latency US]:
+// keel run PROFILE [--duration S] [--log FILE] [--log-tee FILE] [--inject SCENARIO] [--set I.P=V]...
+//          [--console] [--cpu-dma-latency US]:
 // runs a package or system profile until the duration ends, SIGINT/SIGTERM, or a component ends
 // the run (RunControl::endRun), then stops and destroys everything (exit 0) and prints a
 // one-screen summary of faults and their handling, and who ended the run. --set sets a
@@ -7,6 +7,7 @@
 // operator commands are read from stdin: `emergency` (emergency stop), `clear` (clears a
 // latched emergency), `status`. --cpu-dma-latency holds the CPUs' wake-up latency at US µs while
 // the engine runs (runtime/cpu_latency.hpp; not permitted: a warning, the run goes on).
+// --log-tee copies each log line, as soon as the log has it, to a pipe, FIFO or file.
 #include <fmt/format.h>
 #include <poll.h>
 #include <signal.h>
@@ -41,6 +42,7 @@ struct RunOptions {
   std::string profile;
   double duration_s = 0;  // 0: until a signal
   std::string log;
+  std::string log_tee;
   std::string inject;
   std::vector<std::string> sets;  // INSTANCE.PROPERTY=VALUE
   bool console = false;
@@ -176,6 +178,7 @@ int runProfile(const RunOptions& o) {
   engine::EngineOptions eo;
   AnonymousLog anonymous_log;
   eo.log_path = o.log;
+  eo.log_tee = o.log_tee;
   if (o.log.empty()) {
     anonymous_log.fd = ::memfd_create("keel-run-log", MFD_CLOEXEC);
     if (anonymous_log.fd < 0) {
@@ -237,6 +240,9 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
   cmd->add_option("--duration", opts->duration_s, "seconds to run (default: until SIGINT/SIGTERM)")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--log", opts->log, "write the fault log (JSON lines) to this file");
+  cmd->add_option("--log-tee", opts->log_tee,
+                  "also write each log line, right after the log has it, to this pipe, FIFO (never waiting for its "
+                  "reader: a line it has no room for is dropped and counted) or file (appended to)");
   cmd->add_option("--inject", opts->inject, "inject the faults of this fault_scenario XML");
   cmd->add_option("--set", opts->sets,
                   "INSTANCE.PROPERTY=VALUE: set a component's property for this run, after the profile's "

@@ -46,6 +46,19 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
                        : e->log_.open(e->options_.log_path, e->options_.log_append);
     if (!opened) return opened.error();
   }
+  // Opened before the first record, so that the tee has them all. A host that cannot open it
+  // (keel run's pipe lost its reader) runs without: its warning waits for the log to be shared.
+  std::string tee_error;
+  if (!e->options_.log_tee.empty()) {
+    if (auto r = e->log_.openTee(e->options_.log_tee); !r) {
+      if (!host) return r.error();
+      tee_error = r.error().message;
+    } else if (!host) {
+      e->options_.host_launch.args.insert(e->options_.host_launch.args.end(),
+                                          {"--log-tee",
+                                           fmt::format("/proc/{}/fd/{}", ::getpid(), e->log_.teeDescriptor())});
+    }
+  }
   if (!host) {
     nlohmann::json load = fault::schema::engine("load");
     load[fault::schema::field::kProfile] = e->set().root;
@@ -57,6 +70,7 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
     e->log_.write(std::move(load));
   }
   if (auto r = e->setUpProcesses(); !r) return r.error();
+  if (!tee_error.empty()) e->warn(tee_error + "; this process's records are in the log only");
   if (auto r = e->instantiate(); !r) return r.error();
   e->setUpHandling();
   if (e->options_.scenario) {
@@ -432,6 +446,7 @@ void Engine::shutdown() {
   }
   if (supervisor_) supervisor_->stop(options_.stop_timeout);  // hosts the proxies' onStop did not stop
   cpu_latency_ = runtime::CpuLatencyRequest();                // the CPUs may sleep again
+  warnTeeDropped();
   if (started_ && !options_.host) log_.write(fault::schema::engine("stopped"));
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
@@ -445,6 +460,12 @@ void Engine::shutdown() {
   alternatives_.clear();
   for (auto& ex : executors_)
     if (std::find(abandoned.begin(), abandoned.end(), ex.get()) != abandoned.end()) (void)ex.release();
+}
+
+void Engine::warnTeeDropped() {
+  if (const std::uint64_t dropped = log_.teeDropped(); dropped > 0)
+    warn(fmt::format("the log's tee '{}' dropped {} of {} lines: its reader was behind, or gone", options_.log_tee,
+                     dropped, log_.teeLines()));
 }
 
 void Engine::logCounts() {

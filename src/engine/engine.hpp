@@ -47,6 +47,10 @@ namespace keel::engine {
 struct EngineOptions {
   std::string log_path;     // empty: no log file
   bool log_append = false;  // append to log_path (keel soak's rounds) instead of truncating it
+  /// A second copy of every log line, written right after the log has it (keel run
+  /// --log-tee; fault::FaultLog::openTee). keel run passes it on to its hosts as
+  /// /proc/<pid>/fd/<fd>, so that they write to the same pipe.
+  std::string log_tee;
   std::vector<std::string> search_path = runtime::Loader::defaultSearchPath();
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   runtime::Warn warn;
@@ -181,6 +185,8 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   void leaveRole(const runtime::Executor& self) const;
   /// Logs a `counts` record per component of this process and per executor (at shutdown).
   void logCounts();
+  /// A warning of how many lines the log's tee dropped, if any (at shutdown).
+  void warnTeeDropped();
   void holdCpuLatency();
   /// In a host, the calling thread at the highest real-time priority of the process's tasks
   /// (none: unchanged).

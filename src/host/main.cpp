@@ -1,5 +1,5 @@
 // keel-host: one component process of a `keel run` (docs/isolation.md). keel run starts it with
-// the run's own arguments (the profile, --set, --inject, --log) and the host's: which <process>
+// the run's own arguments (the profile, --set, --inject, --log, --log-tee) and the host's: which <process>
 // it runs, its slot, the session and ring descriptors it inherited, whether it is a standby.
 // It plans the same run, loads and initialises only the components of its process, and runs
 // them as the active host, or waits as a standby to take over (src/engine/process_host.hpp).
@@ -33,6 +33,7 @@ struct Args {
   std::vector<std::string> sets;
   std::string inject;
   std::string log;
+  std::string log_tee;  // keel run's tee as /proc/<its pid>/fd/<fd>: the same pipe
   HostRole role;
   std::vector<std::string> rings;  // K=FD
 };
@@ -101,6 +102,7 @@ int run(Args& a) {
     eo.scenario = std::move(*scenario);
   }
   eo.log_path = a.log;
+  eo.log_tee = a.log_tee;
   eo.host = &host;
   auto engine = Engine::create(std::move(*planned), std::move(eo));
   if (!engine) failed(engine.error().message);
@@ -134,6 +136,7 @@ int main(int argc, char** argv) try {
   app.add_option("--set", a.sets)->allow_extra_args(false);
   app.add_option("--inject", a.inject);
   app.add_option("--log", a.log);
+  app.add_option("--log-tee", a.log_tee);
   app.add_option("--process", a.role.process)->required();
   app.add_option("--slot", a.role.slot)->required();
   app.add_option("--session-fd", a.role.session_fd)->required();
