@@ -3,8 +3,8 @@
 // publishing the ground truth (--truth PATH) for the camera and the referee. Prints the slave
 // path (one line on stdout), then serves the board in real time (robot/sim/board_server.hpp)
 // until SIGINT/SIGTERM, or until the process named by --parent PID is gone: a main board
-// killed with -9 does not leave its motion board running. Touches only its pty and the truth
-// file.
+// killed with -9 does not leave its motion board running, nor, killed before it read the
+// path, its truth file. Touches only its pty and the truth file.
 #include <fcntl.h>
 #include <poll.h>
 #include <termios.h>
@@ -122,6 +122,9 @@ int main(int argc, char** argv) {
   sa.sa_handler = onSignal;  // no SA_RESTART: poll returns at once on a signal
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  // A starter killed before it read our path closed its pipe: the write fails (below) instead
+  // of the SIGPIPE killing us with the truth file left behind.
+  std::signal(SIGPIPE, SIG_IGN);
 
   std::unique_ptr<keel::robot::SimHost> host;
   try {
@@ -134,8 +137,12 @@ int main(int argc, char** argv) {
   int slave_fd = -1;
   const int master = openPty(slave_path, slave_fd);
   if (master < 0) return 1;
-  std::printf("%s\n", slave_path.c_str());
-  std::fflush(stdout);
+  if (std::printf("%s\n", slave_path.c_str()) < 0 || std::fflush(stdout) != 0) {
+    std::perror("keel_motion_board: nobody reads the pseudo-terminal's path");
+    close(slave_fd);
+    close(master);
+    return 1;  // the truth file goes with the host
+  }
 
   // The parent's death reparents us: watched every 20 ms by a thread of its own, so the board's
   // loop stays as it is in-process. A parent already gone before we looked is caught too.

@@ -537,5 +537,36 @@ TEST(MotionBoardProcess, ServesTheProtocolOnAPseudoTerminalAndPublishesTheTruth)
   EXPECT_FALSE(std::filesystem::exists(truth_path));  // the board removes its truth file
 }
 
+// keel run killed between starting its board and reading the pseudo-terminal's path (the kill -9
+// campaign's moments during startup): the board finds nobody to tell the path to. It must not
+// die of the SIGPIPE with its truth file left in /dev/shm, but leave as it does when its parent
+// is gone.
+TEST(MotionBoardProcess, ABoardWhoseStarterIsGoneBeforeItSaysItsPathLeavesNoTruthFile) {
+  const std::string truth_path = truthPath("board-orphan-test", getpid());
+  int out[2];
+  ASSERT_EQ(pipe(out), 0);
+  close(out[0]);  // no reader: the path goes nowhere
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
+  std::vector<char*> argv = {const_cast<char*>(KEEL_MOTION_BOARD), const_cast<char*>("--truth"),
+                             const_cast<char*>(truth_path.c_str()), nullptr};
+  pid_t pid = -1;
+  ASSERT_EQ(posix_spawn(&pid, KEEL_MOTION_BOARD, &actions, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&actions);
+  close(out[1]);
+  int status = 0;
+  for (int i = 0; i < 500 && waitpid(pid, &status, WNOHANG) == 0; ++i) usleep(10'000);  // 5 s
+  if (kill(pid, 0) == 0) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    ADD_FAILURE() << "the board kept running without anyone to serve";
+  }
+  EXPECT_FALSE(WIFSIGNALED(status)) << "killed by signal " << WTERMSIG(status);
+  EXPECT_EQ(WIFEXITED(status) ? WEXITSTATUS(status) : -1, 1);
+  EXPECT_FALSE(std::filesystem::exists(truth_path)) << "left in /dev/shm";
+  std::filesystem::remove(truth_path);
+}
+
 }  // namespace
 }  // namespace keel::robot
