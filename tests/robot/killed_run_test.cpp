@@ -24,20 +24,6 @@ using namespace std::chrono_literals;
 namespace ev = fault::schema::event;
 namespace fd = fault::schema::field;
 
-/// The value after `flag` on process `pid`'s command line, or "".
-std::string argumentOf(long pid, const std::string& flag) {
-  const std::string cmdline = slurp("/proc/" + std::to_string(pid) + "/cmdline");
-  std::vector<std::string> args;
-  for (std::size_t at = 0, nul; at < cmdline.size(); at = nul + 1) {
-    nul = cmdline.find('\0', at);
-    if (nul == std::string::npos) nul = cmdline.size();
-    args.push_back(cmdline.substr(at, nul - at));
-  }
-  for (std::size_t i = 0; i + 1 < args.size(); ++i)
-    if (args[i] == flag) return args[i + 1];
-  return "";
-}
-
 TEST(KilledRun, KeelRunKilledWithMinus9LeavesNoMotionBoardOrComponentProcessRunning) {
   const std::string log = tempPath("keel_killed_robot");
   const pid_t keel = fork();
