@@ -25,6 +25,7 @@ Engine::Engine(EngineOptions options)
 
 Engine::~Engine() {
   shutdown();
+  if (options_.host) options_.host->setLog(nullptr);
   supervisor_.reset();  // its threads report to the fault manager: gone before it is
   if (holds_supervisor_lock_) (void)session_->supervisor().unlock();
 }
@@ -109,6 +110,7 @@ Result<void> Engine::setUpProcesses() {
     log_.tag(fault::schema::field::kPid, ::getpid());  // one log for the run: whose record
     log_.share(host->session().log(), runtime::ipc::logParticipant(host->processIndex(), host->role().slot),
                logParticipants(plan));
+    host->setLog(&log_);  // should keel run die: its line repaired, this one's finished (process_host.hpp)
     return {};
   }
   if (plan.processes.empty()) return {};

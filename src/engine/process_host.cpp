@@ -131,7 +131,7 @@ Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
       int sig = 0;
       if (sigwait(&stop, &sig) != 0) continue;
       if (sig == SIGUSR2 || (role_.parent != 0 && ::getppid() != role_.parent)) supervisorLost();
-      if (!active_.load(std::memory_order_acquire)) ::_exit(0);  // a standby has nothing running
+      if (!active_.load(std::memory_order_acquire)) exitLeavingLogWhole(0);  // a standby has nothing running
       signalled_.store(true, std::memory_order_release);
       block().command.fetch_add(0, std::memory_order_acq_rel);
       runtime::futexWakeAll(block().command, runtime::FutexScope::Shared);
@@ -140,13 +140,31 @@ Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
   return {};
 }
 
+void ProcessHost::setLog(fault::FaultLog* log) {
+  std::lock_guard lock(log_mutex_);
+  log_ = log;
+}
+
 void ProcessHost::supervisorLost() {
   // Both watchers may get here (the robust wake and PDEATHSIG): the first runs the emergency
   // stop, the other waits for it; then the process ends.
   std::call_once(lost_once_, [this] {
+    {
+      // Any host, standby or loading too: a line of its own may follow keel run's in the file.
+      std::lock_guard lock(log_mutex_);
+      if (log_) log_->repair(ipc::logParticipant(std::nullopt, 0));
+    }
     if (active_.load(std::memory_order_acquire) && supervisor_lost_) supervisor_lost_();
   });
-  ::_exit(kExitSupervisorLost);
+  exitLeavingLogWhole(kExitSupervisorLost);
+}
+
+void ProcessHost::exitLeavingLogWhole(int status) {
+  // Another of this process's threads may be between its line's place and its pwrite: the
+  // exit would cut it off there, leaving NUL bytes before what the other hosts write next.
+  log_mutex_.lock();  // held until the process ends: the log outlives the wait
+  if (log_) log_->quiesce(std::chrono::seconds(1));
+  ::_exit(status);
 }
 
 void ProcessHost::failed(const std::string& message) {

@@ -11,7 +11,7 @@
 //   otherwise (abandoned in a hung callback, and back), it parks until the process ends: its
 //   release would tell the standbys the process died (runtime/ipc/robust_mutex.hpp's rule).
 // - No orphans: a watcher thread sleeps on keel run's supervisor lock; if keel run dies, it runs
-//   the emergency stop of the components it hosts and exits the process. PR_SET_PDEATHSIG
+//   the emergency stop of the components it hosts and exits the process, its log lines whole. PR_SET_PDEATHSIG
 //   (SIGTERM) is the backstop, checked with getppid() against the parent keel run named.
 // - Commands from keel run (stop, emergency, clear) arrive on the process block's command word.
 // Thread-safety: enter/serve/leave on the main thread; takeRole/releaseRole on the thread that
@@ -30,6 +30,7 @@
 #include <thread>
 #include <utility>
 
+#include "fault/fault_log.hpp"
 #include "keel/result.hpp"
 #include "plan/plan.hpp"
 #include "runtime/component_core.hpp"
@@ -80,6 +81,11 @@ class ProcessHost {
   /// Main thread, first: takes the life lock, says Loading, starts watching keel run.
   /// `supervisor_lost` runs on the watcher thread if keel run dies, before the process exits.
   Result<void> enter(std::function<void()> supervisor_lost);
+  /// The run's log as this host's engine writes it (null: none, or no more). If keel run
+  /// dies, before the host exits, whatever its role: keel run's unfinished line is written
+  /// again, and the host's own line in flight is finished (FaultLog::quiesce), so that the
+  /// lines the others write on leave no hole of a line never written.
+  void setLog(fault::FaultLog* log);
   /// The host could not start: `message` goes to keel run, which prints it.
   void failed(const std::string& message);
   /// The active takes the role lock; a standby says Standby and sleeps on it. True when its last
@@ -116,9 +122,12 @@ class ProcessHost {
   HostRole role_;
   std::size_t index_;
   [[noreturn]] void supervisorLost();  // keel run died: the emergency stop once, then _exit
+  [[noreturn]] void exitLeavingLogWhole(int status);
 
   std::function<void()> supervisor_lost_;
   std::once_flag lost_once_;
+  std::mutex log_mutex_;  // held from an exit's start to its end: the log is not destroyed meanwhile
+  fault::FaultLog* log_ = nullptr;
   std::atomic<pid_t> role_tid_{0};  // the thread holding the role lock (0: none)
   bool has_life_ = false;
   std::atomic<bool> active_{false};

@@ -12,6 +12,7 @@
 #include <climits>
 #include <cstring>
 #include <system_error>
+#include <thread>
 
 namespace keel::fault {
 
@@ -178,6 +179,14 @@ void FaultLog::repair(std::size_t participant) {
                                               runtime::ipc::kLogStageBytes);
   (void)pwriteAll(fd_, stage.line, n, at);
   stage.offset.store(runtime::ipc::kNoOffset, std::memory_order_release);
+}
+
+void FaultLog::quiesce(std::chrono::milliseconds within) {
+  const auto until = std::chrono::steady_clock::now() + within;
+  while (!mutex_.try_lock()) {                              // never unlocked: the process ends with it held
+    if (std::chrono::steady_clock::now() >= until) return;  // a writer stuck on another's lock: leave anyway
+    std::this_thread::sleep_for(std::chrono::microseconds(100));
+  }
 }
 
 std::int64_t FaultLog::now() const { return steadyNs() - epoch_ns_; }

@@ -5,6 +5,7 @@
 // Thread-safety: write() may be called from any thread (one mutex around the write).
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <mutex>
 #include <string>
@@ -36,6 +37,10 @@ class FaultLog {
   void share(runtime::ipc::LogArena& arena, std::size_t participant, std::size_t participants);
   /// Writes again the line `participant` (a dead process) had staged and not finished.
   void repair(std::size_t participant);
+  /// For a process about to _exit while others write on: waits up to `within` for the line
+  /// being written to be whole, and holds every later one back for good. A line reserved and
+  /// cut off by the exit would leave a hole of NUL bytes before the others' lines.
+  void quiesce(std::chrono::milliseconds within);
   /// Also writes every line to `path` (keel run --log-tee), right after the log has it. A pipe
   /// or FIFO is written without blocking: a line is written whole or, when the reader is
   /// behind (or gone, or the line is longer than PIPE_BUF), dropped and counted. Anything else

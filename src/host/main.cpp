@@ -79,10 +79,8 @@ int run(Args& a) {
   host.setHeartbeat(keel::engine::processHeartbeatNs(planned->plan, a.role.process) / 4);
   std::atomic<Engine*> running{nullptr};
   auto entered = host.enter([&running] {
-    if (Engine* e = running.load(std::memory_order_acquire)) {
-      e->log().repair(0);  // keel run's line, if it died writing one
-      e->emergencyStop("keel run lost");
-    }
+    // keel run's unfinished line, if it died writing one, was written again first (ProcessHost).
+    if (Engine* e = running.load(std::memory_order_acquire)) e->emergencyStop("keel run lost");
   });
   if (!entered) {
     std::cerr << "keel-host: " << entered.error().message << '\n';
