@@ -63,7 +63,13 @@ Result<void> FaultLog::openTee(const std::string& path) {
                                          : std::generic_category().message(err)));
   }
   struct stat st {};
-  const bool pipe = ::fstat(fd, &st) == 0 && S_ISFIFO(st.st_mode);
+  struct stat log {};
+  const bool known = ::fstat(fd, &st) == 0;
+  if (known && fd_ >= 0 && ::fstat(fd_, &log) == 0 && st.st_dev == log.st_dev && st.st_ino == log.st_ino) {
+    ::close(fd);  // appended to as it is written at offsets: both copies would be torn
+    return fail(fmt::format("cannot open the log's tee '{}': it is the log itself", path));
+  }
+  const bool pipe = known && S_ISFIFO(st.st_mode);
   if (!pipe) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);  // a file, a terminal: whole lines
   std::lock_guard lock(mutex_);
   if (tee_fd_ >= 0) ::close(tee_fd_);

@@ -111,6 +111,15 @@ TEST(FaultLog, ALineLongerThanPipeBufIsInTheLogButNotTornIntoThePipe) {
   EXPECT_EQ(file.log.teeDropped(), 1u);
 }
 
+TEST(FaultLog, TheLogItselfIsRefusedAsItsTee) {
+  test::TempLog file("keel_tee_log");
+  auto opened = file.log.openTee(file.path);
+  ASSERT_FALSE(opened);
+  EXPECT_EQ(opened.error().message, "cannot open the log's tee '" + file.path + "': it is the log itself");
+  file.log.write(schema::warning("one"));
+  EXPECT_EQ(test::readLog(file.path).size(), 1u);
+}
+
 TEST(FaultLog, AFifoWithoutAReaderIsRefusedWithWhy) {
   const std::string fifo = test::tempPath("keel_tee_fifo", "");
   std::filesystem::remove(fifo);
