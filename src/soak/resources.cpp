@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(KEEL_SOAK_UNDER_ASAN)
 // ASan's runtime (its header, sanitizer/allocator_interface.h, comes with clang, not with g++).
 extern "C" std::size_t __sanitizer_get_current_allocated_bytes();
 #endif
@@ -20,7 +20,7 @@ Usage usageNow(bool trim) {
   std::ifstream statm("/proc/self/statm");
   std::uint64_t size = 0, resident = 0;
   if (statm >> size >> resident) u.rss_bytes = resident * static_cast<std::uint64_t>(::sysconf(_SC_PAGESIZE));
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(KEEL_SOAK_UNDER_ASAN)
   u.heap_bytes = __sanitizer_get_current_allocated_bytes();
 #else
   const struct mallinfo2 m = ::mallinfo2();

@@ -19,7 +19,14 @@ struct Usage {
 /// Whether this build runs under AddressSanitizer. Its resident memory is then mostly ASan's
 /// shadow and bookkeeping (a record of every thread that ever ran, of every allocation's stack),
 /// which grows on its own run after run: the heap in use is what says whether keel leaks.
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__)  // GCC
+#define KEEL_SOAK_UNDER_ASAN 1
+#elif defined(__has_feature)  // clang
+#if __has_feature(address_sanitizer)
+#define KEEL_SOAK_UNDER_ASAN 1
+#endif
+#endif
+#if defined(KEEL_SOAK_UNDER_ASAN)
 inline constexpr bool kUnderAsan = true;
 #else
 inline constexpr bool kUnderAsan = false;
