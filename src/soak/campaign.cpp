@@ -195,6 +195,8 @@ class Campaign {
       engine.log().write(std::move(stopping));
       engine.shutdown();
     }
+    std::error_code ec;
+    fs::remove(scenario_file, ec);  // the seed draws it again
     for (const auto& child : leftovers(5000ms))
       r_.violations.push_back(fmt::format("round {}: still running 5 s after its end: {}", n, child));
     audit(n, offset);
