@@ -76,8 +76,9 @@ engine::EngineOptions engineOptions(const SoakOptions& o) {
   return eo;
 }
 
-/// What the application's hardware drivers offer: its components made, not started.
-Result<HardwareOffers> hardwareOffers(const SoakOptions& o) {
+/// The application's fault menu: its plan, and what its hardware drivers offer (its components
+/// made, not started).
+Result<std::vector<Offer>> menuOf(const SoakOptions& o) {
   std::vector<plan::PropertySetting> settings;
   auto p = planned(o, settings);
   if (!p) return p.error();
@@ -89,7 +90,7 @@ Result<HardwareOffers> hardwareOffers(const SoakOptions& o) {
   for (const auto& inst : (*e)->instances())
     if (const auto* driver = dynamic_cast<const HardwareDriver*>(inst.component.get()))
       if (auto faults = driver->simulatedFaults(); !faults.empty()) offers[inst.plan->name] = std::move(faults);
-  return offers;
+  return faultMenu((*e)->plan(), offers);
 }
 
 std::uint64_t fileSize(const std::string& path) {
@@ -125,14 +126,9 @@ class Campaign {
   Result<SoakResult> run() {
     if (scratch_.path.empty()) return fail("cannot make a temporary directory for the soak's scenarios");
     log_ = o_.log.empty() ? (scratch_.path / "soak.jsonl").string() : fs::absolute(o_.log).string();
-    auto offers = hardwareOffers(o_);
-    if (!offers) return offers.error();
-    {
-      std::vector<plan::PropertySetting> settings;
-      auto p = planned(o_, settings);
-      if (!p) return p.error();
-      menu_ = faultMenu(p->plan, *offers);
-    }
+    auto menu = menuOf(o_);
+    if (!menu) return menu.error();
+    menu_ = std::move(*menu);
     if (menu_.empty()) return fail(fmt::format("{}: no component offers a fault to inject", o_.profile));
     t0_ = Clock::now();
     const double total_s = o_.minutes * 60;

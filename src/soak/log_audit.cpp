@@ -81,13 +81,15 @@ RoundAudit auditRound(std::string_view text, std::size_t first_line) {
       }
       continue;
     }
-    if (auto& open = latches[r.value(fd::kPid, std::int64_t{0})];
-        event == ev::kAction && str(r, fd::kAction) == "emergency_stop" && !open.empty()) {
-      open.erase(open.begin());
-      if (str(r, fd::kOutcome) == fault::schema::kOk) ++a.emergencies_reached;
-      else
-        a.violations.push_back(fmt::format("line {}: emergency stop not reached: not finished in {}", no,
-                                           r.value(fd::kNotFinished, nlohmann::json::array()).dump()));
+    if (event == ev::kAction && str(r, fd::kAction) == "emergency_stop") {
+      auto& open = latches[r.value(fd::kPid, std::int64_t{0})];
+      if (!open.empty()) {
+        open.erase(open.begin());
+        if (str(r, fd::kOutcome) == fault::schema::kOk) ++a.emergencies_reached;
+        else
+          a.violations.push_back(fmt::format("line {}: emergency stop not reached: not finished in {}", no,
+                                             r.value(fd::kNotFinished, nlohmann::json::array()).dump()));
+      }
     }
     if (event == ev::kState && str(r, fd::kFrom) == "Active" && r.contains(fd::kComponent))
       left_active[str(r, fd::kComponent)].push_back(t);
