@@ -10,6 +10,7 @@ packages=(
   cmake ninja-build g++
   libgtest-dev libgmock-dev libpugixml-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libbenchmark-dev
+  libboost-dev  # Beast and Asio (header-only): the monitor's HTTP/WebSocket server
   python3 python3-matplotlib
   stress-ng
   erlang-base
