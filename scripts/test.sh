@@ -27,6 +27,7 @@ esac
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
 scripts/deps.sh
+scripts/peers.sh  # the independent implementations the interop tests talk to
 
 # Sanitizer runtime options, also set by the test presets (here for anything ctest starts).
 case "$preset" in
