@@ -32,6 +32,7 @@
 #include "engine/engine.hpp"
 #include "fault/log_schema.hpp"
 #include "fault/scenario.hpp"
+#include "monitor/monitor.hpp"
 #include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
 
@@ -47,6 +48,8 @@ struct RunOptions {
   std::vector<std::string> sets;  // INSTANCE.PROPERTY=VALUE
   bool console = false;
   std::optional<std::int32_t> cpu_dma_latency_us;
+  std::string monitor;  // [ADDR:]PORT
+  std::vector<std::string> monitor_origins;
 };
 
 /// Reads operator commands from stdin until EOF or `stop`; each is logged by the engine.
@@ -161,6 +164,12 @@ std::optional<std::vector<plan::PropertySetting>> applySettings(const RunOptions
 
 int runProfile(const RunOptions& o) {
   sigset_t stop_signals = blockStopSignals();
+  if (!o.monitor.empty()) {
+    if (auto listen = monitor::parseListen(o.monitor); !listen) {
+      std::cerr << "keel run: " << listen.error().message << '\n';
+      return 2;
+    }
+  }
   auto set = profile::load(o.profile);
   if (!set) {
     for (const auto& d : set.error()) std::cerr << d.str() << '\n';
@@ -211,6 +220,18 @@ int runProfile(const RunOptions& o) {
     return 1;
   }
   for (const auto& w : warnings) (*engine)->log().write(fault::schema::warning(w.str()));
+  std::unique_ptr<monitor::Monitor> live;
+  if (!o.monitor.empty()) {
+    monitor::MonitorOptions mo{o.monitor, o.monitor_origins, eo.log_path, o.profile};
+    auto started = monitor::Monitor::start(**engine, std::move(mo));
+    if (!started) {
+      std::cerr << "keel run: " << started.error().message << '\n';
+      return 1;
+    }
+    live = std::move(*started);
+    fmt::print("monitor: {}\n", live->url());
+    std::fflush(stdout);
+  }
   if (auto r = (*engine)->start(); !r) {
     std::cerr << r.error().message << '\n';
     (*engine)->shutdown();
@@ -225,7 +246,8 @@ int runProfile(const RunOptions& o) {
   nlohmann::json stopping = fault::schema::engine("stopping");
   stopping[fault::schema::field::kReason] = stopReason(why, **engine);
   (*engine)->log().write(std::move(stopping));
-  (*engine)->shutdown();  // a component may still end the run from its onStop
+  (*engine)->shutdown();   // a component may still end the run from its onStop
+  if (live) live->stop();  // after the last record: clients see the run end
   std::ifstream log(eo.log_path);
   printSummary(std::cout, summarize(log));
   return 0;
@@ -250,6 +272,14 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
       ->allow_extra_args(false);
   cmd->add_flag("--console", opts->console,
                 "read operator commands from stdin: emergency, clear (a latched emergency), status");
+  cmd->add_option("--monitor", opts->monitor,
+                  "[ADDR:]PORT: serve the live monitor there (127.0.0.1 unless ADDR; 0: any free port): the web "
+                  "page at http://ADDR:PORT/ and the Foxglove WebSocket protocol; prints its address with the "
+                  "control token (docs/monitor.md)");
+  cmd->add_option("--monitor-origin", opts->monitor_origins,
+                  "ORIGIN: also let browser pages from ORIGIN connect to the monitor, e.g. "
+                  "https://app.foxglove.dev (repeatable; the token still guards the controls)")
+      ->allow_extra_args(false);
   cmd->add_option("--cpu-dma-latency", opts->cpu_dma_latency_us,
                   "US: while running, idle CPUs may only enter sleep states that wake within US µs "
                   "(0: they poll and never halt; /dev/cpu_dma_latency, root). On a machine whose idle CPUs "

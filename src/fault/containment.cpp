@@ -142,7 +142,12 @@ bool Containment::clearEmergency(std::string_view by) {
   if (!emergency_.exchange(false, std::memory_order_acq_rel)) return false;
   if (host_)
     for (Component* c : host_->components()) coreOf(*c).fault.emergency.store(false, std::memory_order_release);
-  records_.log().write(schema::emergency("cleared", by));
+  FaultLog& log = records_.log();
+  log.write(schema::emergency("cleared", by));
+  // The operator's step, as an emergency stop's is: an `action` a fault timeline shows.
+  nlohmann::json rec = schema::action(0, {}, "clear", true, log.now());
+  rec[schema::field::kBy] = by;
+  log.write(std::move(rec));
   return true;
 }
 

@@ -171,6 +171,11 @@ TEST(Containment, ClearingTheEmergencyUnlatchesEveryComponentAndIsLogged) {
   ASSERT_EQ(emergencies.size(), 2u) << "latched, cleared once";
   EXPECT_EQ(emergencies[1][fd::kPhase], "cleared");
   EXPECT_EQ(emergencies[1][fd::kBy], "operator");
+  const auto actions = test::eventsOf(rig.read(), ev::kAction);
+  ASSERT_EQ(actions.size(), 2u) << "the emergency stop, then the clear";
+  EXPECT_EQ(actions[1][fd::kAction], "clear");
+  EXPECT_EQ(actions[1][fd::kBy], "operator");
+  EXPECT_EQ(actions[1][fd::kOutcome], "ok");
 }
 
 TEST(Containment, ClearingWhenNoEmergencyIsLatchedIsRefusedAndNotLogged) {

@@ -1,0 +1,258 @@
+#include "monitor/monitor.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "engine/engine.hpp"
+#include "monitor/log_follower.hpp"
+#include "monitor/page.hpp"
+#include "monitor/run_model.hpp"
+#include "monitor/server.hpp"
+#include "monitor/token.hpp"
+
+namespace keel::monitor {
+
+namespace {
+
+using nlohmann::json;
+using Clock = std::chrono::steady_clock;
+
+constexpr std::uint32_t kStateChannel = 1;
+constexpr std::uint32_t kFaultsChannel = 2;
+constexpr std::uint32_t kEmergencyService = 1;
+constexpr std::uint32_t kClearService = 2;
+constexpr auto kStateEvery = std::chrono::seconds(1);  // SPEC: a snapshot at least once a second
+
+const std::string& faultRecordSchema() {
+  static const std::string schema = json{
+      {"type", "object"},
+      {"title", "keel.FaultLogRecord"},
+      {"description", "One record of keel's fault log (docs/fault-log.md), as written"},
+      {"properties",
+       {{"event", {{"type", "string"}}},
+        {"t_ns", {{"type", "integer"}, {"description", "ns since the run started (steady clock)"}}},
+        {"fault_id", {{"type", "integer"}}},
+        {"component", {{"type", "string"}}}}},
+      {"required", {"event", "t_ns"}},
+      {"additionalProperties", true}}.dump();
+  return schema;
+}
+
+std::vector<foxglove::Service> services() {
+  const std::string request =
+      json{{"type", "object"}, {"properties", {{"token", {{"type", "string"}}}}}, {"required", {"token"}}}.dump();
+  const std::string response = json{{"type", "object"},
+                                    {"properties", {{"ok", {{"type", "boolean"}}}, {"detail", {{"type", "string"}}}}}}
+                                   .dump();
+  return {{kEmergencyService, "/keel/emergency_stop", "keel/Control", request, response},
+          {kClearService, "/keel/clear_emergency", "keel/Control", request, response}};
+}
+
+Topology topologyOf(const engine::Engine& engine) {
+  Topology t;
+  const auto& plan = engine.plan();
+  t.run = plan.name;
+  for (const auto& i : plan.instances) t.components.push_back({i.name, i.application, i.process});
+  for (const auto& c : plan.connections)
+    t.connections.push_back({c.source.component, c.source.port, c.target.component, c.target.port,
+                             c.type == profile::PortType::Data    ? "data"
+                             : c.type == profile::PortType::Event ? "event"
+                                                                  : "service"});
+  return t;
+}
+
+std::int64_t wallNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+struct Monitor::Impl {
+  engine::Engine& engine;
+  MonitorOptions options;
+  std::string token;
+  std::string address;
+  std::int64_t start_unix_ns = 0;  // the wall-clock time of the log's t_ns 0
+  std::unique_ptr<Server> server;
+  std::optional<LogFollower> follower;
+  RunModel model;
+  std::thread hub;
+  std::atomic<bool> stopping{false};
+  Clock::time_point last_state{};  // the hub's: when /keel/state was last sent
+
+  // The control thread: an emergency stop may take its containment bound; never the io thread's.
+  std::thread control;
+  std::mutex control_mutex;
+  std::condition_variable control_wake;
+  std::deque<std::function<void()>> control_jobs;
+  bool control_done = false;
+
+  Impl(engine::Engine& e, MonitorOptions o) : engine(e), options(std::move(o)), model(topologyOf(e)) {}
+
+  void onServiceCall(foxglove::ServiceCall call, std::function<void(ServiceReply)> reply);
+  void runControl();
+  void runHub();
+  void handle(const std::vector<std::string>& lines);
+  void publishState();
+};
+
+Result<std::pair<std::string, std::uint16_t>> parseListen(const std::string& text) {
+  std::string address = "127.0.0.1";
+  std::string port = text;
+  if (!text.empty() && text.front() == '[') {  // [IPv6]:PORT
+    const auto close = text.find("]:");
+    if (close == std::string::npos) return Error{fmt::format("--monitor '{}': expected [ADDRESS]:PORT", text)};
+    address = text.substr(1, close - 1);
+    port = text.substr(close + 2);
+  } else if (const auto colon = text.rfind(':'); colon != std::string::npos) {
+    address = text.substr(0, colon);
+    port = text.substr(colon + 1);
+  }
+  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos ||
+      std::stoul(port) > 65535)
+    return Error{fmt::format("--monitor '{}': the port must be a number from 0 to 65535", text)};
+  return std::pair{address, static_cast<std::uint16_t>(std::stoul(port))};
+}
+
+Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorOptions options) {
+  auto impl = std::make_unique<Impl>(engine, std::move(options));
+  auto token = newToken();
+  if (!token) return token.error();
+  impl->token = std::move(*token);
+  const auto& log = engine.log();
+  impl->start_unix_ns = wallNs() - (log.now());
+  auto follower = LogFollower::open(impl->options.log_path);
+  if (!follower) return follower.error();
+  impl->follower.emplace(std::move(*follower));
+
+  auto listen = parseListen(impl->options.listen);
+  if (!listen) return listen.error();
+  impl->address = listen->first;
+  ServerOptions so;
+  so.address = listen->first;
+  so.port = listen->second;
+  so.allowed_origins = impl->options.allowed_origins;
+  so.page = std::string(pageHtml());
+  so.server_info = foxglove::serverInfo("keel",
+                                        {{"run", engine.plan().name},
+                                         {"profile", impl->options.profile},
+                                         {"start_unix_ns", std::to_string(impl->start_unix_ns)},
+                                         {"pid", std::to_string(::getpid())}},
+                                        fmt::format("{}-{}", ::getpid(), impl->start_unix_ns));
+  so.services = services();
+  auto server = Server::start(std::move(so), [raw = impl.get()](foxglove::ServiceCall call, auto reply) {
+    raw->onServiceCall(std::move(call), std::move(reply));
+  });
+  if (!server) return server.error();
+  impl->server = std::move(*server);
+  impl->server->advertise({{kStateChannel, "/keel/state", "keel.State", RunModel::snapshotSchema()},
+                           {kFaultsChannel, "/keel/faults", "keel.FaultLogRecord", faultRecordSchema()}});
+  impl->control = std::thread([raw = impl.get()] { raw->runControl(); });
+  impl->hub = std::thread([raw = impl.get()] { raw->runHub(); });
+  return std::unique_ptr<Monitor>(new Monitor(std::move(impl)));
+}
+
+Monitor::Monitor(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Monitor::~Monitor() { stop(); }
+
+std::string Monitor::url() const {
+  const std::string host = impl_->address.find(':') != std::string::npos ? "[" + impl_->address + "]" : impl_->address;
+  return fmt::format("http://{}:{}/?token={}", host, impl_->server->port(), impl_->token);
+}
+
+void Monitor::stop() {
+  if (impl_->stopping.exchange(true)) return;
+  if (impl_->hub.joinable()) impl_->hub.join();
+  {
+    std::lock_guard lock(impl_->control_mutex);
+    impl_->control_done = true;
+  }
+  impl_->control_wake.notify_all();
+  if (impl_->control.joinable()) impl_->control.join();
+  impl_->server.reset();
+}
+
+void Monitor::Impl::onServiceCall(foxglove::ServiceCall call, std::function<void(ServiceReply)> reply) {
+  const json request = json::parse(call.payload, nullptr, false);
+  const auto given = request.is_object() ? request.find("token") : request.end();
+  if (!request.is_object() || given == request.end() || !given->is_string())
+    return reply({false, "token required: open the address keel run printed (with ?token=)"});
+  if (!tokenMatches(token, given->get_ref<const std::string&>())) return reply({false, "bad token"});
+  const bool emergency = call.service_id == kEmergencyService;
+  std::lock_guard lock(control_mutex);
+  control_jobs.push_back([this, emergency, reply = std::move(reply)] {
+    if (emergency) {
+      const auto stopped = engine.emergencyStop("monitor");
+      reply({true,
+             json{{"ok", true},
+                  {"detail", fmt::format("emergency stop latched: {} components stopped in neutral", stopped.size())}}
+                 .dump()});
+    } else {
+      const bool cleared = engine.clearEmergency("monitor");
+      reply(
+          {true, json{{"ok", cleared}, {"detail", cleared ? "emergency cleared" : "no emergency was latched"}}.dump()});
+    }
+  });
+  control_wake.notify_one();
+}
+
+void Monitor::Impl::runControl() {
+  std::unique_lock lock(control_mutex);
+  for (;;) {
+    control_wake.wait(lock, [&] { return control_done || !control_jobs.empty(); });
+    if (control_jobs.empty()) return;
+    auto job = std::move(control_jobs.front());
+    control_jobs.pop_front();
+    lock.unlock();
+    job();
+    lock.lock();
+  }
+}
+
+void Monitor::Impl::publishState() {
+  const std::int64_t t = std::max(model.lastTime(), engine.log().now());
+  last_state = Clock::now();
+  server->publish(kStateChannel, static_cast<std::uint64_t>(start_unix_ns + t),
+                  std::make_shared<const std::string>(model.snapshot(t).dump()), true);
+}
+
+void Monitor::Impl::handle(const std::vector<std::string>& lines) {
+  bool changed = false;
+  for (const auto& line : lines) {
+    json record = json::parse(line, nullptr, false);
+    if (!record.is_object()) continue;  // not a record (a torn line a killed process left)
+    changed |= model.apply(record);
+    const auto t = record.value("t_ns", std::int64_t{0});
+    server->publish(kFaultsChannel, static_cast<std::uint64_t>(start_unix_ns + t),
+                    std::make_shared<const std::string>(line));
+  }
+  if (changed) publishState();
+}
+
+void Monitor::Impl::runHub() {
+  std::vector<std::string> lines;
+  publishState();
+  for (;;) {
+    const bool last = stopping.load(std::memory_order_acquire);
+    lines.clear();
+    follower->read(lines);
+    handle(lines);
+    if (Clock::now() - last_state >= kStateEvery) publishState();
+    if (last) return;  // read once more after stop(): the run's last records go out too
+    follower->wait(std::chrono::milliseconds(100));
+  }
+}
+
+}  // namespace keel::monitor
