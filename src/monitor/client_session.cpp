@@ -55,12 +55,12 @@ void ClientSession::read() {
     if (ec) return self->finish();  // closed, too long a message (1009), a dead peer
     std::string data = beast::buffers_to_string(self->buffer_.data());
     self->buffer_.consume(self->buffer_.size());
-    self->onMessage(std::move(data), !self->ws_.got_text());
+    self->onMessage(data, !self->ws_.got_text());
     self->read();
   });
 }
 
-void ClientSession::onMessage(std::string data, bool binary) {
+void ClientSession::onMessage(const std::string& data, bool binary) {
   auto message = foxglove::parseClient(data, binary);
   if (auto* s = std::get_if<foxglove::Subscribe>(&message)) return subscribe(*s);
   if (auto* u = std::get_if<foxglove::Unsubscribe>(&message)) return unsubscribe(*u);
@@ -92,9 +92,9 @@ void ClientSession::subscribe(const foxglove::Subscribe& s) {
     subscriptions_[one.id] = one.channel_id;
     by_channel_[one.channel_id] = one.id;
     server_.countSubscriber(one.channel_id, +1);
-    // The newest of a channel that keeps it (the state): a new subscriber sees the run now.
-    if (auto latest = server_.latest.find(one.channel_id); latest != server_.latest.end())
-      sendMessage(one.channel_id, latest->second.timestamp_ns, latest->second.payload);
+    // What the channel keeps (the state now, the faults so far): a new subscriber sees the run.
+    if (auto kept = server_.kept.find(one.channel_id); kept != server_.kept.end())
+      for (const auto& k : kept->second) sendMessage(one.channel_id, k.timestamp_ns, k.payload);
   }
 }
 
@@ -224,16 +224,16 @@ void ClientSession::finish() {
 
 // ---- the server's fan-out ------------------------------------------------------------------
 
-void Server::Impl::advertise(std::vector<foxglove::Channel> added) {
+void Server::Impl::advertise(const std::vector<foxglove::Channel>& added) {
   for (const auto& c : added) channels[c.id] = c;
   const std::string message = foxglove::advertise(added);
   for (const auto& s : sessions) s->sendText(message);
 }
 
-void Server::Impl::unadvertise(std::vector<std::uint32_t> ids) {
+void Server::Impl::unadvertise(const std::vector<std::uint32_t>& ids) {
   for (auto id : ids) {
     channels.erase(id);
-    latest.erase(id);
+    kept.erase(id);
   }
   const std::string message = foxglove::unadvertise(ids);
   for (const auto& s : sessions) {
@@ -243,13 +243,16 @@ void Server::Impl::unadvertise(std::vector<std::uint32_t> ids) {
 }
 
 void Server::Impl::publish(std::uint32_t channel, std::uint64_t timestamp_ns,
-                           std::shared_ptr<const std::string> payload, bool keep) {
+                           std::shared_ptr<const std::string> payload, Retain retain) {
   if (!channels.count(channel)) return;
   for (const auto& s : sessions) s->sendMessage(channel, timestamp_ns, payload);
-  if (keep) latest[channel] = {timestamp_ns, std::move(payload)};
+  if (retain == Retain::None) return;
+  auto& k = kept[channel];
+  k.push_back({timestamp_ns, std::move(payload)});
+  while (k.size() > (retain == Retain::Latest ? 1 : kHistory)) k.pop_front();
 }
 
-void Server::Impl::closeAll() {
+void Server::Impl::closeAll() const {
   auto all = sessions;  // close() may finish a session at once
   for (const auto& s : all) s->close();
 }

@@ -21,6 +21,7 @@ class LogFollower {
   LogFollower(LogFollower&& other) noexcept;
   LogFollower& operator=(LogFollower&&) = delete;
   LogFollower(const LogFollower&) = delete;
+  LogFollower& operator=(const LogFollower&) = delete;
   ~LogFollower();
 
   /// Appends to `lines` every whole line written since the last call (without its newline).

@@ -192,7 +192,7 @@ void Monitor::Impl::onServiceCall(foxglove::ServiceCall call, std::function<void
   if (!tokenMatches(token, given->get_ref<const std::string&>())) return reply({false, "bad token"});
   const bool emergency = call.service_id == kEmergencyService;
   std::lock_guard lock(control_mutex);
-  control_jobs.push_back([this, emergency, reply = std::move(reply)] {
+  control_jobs.emplace_back([this, emergency, reply = std::move(reply)] {
     if (emergency) {
       const auto stopped = engine.emergencyStop("monitor");
       reply({true,
@@ -225,7 +225,7 @@ void Monitor::Impl::publishState() {
   const std::int64_t t = std::max(model.lastTime(), engine.log().now());
   last_state = Clock::now();
   server->publish(kStateChannel, static_cast<std::uint64_t>(start_unix_ns + t),
-                  std::make_shared<const std::string>(model.snapshot(t).dump()), true);
+                  std::make_shared<const std::string>(model.snapshot(t).dump()), Server::Retain::Latest);
 }
 
 void Monitor::Impl::handle(const std::vector<std::string>& lines) {
@@ -236,7 +236,7 @@ void Monitor::Impl::handle(const std::vector<std::string>& lines) {
     changed |= model.apply(record);
     const auto t = record.value("t_ns", std::int64_t{0});
     server->publish(kFaultsChannel, static_cast<std::uint64_t>(start_unix_ns + t),
-                    std::make_shared<const std::string>(line));
+                    std::make_shared<const std::string>(line), Server::Retain::History);
   }
   if (changed) publishState();
 }

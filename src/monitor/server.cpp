@@ -23,6 +23,8 @@ std::string hostPort(const std::string& host, std::uint16_t port) {
   return host.find(':') != std::string::npos ? fmt::format("[{}]:{}", host, port) : fmt::format("{}:{}", host, port);
 }
 
+constexpr std::uint32_t kRequestLimit = 16 * 1024;  // a page request or a handshake: headers only
+
 bool anyAddress(const std::string& address) { return address == "0.0.0.0" || address == "::"; }
 
 /// One HTTP connection: the page, or a WebSocket handshake handed to a ClientSession.
@@ -40,8 +42,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void read() {
     parser_.emplace();
-    parser_->header_limit(16 * 1024);
-    parser_->body_limit(16 * 1024);
+    parser_->header_limit(kRequestLimit);
+    parser_->body_limit(kRequestLimit);
     stream_.expires_after(std::chrono::seconds(30));
     http::async_read(stream_, buffer_, *parser_,
                      [self = shared_from_this()](beast::error_code ec, std::size_t) { self->onRead(ec); });
@@ -64,7 +66,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       stream_.expires_never();
       return startClientSession(stream_.release_socket(), std::move(req), server_);
     }
-    if (req.method() != http::verb::get && req.method() != http::verb::head)
+    if (req.method() != http::verb::get)
       return respond(req, http::status::method_not_allowed, "text/plain; charset=utf-8", "GET only\n", true);
     const auto target = req.target();
     const auto path = target.substr(0, target.find('?'));
@@ -100,9 +102,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
              "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; img-src data:; "
              "connect-src 'self'; frame-ancestors 'none'");
     res->keep_alive(keep_alive && req.keep_alive());
-    res->body() = req.method() == http::verb::head ? std::string() : std::move(body);
+    res->body() = std::move(body);
     res->prepare_payload();
-    if (req.method() == http::verb::head) res->content_length(body.size());
     http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
       if (ec || !res->keep_alive()) return self->close();
       self->read();
@@ -191,19 +192,17 @@ Server::~Server() {
 std::uint16_t Server::port() const { return impl_->port; }
 
 void Server::advertise(std::vector<foxglove::Channel> channels) {
-  net::post(impl_->io,
-            [impl = impl_.get(), channels = std::move(channels)]() mutable { impl->advertise(std::move(channels)); });
+  net::post(impl_->io, [impl = impl_.get(), channels = std::move(channels)] { impl->advertise(channels); });
 }
 
 void Server::unadvertise(std::vector<std::uint32_t> channel_ids) {
-  net::post(impl_->io,
-            [impl = impl_.get(), ids = std::move(channel_ids)]() mutable { impl->unadvertise(std::move(ids)); });
+  net::post(impl_->io, [impl = impl_.get(), ids = std::move(channel_ids)] { impl->unadvertise(ids); });
 }
 
 void Server::publish(std::uint32_t channel, std::uint64_t timestamp_ns, std::shared_ptr<const std::string> payload,
-                     bool latest) {
-  net::post(impl_->io, [impl = impl_.get(), channel, timestamp_ns, payload = std::move(payload), latest]() mutable {
-    impl->publish(channel, timestamp_ns, std::move(payload), latest);
+                     Retain retain) {
+  net::post(impl_->io, [impl = impl_.get(), channel, timestamp_ns, payload = std::move(payload), retain]() mutable {
+    impl->publish(channel, timestamp_ns, std::move(payload), retain);
   });
 }
 

@@ -23,10 +23,10 @@ struct ServerOptions {
   std::uint16_t port = 0;             // 0: any free port
   /// Origins allowed beyond the page's own (keel run --monitor-origin), e.g. a Foxglove app's.
   std::vector<std::string> allowed_origins;
-  std::size_t max_client_message = 64 * 1024;      // a longer one closes the connection (1009)
-  std::size_t max_queued_bytes = 4 * 1024 * 1024;  // per client: beyond, messages are dropped
-  std::string page;                                // served at `/`
-  std::string server_info;                         // the serverInfo message sent first
+  std::size_t max_client_message = std::size_t{64} * 1024;      // a longer one closes the connection (1009)
+  std::size_t max_queued_bytes = std::size_t{4} * 1024 * 1024;  // per client: beyond, messages are dropped
+  std::string page;                                             // served at `/`
+  std::string server_info;                                      // the serverInfo message sent first
   std::vector<foxglove::Service> services;
 };
 
@@ -61,10 +61,16 @@ class Server {
   /// Offers `channels` to every client, now and to come (ids unique).
   void advertise(std::vector<foxglove::Channel> channels);
   void unadvertise(std::vector<std::uint32_t> channel_ids);
-  /// Sends `payload` (JSON) on `channel` to its subscribers. `latest`: also kept, and sent to
-  /// whoever subscribes later (a state snapshot).
+  /// What a channel's new subscriber is sent first.
+  enum class Retain {
+    None,     // nothing: it sees what comes after it subscribed
+    Latest,   // the newest message (a state snapshot)
+    History,  // the last kHistory messages (the fault records: a page opened late shows them)
+  };
+  static constexpr std::size_t kHistory = 5000;
+  /// Sends `payload` (JSON) on `channel` to its subscribers, and keeps it as `retain` says.
   void publish(std::uint32_t channel, std::uint64_t timestamp_ns, std::shared_ptr<const std::string> payload,
-               bool latest = false);
+               Retain retain = Retain::None);
   /// Whether any client subscribes to `channel` now.
   bool subscribed(std::uint32_t channel) const;
   ServerStats stats() const;

@@ -48,11 +48,11 @@ struct Server::Impl {
 
   // io thread only
   std::map<std::uint32_t, foxglove::Channel> channels;
-  struct Latest {
+  struct Kept {
     std::uint64_t timestamp_ns = 0;
     std::shared_ptr<const std::string> payload;
   };
-  std::map<std::uint32_t, Latest> latest;
+  std::map<std::uint32_t, std::deque<Kept>> kept;  // what a new subscriber gets first (Retain)
   std::set<std::shared_ptr<ClientSession>> sessions;
 
   mutable std::mutex subscribed_mutex;
@@ -61,11 +61,11 @@ struct Server::Impl {
   /// Why a request must be refused (its Host or Origin), or empty.
   std::string refusal(const http::request<http::string_body>& req) const;
   void accept();
-  void advertise(std::vector<foxglove::Channel> added);
-  void unadvertise(std::vector<std::uint32_t> ids);
+  void advertise(const std::vector<foxglove::Channel>& added);
+  void unadvertise(const std::vector<std::uint32_t>& ids);
   void publish(std::uint32_t channel, std::uint64_t timestamp_ns, std::shared_ptr<const std::string> payload,
-               bool keep);
-  void closeAll();
+               Retain retain);
+  void closeAll() const;
   void countSubscriber(std::uint32_t channel, int delta);
 };
 
@@ -105,7 +105,7 @@ class ClientSession : public std::enable_shared_from_this<ClientSession> {
   std::chrono::steady_clock::time_point dropped_told_{};
 
   void read();
-  void onMessage(std::string data, bool binary);
+  void onMessage(const std::string& data, bool binary);
   void subscribe(const foxglove::Subscribe& s);
   void unsubscribe(const foxglove::Unsubscribe& u);
   void call(foxglove::ServiceCall c);
