@@ -179,7 +179,8 @@ test("every component appears with its state name and fault count as text", TEST
   for (const deadline = Date.now() + 8000; Date.now() < deadline; await new Promise((r) => setTimeout(r, 100))) {
     const shown = await viewer.$$eval("#graph [data-component]", (bs) => bs.map((b) => ({
       name: b.getAttribute("data-component"), state: b.getAttribute("data-state"),
-      faults: Number(b.getAttribute("data-faults")), text: b.textContent })));
+      // The visible text only: not the tooltip (<title>), which a sighted user does not see.
+      faults: Number(b.getAttribute("data-faults")), text: [...b.querySelectorAll("text")].map((t) => t.textContent).join(" ") })));
     const want = oracle.state.components;
     diff = [];
     if (shown.length !== want.length) diff.push(`page shows ${shown.length} components, the run has ${want.length}`);
