@@ -145,11 +145,12 @@ class Scanner {
     const std::uint32_t crc = in.u32();
     const std::string_view compression = in.string();
     const std::string_view records = in.bytes(in.u64());
-    if (!in.ok() || size != records.size()) return malformed(r, "chunk");
+    if (!in.ok()) return malformed(r, "chunk");
     if (!compression.empty()) {
       return Error{fmt::format("{}: the chunk at byte {} is compressed with {}: keel reads uncompressed MCAP only",
                                name_, r.start, compression)};
     }
+    if (size != records.size()) return malformed(r, "chunk");  // uncompressed: the sizes are one
     // 0: the writer computed no CRC (the spec allows it); keel's writer always does.
     if (crc != 0 && crc32(records) != crc) return stop(fmt::format("chunk CRC mismatch at byte {}", r.start));
     Found inside;

@@ -281,10 +281,13 @@ TEST_F(Mcap, ACompressedChunkIsAnErrorNamingItsCompression) {
   mcap::endRecord(bytes, at);
   const std::size_t chunk_at = bytes.size();
   at = mcap::beginRecord(bytes, mcap::Op::Chunk);
-  for (int i = 0; i < 3; ++i) mcap::putU64(bytes, 0);
-  mcap::putU32(bytes, 0);
+  mcap::putU64(bytes, kT0);
+  mcap::putU64(bytes, kT0);
+  mcap::putU64(bytes, 100);  // uncompressed: more than the 4 bytes compressed
+  mcap::putU32(bytes, 0x12345678);
   mcap::putString(bytes, "zstd");
-  mcap::putU64(bytes, 0);
+  mcap::putU64(bytes, 4);
+  bytes += "\x28\xb5\x2f\xfd";
   mcap::endRecord(bytes, at);
   auto file = readMcapBytes(bytes, "z.mcap");
   ASSERT_FALSE(file);
