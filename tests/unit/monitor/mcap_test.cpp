@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <random>
 
 #include "monitor/crc32.hpp"
@@ -245,10 +246,11 @@ TEST_F(Mcap, AFileWithNoMessagesHasNoChunkAndIsComplete) {
 
 TEST_F(Mcap, TheDestructorAndAMoveCloseTheFileOnce) {
   {
-    auto w = writer("moved.mcap");
-    const auto c = w.addChannel("/keel/faults", "keel.Fault", kFaultSchema);
-    w.write(c, kT0, payload(0));
-    McapWriter moved = std::move(w);
+    std::optional<McapWriter> w(writer("moved.mcap"));
+    const auto c = w->addChannel("/keel/faults", "keel.Fault", kFaultSchema);
+    w->write(c, kT0, payload(0));
+    McapWriter moved = std::move(*w);
+    w.reset();  // the moved-from writer goes first: it must leave the file alone
     moved.write(c, kT0 + 1, payload(1));
   }  // no close(): the destructor's
   auto file = readMcap((dir_ / "moved.mcap").string());
