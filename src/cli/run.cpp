@@ -49,6 +49,7 @@ struct RunOptions {
   bool console = false;
   std::optional<std::int32_t> cpu_dma_latency_us;
   std::string monitor;  // [ADDR:]PORT
+  std::string record;   // FILE.mcap
   std::vector<std::string> monitor_origins;
 };
 
@@ -221,16 +222,18 @@ int runProfile(const RunOptions& o) {
   }
   for (const auto& w : warnings) (*engine)->log().write(fault::schema::warning(w.str()));
   std::unique_ptr<monitor::Monitor> live;
-  if (!o.monitor.empty()) {
-    monitor::MonitorOptions mo{o.monitor, o.monitor_origins, eo.log_path, o.profile};
+  if (!o.monitor.empty() || !o.record.empty()) {
+    monitor::MonitorOptions mo{o.monitor, o.monitor_origins, eo.log_path, o.profile, o.record};
     auto started = monitor::Monitor::start(**engine, std::move(mo));
     if (!started) {
       std::cerr << "keel run: " << started.error().message << '\n';
       return 1;
     }
     live = std::move(*started);
-    fmt::print("monitor: {}\n", live->url());
-    std::fflush(stdout);
+    if (!o.monitor.empty()) {
+      fmt::print("monitor: {}\n", live->url());
+      std::fflush(stdout);
+    }
   }
   if (auto r = (*engine)->start(); !r) {
     std::cerr << r.error().message << '\n';
@@ -246,8 +249,10 @@ int runProfile(const RunOptions& o) {
   nlohmann::json stopping = fault::schema::engine("stopping");
   stopping[fault::schema::field::kReason] = stopReason(why, **engine);
   (*engine)->log().write(std::move(stopping));
-  (*engine)->shutdown();   // a component may still end the run from its onStop
-  if (live) live->stop();  // after the last record: clients see the run end
+  (*engine)->shutdown();  // a component may still end the run from its onStop
+  if (live) {             // after the last record: clients see the run end, the recording has it all
+    if (auto r = live->stop(); !r) std::cerr << "keel run: " << r.error().message << '\n';
+  }
   std::ifstream log(eo.log_path);
   printSummary(std::cout, summarize(log));
   return 0;
@@ -276,6 +281,9 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
                   "[ADDR:]PORT: serve the live monitor there (127.0.0.1 unless ADDR; 0: any free port): the web "
                   "page at http://ADDR:PORT/ and the Foxglove WebSocket protocol; prints its address with the "
                   "control token (docs/monitor.md)");
+  cmd->add_option("--record", opts->record,
+                  "FILE.mcap: record the monitor's channels (/keel/state, /keel/faults) in MCAP, readable by "
+                  "Foxglove and keel report; written at least once a second (a kill -9 loses at most the last)");
   cmd->add_option("--monitor-origin", opts->monitor_origins,
                   "ORIGIN: also let browser pages from ORIGIN connect to the monitor, e.g. "
                   "https://app.foxglove.dev (repeatable; the token still guards the controls)")

@@ -15,6 +15,7 @@
 
 #include "engine/engine.hpp"
 #include "monitor/log_follower.hpp"
+#include "monitor/mcap_writer.hpp"
 #include "monitor/page.hpp"
 #include "monitor/run_model.hpp"
 #include "monitor/server.hpp"
@@ -31,7 +32,8 @@ constexpr std::uint32_t kStateChannel = 1;
 constexpr std::uint32_t kFaultsChannel = 2;
 constexpr std::uint32_t kEmergencyService = 1;
 constexpr std::uint32_t kClearService = 2;
-constexpr auto kStateEvery = std::chrono::seconds(1);  // SPEC: a snapshot at least once a second
+constexpr auto kStateEvery = std::chrono::seconds(1);   // SPEC: a snapshot at least once a second
+constexpr auto kWait = std::chrono::milliseconds(100);  // the hub's longest sleep
 
 const std::string& faultRecordSchema() {
   static const std::string schema = json{
@@ -84,7 +86,10 @@ struct Monitor::Impl {
   std::string token;
   std::string address;
   std::int64_t start_unix_ns = 0;  // the wall-clock time of the log's t_ns 0
-  std::unique_ptr<Server> server;
+  std::unique_ptr<Server> server;  // null: recording only
+  std::optional<McapWriter> recording;
+  std::uint16_t record_state = 0, record_faults = 0;  // the recording's channel ids
+  Result<void> record_result;
   std::optional<LogFollower> follower;
   RunModel model;
   std::thread hub;
@@ -105,6 +110,7 @@ struct Monitor::Impl {
   void runHub();
   void handle(const std::vector<std::string>& lines);
   void publishState();
+  void send(std::uint32_t channel, std::int64_t t_ns, std::string payload, Server::Retain retain);
 };
 
 Result<std::pair<std::string, std::uint16_t>> parseListen(const std::string& text) {
@@ -136,6 +142,20 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
   if (!follower) return follower.error();
   impl->follower.emplace(std::move(*follower));
 
+  if (!impl->options.record.empty()) {
+    auto recording = McapWriter::create(impl->options.record, "keel",
+                                        {{"run", engine.plan().name},
+                                         {"profile", impl->options.profile},
+                                         {"start_unix_ns", std::to_string(impl->start_unix_ns)}});
+    if (!recording) return Error{"--record: " + recording.error().message};
+    impl->recording.emplace(std::move(*recording));
+    impl->record_state = impl->recording->addChannel("/keel/state", "keel.State", RunModel::snapshotSchema());
+    impl->record_faults = impl->recording->addChannel("/keel/faults", "keel.FaultLogRecord", faultRecordSchema());
+  }
+  if (impl->options.listen.empty()) {
+    impl->hub = std::thread([raw = impl.get()] { raw->runHub(); });
+    return std::unique_ptr<Monitor>(new Monitor(std::move(impl)));
+  }
   auto listen = parseListen(impl->options.listen);
   if (!listen) return listen.error();
   impl->address = listen->first;
@@ -165,15 +185,16 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
 
 Monitor::Monitor(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 
-Monitor::~Monitor() { stop(); }
+Monitor::~Monitor() { (void)stop(); }
 
 std::string Monitor::url() const {
+  if (!impl_->server) return {};
   const std::string host = impl_->address.find(':') != std::string::npos ? "[" + impl_->address + "]" : impl_->address;
   return fmt::format("http://{}:{}/?token={}", host, impl_->server->port(), impl_->token);
 }
 
-void Monitor::stop() {
-  if (impl_->stopping.exchange(true)) return;
+Result<void> Monitor::stop() {
+  if (impl_->stopping.exchange(true)) return impl_->record_result;
   if (impl_->hub.joinable()) impl_->hub.join();
   {
     std::lock_guard lock(impl_->control_mutex);
@@ -182,6 +203,11 @@ void Monitor::stop() {
   impl_->control_wake.notify_all();
   if (impl_->control.joinable()) impl_->control.join();
   impl_->server.reset();
+  if (impl_->recording) {
+    if (auto closed = impl_->recording->close(); !closed && impl_->record_result)
+      impl_->record_result = Error{"--record: " + closed.error().message};
+  }
+  return impl_->record_result;
 }
 
 void Monitor::Impl::onServiceCall(foxglove::ServiceCall call, std::function<void(ServiceReply)> reply) {
@@ -224,8 +250,13 @@ void Monitor::Impl::runControl() {
 void Monitor::Impl::publishState() {
   const std::int64_t t = std::max(model.lastTime(), engine.log().now());
   last_state = Clock::now();
-  server->publish(kStateChannel, static_cast<std::uint64_t>(start_unix_ns + t),
-                  std::make_shared<const std::string>(model.snapshot(t).dump()), Server::Retain::Latest);
+  send(kStateChannel, t, model.snapshot(t).dump(), Server::Retain::Latest);
+}
+
+void Monitor::Impl::send(std::uint32_t channel, std::int64_t t_ns, std::string payload, Server::Retain retain) {
+  const auto log_time = static_cast<std::uint64_t>(start_unix_ns + t_ns);
+  if (recording) recording->write(channel == kStateChannel ? record_state : record_faults, log_time, payload);
+  if (server) server->publish(channel, log_time, std::make_shared<const std::string>(std::move(payload)), retain);
 }
 
 void Monitor::Impl::handle(const std::vector<std::string>& lines) {
@@ -234,9 +265,7 @@ void Monitor::Impl::handle(const std::vector<std::string>& lines) {
     json record = json::parse(line, nullptr, false);
     if (!record.is_object()) continue;  // not a record (a torn line a killed process left)
     changed |= model.apply(record);
-    const auto t = record.value("t_ns", std::int64_t{0});
-    server->publish(kFaultsChannel, static_cast<std::uint64_t>(start_unix_ns + t),
-                    std::make_shared<const std::string>(line), Server::Retain::History);
+    send(kFaultsChannel, record.value("t_ns", std::int64_t{0}), line, Server::Retain::History);
   }
   if (changed) publishState();
 }
@@ -250,8 +279,16 @@ void Monitor::Impl::runHub() {
     follower->read(lines);
     handle(lines);
     if (Clock::now() - last_state >= kStateEvery) publishState();
+    // A chunk goes out before it is a second old (the hub looks every kWait at the latest):
+    // a kill -9 loses at most the last second of the recording.
+    if (recording && record_result) {
+      const auto soon = Clock::now() + kWait;
+      auto flushed = recording->flushIfDue(static_cast<std::uint64_t>(
+          std::chrono::duration_cast<std::chrono::nanoseconds>(soon.time_since_epoch()).count()));
+      if (!flushed) record_result = Error{"--record: " + flushed.error().message};
+    }
     if (last) return;  // read once more after stop(): the run's last records go out too
-    follower->wait(std::chrono::milliseconds(100));
+    follower->wait(kWait);
   }
 }
 
