@@ -5,8 +5,10 @@
 # segmentation fault, the vision's process killed with `kill -9` (twice), an unplugged sonar, a
 # lying sonar, the left wheel's driver losing power (Fig. 6), an obstacle avoider that keeps
 # crashing. For each run keel prints what it detected, how it handled it and the mission's
-# outcome, and for a killed process how soon its standby took over; the fault logs and plots
-# (trajectory with the faults marked, Fig. 6's rpm and detection) go to demo/.
+# outcome, and for a killed process how soon its standby took over; the fault logs, MCAP
+# recordings and plots (trajectory with the faults marked, Fig. 6's rpm and detection) go to
+# demo/. While each runs, its live monitor is at the address printed (KEEL_DEMO_MONITOR sets it,
+# default 127.0.0.1:8765).
 #   scripts/demo.sh [experiment...]   (default: nominal segfault vision_killed sonar_unplugged
 #                                      sonar_wrong fig6_left_motor_off avoidance_replaced;
 #                                      see robot/scenarios)
@@ -51,6 +53,7 @@ if ! { cmake -S . -B build -G Ninja &&
   tail -n 30 demo/build.log >&2
   exit 1
 fi
+monitor=${KEEL_DEMO_MONITOR:-127.0.0.1:8765}  # the live monitor's address (docs/monitor.md)
 experiments=("$@")
 ((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off
                                        avoidance_replaced)
@@ -59,8 +62,15 @@ for e in "${experiments[@]}"; do
   [[ "$e" == nominal ]] || inject=(--inject "robot/scenarios/$e.xml")
   echo
   echo "=== $e ==="
+  # Live on the monitor's page while it drives (the same port for every experiment: an open
+  # page follows from one to the next), and recorded for Foxglove in demo/$e.mcap.
   build/bin/keel run robot/navigation.xml --duration 60 --log "demo/$e.jsonl" "${inject[@]}" \
-    --set "referee.trace=demo/$e.csv" | tail -n 12
+    --set "referee.trace=demo/$e.csv" --monitor "$monitor" --record "demo/$e.mcap" >"demo/$e.out" &
+  run=$!
+  for _ in $(seq 100); do grep -q '^monitor: ' "demo/$e.out" 2>/dev/null && break; sleep 0.1; done
+  grep '^monitor: ' "demo/$e.out" || true
+  wait "$run"
+  grep -v '^monitor: ' "demo/$e.out" | tail -n 12
   echo "--- detections, actions, recoveries (demo/$e.jsonl):"
   grep -E '"event":"(injected|detected|action|recovered)"' "demo/$e.jsonl" | cut -c1-200 || echo "(none)"
   if grep -qE '"phase":"(took_over|respawned)"' "demo/$e.jsonl"; then

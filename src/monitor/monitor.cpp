@@ -17,9 +17,12 @@
 #include "monitor/log_follower.hpp"
 #include "monitor/mcap_writer.hpp"
 #include "monitor/page.hpp"
+#include "monitor/port_tap.hpp"
 #include "monitor/run_model.hpp"
 #include "monitor/server.hpp"
 #include "monitor/token.hpp"
+#include "runtime/component_core.hpp"
+#include "runtime/port_access.hpp"
 
 namespace keel::monitor {
 
@@ -30,10 +33,13 @@ using Clock = std::chrono::steady_clock;
 
 constexpr std::uint32_t kStateChannel = 1;
 constexpr std::uint32_t kFaultsChannel = 2;
+constexpr std::uint32_t kFirstPortChannel = 3;
+constexpr std::size_t kTapCapacity = 16384;  // values per port between two drains: 0.8 s at 20 kHz
 constexpr std::uint32_t kEmergencyService = 1;
 constexpr std::uint32_t kClearService = 2;
-constexpr auto kStateEvery = std::chrono::seconds(1);   // SPEC: a snapshot at least once a second
-constexpr auto kWait = std::chrono::milliseconds(100);  // the hub's longest sleep
+constexpr auto kStateEvery = std::chrono::seconds(1);      // SPEC: a snapshot at least once a second
+constexpr auto kWait = std::chrono::milliseconds(100);     // the hub's longest sleep
+constexpr auto kPortWait = std::chrono::milliseconds(20);  // ... while it takes port values
 
 const std::string& faultRecordSchema() {
   static const std::string schema = json{
@@ -58,6 +64,16 @@ std::vector<foxglove::Service> services() {
                                    .dump();
   return {{kEmergencyService, "/keel/emergency_stop", "keel/Control", request, response},
           {kClearService, "/keel/clear_emergency", "keel/Control", request, response}};
+}
+
+std::string portSchema(const char* json_type) {
+  json value = {{"type", json_type}};
+  if (std::string_view(json_type) == "array") value["items"] = {{"type", "number"}};
+  return json{{"type", "object"},
+              {"title", "keel.PortValue"},
+              {"description", "A value an output port sent, and when (ns since the run started)"},
+              {"properties", {{"t_ns", {{"type", "integer"}}}, {"value", std::move(value)}}}}
+      .dump();
 }
 
 Topology topologyOf(const engine::Engine& engine) {
@@ -91,6 +107,12 @@ struct Monitor::Impl {
   std::uint16_t record_state = 0, record_faults = 0;  // the recording's channel ids
   Result<void> record_result;
   std::optional<LogFollower> follower;
+  struct Port {
+    std::unique_ptr<PortTap> tap;
+    foxglove::Channel channel;
+    std::uint16_t record_channel = 0;
+  };
+  std::vector<Port> ports;
   RunModel model;
   std::thread hub;
   std::atomic<bool> stopping{false};
@@ -105,12 +127,14 @@ struct Monitor::Impl {
 
   Impl(engine::Engine& e, MonitorOptions o) : engine(e), options(std::move(o)), model(topologyOf(e)) {}
 
-  void onServiceCall(foxglove::ServiceCall call, std::function<void(ServiceReply)> reply);
+  void onServiceCall(const foxglove::ServiceCall& call, std::function<void(ServiceReply)> reply);
   void runControl();
   void runHub();
   void handle(const std::vector<std::string>& lines);
   void publishState();
   void send(std::uint32_t channel, std::int64_t t_ns, std::string payload, Server::Retain retain);
+  void makePortChannels();
+  bool takePortValues();
 };
 
 Result<std::pair<std::string, std::uint16_t>> parseListen(const std::string& text) {
@@ -152,6 +176,7 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
     impl->record_state = impl->recording->addChannel("/keel/state", "keel.State", RunModel::snapshotSchema());
     impl->record_faults = impl->recording->addChannel("/keel/faults", "keel.FaultLogRecord", faultRecordSchema());
   }
+  impl->makePortChannels();
   if (impl->options.listen.empty()) {
     impl->hub = std::thread([raw = impl.get()] { raw->runHub(); });
     return std::unique_ptr<Monitor>(new Monitor(std::move(impl)));
@@ -171,13 +196,15 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
                                          {"pid", std::to_string(::getpid())}},
                                         fmt::format("{}-{}", ::getpid(), impl->start_unix_ns));
   so.services = services();
-  auto server = Server::start(std::move(so), [raw = impl.get()](foxglove::ServiceCall call, auto reply) {
-    raw->onServiceCall(std::move(call), std::move(reply));
+  auto server = Server::start(std::move(so), [raw = impl.get()](const foxglove::ServiceCall& call, auto reply) {
+    raw->onServiceCall(call, std::move(reply));
   });
   if (!server) return server.error();
   impl->server = std::move(*server);
-  impl->server->advertise({{kStateChannel, "/keel/state", "keel.State", RunModel::snapshotSchema()},
-                           {kFaultsChannel, "/keel/faults", "keel.FaultLogRecord", faultRecordSchema()}});
+  std::vector<foxglove::Channel> channels{{kStateChannel, "/keel/state", "keel.State", RunModel::snapshotSchema()},
+                                          {kFaultsChannel, "/keel/faults", "keel.FaultLogRecord", faultRecordSchema()}};
+  for (const auto& p : impl->ports) channels.push_back(p.channel);
+  impl->server->advertise(std::move(channels));
   impl->control = std::thread([raw = impl.get()] { raw->runControl(); });
   impl->hub = std::thread([raw = impl.get()] { raw->runHub(); });
   return std::unique_ptr<Monitor>(new Monitor(std::move(impl)));
@@ -210,7 +237,7 @@ Result<void> Monitor::stop() {
   return impl_->record_result;
 }
 
-void Monitor::Impl::onServiceCall(foxglove::ServiceCall call, std::function<void(ServiceReply)> reply) {
+void Monitor::Impl::onServiceCall(const foxglove::ServiceCall& call, std::function<void(ServiceReply)> reply) {
   const json request = json::parse(call.payload, nullptr, false);
   const auto given = request.is_object() ? request.find("token") : request.end();
   if (!request.is_object() || given == request.end() || !given->is_string())
@@ -255,8 +282,58 @@ void Monitor::Impl::publishState() {
 
 void Monitor::Impl::send(std::uint32_t channel, std::int64_t t_ns, std::string payload, Server::Retain retain) {
   const auto log_time = static_cast<std::uint64_t>(start_unix_ns + t_ns);
-  if (recording) recording->write(channel == kStateChannel ? record_state : record_faults, log_time, payload);
+  if (recording) {
+    const std::uint16_t to = channel == kStateChannel    ? record_state
+                             : channel == kFaultsChannel ? record_faults
+                                                         : ports[channel - kFirstPortChannel].record_channel;
+    recording->write(to, log_time, payload);
+  }
   if (server) server->publish(channel, log_time, std::make_shared<const std::string>(std::move(payload)), retain);
+}
+
+void Monitor::Impl::makePortChannels() {
+  // The output ports of keel run's own components whose values have a JSON form; a component
+  // in a process of its own sends from there (not shown yet).
+  for (const auto& instance : engine.instances()) {
+    if (!instance.component) continue;
+    for (detail::PortBase* base : runtime::coreOf(*instance.component).ports) {
+      if (base->direction() != detail::PortDirection::Output || base->kind() == detail::PortKind::Service) continue;
+      auto& port = static_cast<detail::OutputPortBase&>(*base);
+      const char* type = detail::PortAccess::jsonType(port);
+      if (type == nullptr) continue;
+      auto tap = std::make_unique<PortTap>(port, kTapCapacity);
+      if (!tap->attach()) continue;
+      Port p;
+      p.channel = {kFirstPortChannel + static_cast<std::uint32_t>(ports.size()),
+                   fmt::format("/keel/ports/{}/{}", instance.plan->name, port.name()), "keel.PortValue",
+                   portSchema(type)};
+      if (recording) {
+        p.record_channel = recording->addChannel(p.channel.topic, p.channel.schema_name, p.channel.schema);
+        tap->setActive(true);  // a recording has every value
+      }
+      p.tap = std::move(tap);
+      ports.push_back(std::move(p));
+    }
+  }
+}
+
+bool Monitor::Impl::takePortValues() {
+  bool taking = false;
+  for (auto& p : ports) {
+    auto publish = [&](std::int64_t steady_ns, const std::string& value) {
+      const std::int64_t t = engine.log().sinceStart(steady_ns);
+      send(p.channel.id, t, fmt::format(R"({{"t_ns":{},"value":{}}})", t, value), Server::Retain::Latest);
+    };
+    if (!recording) {
+      const bool wanted = server && server->subscribed(p.channel.id);
+      // A first subscriber sees what the port sent last (maybe long ago: a stopped component).
+      if (wanted && !p.tap->active()) p.tap->newest(publish);
+      p.tap->setActive(wanted);
+    }
+    p.tap->drain(publish);
+    taking |= p.tap->active();
+  }
+  return taking;
 }
 
 void Monitor::Impl::handle(const std::vector<std::string>& lines) {
@@ -287,8 +364,9 @@ void Monitor::Impl::runHub() {
           std::chrono::duration_cast<std::chrono::nanoseconds>(soon.time_since_epoch()).count()));
       if (!flushed) record_result = Error{"--record: " + flushed.error().message};
     }
+    const bool taking = takePortValues();
     if (last) return;  // read once more after stop(): the run's last records go out too
-    follower->wait(kWait);
+    follower->wait(taking ? kPortWait : kWait);
   }
 }
 

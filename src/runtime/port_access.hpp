@@ -16,6 +16,10 @@ struct PortAccess {
   /// Arms `out_of_range` injection on `port`: its next value is replaced by `value`. False if
   /// the port cannot carry it (not a numeric data port).
   static bool corruptNext(OutputPortBase& port, double value) { return port.corruptNext(value); }
+  /// The live monitor: how `port`'s values are written as JSON, and their JSON Schema type
+  /// (null, null: they have no JSON form).
+  static ToJson toJson(const OutputPortBase& port) { return port.toJson(); }
+  static const char* jsonType(const OutputPortBase& port) { return port.jsonType(); }
   /// Moves `port`'s next queued event into its current(); false when none is queued.
   static bool takeNext(InputEventPortBase& port) { return port.takeNext(); }
 };

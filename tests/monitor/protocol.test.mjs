@@ -127,6 +127,39 @@ test("the emergency stop and clear need the token; with it they latch and clear"
   client.close();
 });
 
+test("a port's values come on its channel while subscribed, and stop after", async () => {
+  // examples/01's talker counts on `count` (int) every period, for the whole run.
+  const hello = await startKeel(["examples/01_hello_component/app.xml", "--duration", "30"]);
+  try {
+    const ws = new WebSocket(`ws://${hello.host}/`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+    const client = new FoxgloveClient({ ws });
+    const topic = "/keel/ports/talker/count";
+    const channels = [];
+    const values = [];
+    let sub;
+    client.on("advertise", (chs) => channels.push(...chs));
+    client.on("message", ({ subscriptionId, data }) => {
+      if (subscriptionId === sub) values.push(JSON.parse(new TextDecoder().decode(data)));
+    });
+    const channel = await until(() => channels.find((c) => c.topic === topic), `${topic} advertised`);
+    assert.equal(JSON.parse(channel.schema).properties.value.type, "integer");
+    assert.ok(!channels.some((c) => c.topic === "/keel/ports/talker/news"), "an event without a JSON form is not offered");
+    sub = client.subscribe(channel.id);
+    await until(() => (values.length >= 5 ? true : undefined), "values keep coming");
+    assert.ok(values.every((v) => Number.isInteger(v.value) && Number.isInteger(v.t_ns)));
+    const counted = values.slice(1).map((v) => v.value); // the first is the newest kept, then live
+    assert.deepEqual(counted, counted.map((_, i) => counted[0] + i), "every value, in order");
+    client.unsubscribe(sub);
+    await new Promise((r) => setTimeout(r, 200)); // what was on its way
+    const after = values.length;
+    await new Promise((r) => setTimeout(r, 500));
+    assert.equal(values.length, after, "nothing after unsubscribing");
+    client.close();
+  } finally {
+    await stopKeel(hello);
+  }
+});
+
 test("a page from another origin is refused; no Origin (not a browser) is accepted", async () => {
   const foreign = new WebSocket(`ws://${run.host}/`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL], { origin: "http://evil.test" });
   const refused = await new Promise((resolve) => {

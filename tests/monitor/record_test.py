@@ -5,7 +5,9 @@ record of the log on /keel/faults and the state on /keel/state. Then the same ru
 kill -9: the cut recording reads up to the cut, and holds every record written more than a
 second before the kill.
 
-    tests/peers/venv/bin/python tests/monitor/record_test.py KEEL
+And a counter sending 10,000 values a second: the recording holds every one of them.
+
+    tests/peers/venv/bin/python tests/monitor/record_test.py KEEL TEST_COMPONENT_DIR
 """
 import json
 import os
@@ -23,8 +25,10 @@ from mcap.records import Channel, Message
 from mcap.stream_reader import StreamReader
 
 KEEL = sys.argv.pop(1) if len(sys.argv) > 1 else "build/bin/keel"
+TEST_COMPONENTS = sys.argv.pop(1) if len(sys.argv) > 1 else "build/tests/components"
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 APP = os.path.join(REPO, "examples/02_fault_detection")
+TEN_KHZ = os.path.join(REPO, "tests/integration/profiles/monitor/ten_khz.xml")
 
 
 def log_records(path):
@@ -114,6 +118,24 @@ class Record(unittest.TestCase):
         with open(self.mcap, "rb") as f:
             with self.assertRaises(Exception, msg="no footer: not a complete file"):
                 make_reader(f).get_summary()
+
+
+    def test_ten_thousand_port_values_a_second_are_all_recorded(self):
+        env = dict(os.environ, KEEL_COMPONENT_PATH=os.path.abspath(TEST_COMPONENTS))
+        subprocess.run([KEEL, "run", TEN_KHZ, "--duration", "3", "--log", self.log, "--record", self.mcap],
+                       check=True, capture_output=True, cwd=REPO, env=env)
+        with open(self.mcap, "rb") as f:
+            reader = make_reader(f, validate_crcs=True)
+            values = [json.loads(m.data)["value"]
+                      for _, _, m in reader.iter_messages(topics=["/keel/ports/counter/count"])]
+            self.assertEqual(reader.get_summary().statistics.channel_message_counts[
+                next(c.id for c in reader.get_summary().channels.values() if c.topic == "/keel/ports/counter/count")],
+                len(values))
+        sent = next(r["executions"] for r in log_records(self.log)
+                    if r["event"] == "counts" and r.get("component") == "counter")
+        self.assertGreater(sent, 2.5 * 9000, "about 10,000 values a second for 3 s")
+        self.assertEqual(len(values), sent, "every value the counter sent")
+        self.assertEqual(values, list(range(1, sent + 1)), "in order, none twice")
 
 
 if __name__ == "__main__":

@@ -27,10 +27,13 @@ export function startKeel(args, { timeoutMs = 20000 } = {}) {
   return new Promise((resolve, reject) => {
     const timer = setTimeout(() => reject(new Error(`keel run printed no monitor line:\n${out}\n${err}`)), timeoutMs);
     child.on("exit", (code) => reject(new Error(`keel run exited (${code}) before serving:\n${out}\n${err}`)));
+    let served = false;
     child.stdout.on("data", (d) => {
       out += d;
+      if (served) return;
       const m = out.match(/^monitor: (http:\/\/([^/]+)\/\?token=([0-9a-f]+))$/m);
       if (!m) return;
+      served = true;
       clearTimeout(timer);
       child.removeAllListeners("exit");
       resolve({

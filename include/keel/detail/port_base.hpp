@@ -129,6 +129,9 @@ class InputPortBase : public PortBase {
   virtual std::unique_ptr<ByteInlet> makeByteInlet() = 0;
 };
 
+/// Writes a value (a port type's bytes at `value`) as JSON.
+using ToJson = std::string (*)(const void* value);
+
 /// Output side: attaches to connections of the same type.
 class OutputPortBase : public PortBase {
  public:
@@ -147,6 +150,12 @@ class OutputPortBase : public PortBase {
     (void)value;
     return false;
   }
+  /// The live monitor: how a value of this port's type (byteSize() bytes) is written as JSON,
+  /// or null when the type has no JSON form (keel/detail/json_form.hpp). A plain function, so
+  /// values taken before the port was destroyed can still be written after.
+  virtual ToJson toJson() const { return nullptr; }
+  /// The JSON Schema type of those values, or null.
+  virtual const char* jsonType() const { return nullptr; }
 };
 
 }  // namespace keel::detail

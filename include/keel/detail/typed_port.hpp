@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstring>
 #include <memory>
 #include <new>
 #include <string>
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "keel/detail/connection.hpp"
+#include "keel/detail/json_form.hpp"
 #include "keel/detail/port_base.hpp"
 #include "keel/detail/port_queue.hpp"
 #include "keel/type_name.hpp"
@@ -106,6 +108,25 @@ class Fanout : public OutputPortBase {
       (void)sink;
       return nullptr;
     }
+  }
+
+  static constexpr bool kJson = std::is_trivially_copyable_v<T> && JsonForm<T>::kHas;
+  static std::string jsonOf(const void* value) {
+    if constexpr (kJson) {
+      T v;
+      std::memcpy(&v, value, sizeof v);
+      std::string out;
+      JsonForm<T>::append(out, v);
+      return out;
+    } else {
+      (void)value;
+      return {};
+    }
+  }
+  ToJson toJson() const override { return kJson ? &jsonOf : nullptr; }
+  const char* jsonType() const override {
+    if constexpr (kJson) return JsonForm<T>::schemaType();
+    else return nullptr;
   }
 
   std::vector<const Connection<T>*> connections_;
