@@ -416,7 +416,8 @@ int main(int argc, char** argv) {
   auto* rec = app.add_subcommand("recovery", "recovery latency per mechanism, keel beside its peers (Table 3)");
   commonOptions(*rec, o,
                 "mechanisms: reset,replace_cold,replace_preloaded,reset_hang (not by default),peer_erlang,peer_respawn,"
-                "floor_wake,floor_timer");
+                "floor_wake,floor_timer; reset_monitored (not by default): reset with keel run --monitor's monitor "
+                "and a client of it subscribed to everything");
   auto* det = app.add_subcommand("detection", "detection latency per detector");
   commonOptions(*det, o,
                 "injected kinds: segfault,divide_by_zero,abort,throw,error_code,out_of_range,hang; the machine's "
@@ -440,8 +441,9 @@ int main(int argc, char** argv) {
   if (o.quick) o.n = 20;
   const Paths paths = findPaths();
   try {
-    const std::vector<std::string> mechanisms{"reset",       "replace_cold", "replace_preloaded", "reset_hang",
-                                              "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer"};
+    const std::vector<std::string> mechanisms{"reset",      "replace_cold", "replace_preloaded",
+                                              "reset_hang", "peer_erlang",  "peer_respawn",
+                                              "floor_wake", "floor_timer",  "reset_monitored"};
     const std::vector<std::string> cells{"port_process", "port_thread", "port_dds", "takeover",
                                          "floor_robust", "respawn",     "standby"};
     if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // the two: idle, and 80 % loaded

@@ -12,6 +12,8 @@
 #include <thread>
 
 #include "engine_setup.hpp"
+#include "monitor/monitor.hpp"
+#include "monitor_client.hpp"
 #include "process.hpp"
 #include "report.hpp"
 #include "runtime/injection.hpp"
@@ -56,13 +58,65 @@ std::optional<profile::ProfileSet> loadPackage(Setup& setup, const std::string& 
   return set;
 }
 
-/// A fresh engine (the log rewritten), started.
-std::unique_ptr<engine::Engine> startEngine(Setup& setup, profile::ProfileSet set) {
-  auto engine = createEngine(
+/// An engine under test, and what watches it in the `_monitored` cells: keel run --monitor's
+/// monitor with a client connected and subscribed to everything. Stopped in that order.
+struct Run {
+  std::unique_ptr<engine::Engine> engine;
+  std::unique_ptr<monitor::Monitor> monitor;
+  std::unique_ptr<MonitorClient> client;
+
+  Run() = default;
+  Run(const Run&) = delete;
+  Run& operator=(const Run&) = delete;
+  Run(Run&& other) noexcept = default;
+  Run& operator=(Run&& other) noexcept {
+    reset();  // the monitor before the engine it watches
+    engine = std::move(other.engine);
+    monitor = std::move(other.monitor);
+    client = std::move(other.client);
+    return *this;
+  }
+  explicit operator bool() const { return engine != nullptr; }
+  void reset() {
+    client.reset();
+    if (monitor) (void)monitor->stop();
+    monitor.reset();
+    engine.reset();
+  }
+  ~Run() { reset(); }
+};
+
+/// A fresh engine (the log rewritten), watched when `monitored`, started.
+Run startEngine(Setup& setup, profile::ProfileSet set, bool monitored) {
+  Run run;
+  run.engine = createEngine(
       std::move(set), setup.paths, setup.log_path, [&setup](const std::string& w) { addNote(setup.warnings, w); },
       setup.error);
-  if (!engine || !bench::startEngine(*engine, setup.error)) return nullptr;
-  return engine;
+  if (!run.engine) return run;
+  if (monitored) {
+    auto m = monitor::Monitor::start(*run.engine, {"127.0.0.1:0", {}, setup.log_path, "bench", ""});
+    if (!m) {
+      setup.error = "monitor: " + m.error().message;
+      run.reset();
+      return run;
+    }
+    run.monitor = std::move(*m);
+    const std::string url = run.monitor->url();  // http://127.0.0.1:PORT/?token=...
+    const auto port = static_cast<std::uint16_t>(std::stoi(url.substr(url.rfind(':') + 1)));
+    run.client = std::make_unique<MonitorClient>(port);
+    if (!run.client->error().empty()) {
+      setup.error = run.client->error();
+      run.reset();
+      return run;
+    }
+  }
+  if (!bench::startEngine(*run.engine, setup.error)) {
+    run.reset();
+  } else if (run.client && !run.client->waitForData()) {
+    setup.error = "monitor client: no data within 2 s";
+    run.reset();
+  }
+  return run;
 }
 
 /// Injects `kind` into the victim and waits for the handling of that fault to recover.
@@ -97,9 +151,12 @@ RecoveryCell measureRecovery(const Paths& paths, const std::string& mechanism, b
                              const std::string& log_path) {
   RecoveryCell cell;
   Setup setup{paths, log_path, {}, {}};
-  const bool per_engine = mechanism == "replace_preloaded" || mechanism == "replace_cold";
-  const bool hang = mechanism == "reset_hang";
-  const std::string package = hang ? "recovery_hang" : "recovery_" + mechanism;
+  // `<mechanism>_monitored`: the same, watched by a live monitor and a client of it.
+  const bool monitored = mechanism.ends_with("_monitored");
+  const std::string measured = monitored ? mechanism.substr(0, mechanism.size() - 10) : mechanism;
+  const bool per_engine = measured == "replace_preloaded" || measured == "replace_cold";
+  const bool hang = measured == "reset_hang";
+  const std::string package = hang ? "recovery_hang" : "recovery_" + measured;
   const std::string expected = per_engine ? "replace" : "reset";
   const std::string cold_library = paths.components + "/libkeel_bench_cold_spare.so";
   const auto kind = hang ? runtime::InjectKind::Hang : runtime::InjectKind::Segfault;
@@ -109,18 +166,18 @@ RecoveryCell measureRecovery(const Paths& paths, const std::string& mechanism, b
     cell.error = setup.error;
     return cell;
   }
-  std::unique_ptr<engine::Engine> engine;
+  Run engine;
   for (int i = 0; i < n; ++i) {
     if (!engine) {
-      engine = startEngine(setup, *set);
+      engine = startEngine(setup, *set, monitored);
       if (!engine) {
         cell.error = setup.error;
         return cell;
       }
       std::this_thread::sleep_for(10ms);  // about 10 normal cycles before the first fault
     }
-    if (mechanism == "replace_cold" && libraryMapped(cold_library)) ++cell.already_mapped;
-    auto h = trial(*engine, kind, bound);
+    if (measured == "replace_cold" && libraryMapped(cold_library)) ++cell.already_mapped;
+    auto h = trial(*engine.engine, kind, bound);
     if (!h) {
       ++cell.failed;
       engine.reset();  // a fresh start for the next trial

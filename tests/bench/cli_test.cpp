@@ -150,6 +150,21 @@ TEST(BenchCli, QuickRecoveryGivesTable3WithARowPerLoadThePapersColumnAndKeelToPe
   expectCellsSound(r.cells, "mechanism");
 }
 
+// The monitor's cost on recovery (docs/performance.md, "The live monitor"): reset measured
+// beside itself watched by keel run --monitor's monitor with a client subscribed to everything.
+TEST(BenchCli, QuickRecoveryMeasuresResetWithTheMonitorWatchingBesidePlainReset) {
+  const auto r = quick({"recovery", "--loads", "0", "--policy", "other", "--only", "reset,reset_monitored"});
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  ASSERT_EQ(r.cells.size(), 2u) << r.ran.out;
+  EXPECT_EQ(r.cells[1]["mechanism"], "reset_monitored");
+  expectCellsSound(r.cells, "mechanism");
+  for (const auto& c : r.cells) {
+    EXPECT_FALSE(c.value("skipped", false)) << c.dump();
+    EXPECT_EQ(c["n"], 20) << c.dump();
+    EXPECT_EQ(c["failed"], 0) << c.dump();
+  }
+}
+
 TEST(BenchCli, QuickDetectionMeasuresEveryDetectorAtEveryLoad) {
   const auto r = quick({"detection", "--loads", "10,80", "--policy", "other"});
   ASSERT_EQ(r.ran.status, 0) << r.ran.err;

@@ -1,0 +1,38 @@
+// A client of keel's live monitor for the benchmarks (`keel bench recovery`'s
+// reset_monitored): connects over the Foxglove WebSocket protocol, subscribes to every channel
+// it is offered, and reads everything, as a page or Foxglove would, on a thread of its own.
+// Thread-safety: construct, messages() and the destructor from one thread.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <thread>
+
+namespace keel::bench {
+
+class MonitorClient {
+ public:
+  /// Connects to the monitor at 127.0.0.1:`port`; error() says why when it could not.
+  explicit MonitorClient(std::uint16_t port);
+  ~MonitorClient();  // closes the connection, joins the thread
+  MonitorClient(const MonitorClient&) = delete;
+  MonitorClient& operator=(const MonitorClient&) = delete;
+
+  /// Waits up to 2 s for the first message of a subscribed channel; false if none came.
+  bool waitForData();
+  std::uint64_t messages() const { return messages_.load(std::memory_order_relaxed); }
+  const std::string& error() const { return error_; }
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+  std::thread thread_;
+  std::atomic<std::uint64_t> messages_{0};
+  std::atomic<std::uint64_t> data_{0};
+  std::string error_;
+};
+
+}  // namespace keel::bench
