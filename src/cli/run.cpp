@@ -51,6 +51,7 @@ struct RunOptions {
   std::string monitor;  // [ADDR:]PORT
   std::string record;   // FILE.mcap
   std::vector<std::string> monitor_origins;
+  std::size_t monitor_queue_kib = 4096;
 };
 
 /// Reads operator commands from stdin until EOF or `stop`; each is logged by the engine.
@@ -223,7 +224,8 @@ int runProfile(const RunOptions& o) {
   for (const auto& w : warnings) (*engine)->log().write(fault::schema::warning(w.str()));
   std::unique_ptr<monitor::Monitor> live;
   if (!o.monitor.empty() || !o.record.empty()) {
-    monitor::MonitorOptions mo{o.monitor, o.monitor_origins, eo.log_path, o.profile, o.record};
+    monitor::MonitorOptions mo{o.monitor, o.monitor_origins, eo.log_path,
+                               o.profile, o.record,          o.monitor_queue_kib * 1024};
     auto started = monitor::Monitor::start(**engine, std::move(mo));
     if (!started) {
       std::cerr << "keel run: " << started.error().message << '\n';
@@ -281,6 +283,10 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
                   "[ADDR:]PORT: serve the live monitor there (127.0.0.1 unless ADDR; 0: any free port): the web "
                   "page at http://ADDR:PORT/ and the Foxglove WebSocket protocol; prints its address with the "
                   "control token (docs/monitor.md)");
+  cmd->add_option("--monitor-queue", opts->monitor_queue_kib,
+                  "KIB: what the monitor holds for each client (default 4096); a client that reads slower than "
+                  "the run writes loses what is beyond it, counted and told, and never slows the run")
+      ->check(CLI::Range(16, 1 << 20));
   cmd->add_option("--record", opts->record,
                   "FILE.mcap: record the monitor's channels (/keel/state, /keel/faults) in MCAP, readable by "
                   "Foxglove and keel report; written at least once a second (a kill -9 loses at most the last)");

@@ -188,6 +188,7 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
   so.address = listen->first;
   so.port = listen->second;
   so.allowed_origins = impl->options.allowed_origins;
+  so.max_queued_bytes = impl->options.queue_bytes;
   so.page = std::string(pageHtml());
   so.server_info = foxglove::serverInfo("keel",
                                         {{"run", engine.plan().name},

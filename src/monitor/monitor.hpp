@@ -19,11 +19,12 @@ class Engine;
 namespace keel::monitor {
 
 struct MonitorOptions {
-  std::string listen;                        // "[ADDR:]PORT" (keel run --monitor); empty: no server
-  std::vector<std::string> allowed_origins;  // --monitor-origin
-  std::string log_path;                      // the run's fault log, followed
-  std::string profile;                       // the root profile's path, for the metadata
-  std::string record;                        // FILE.mcap (keel run --record); empty: none
+  std::string listen;                              // "[ADDR:]PORT" (keel run --monitor); empty: no server
+  std::vector<std::string> allowed_origins;        // --monitor-origin
+  std::string log_path;                            // the run's fault log, followed
+  std::string profile;                             // the root profile's path, for the metadata
+  std::string record;                              // FILE.mcap (keel run --record); empty: none
+  std::size_t queue_bytes = std::size_t{4} << 20;  // per client (--monitor-queue): beyond, dropped
 };
 
 /// `[ADDR:]PORT` → address and port (127.0.0.1 when no address is given; `[::1]:8765` for IPv6).

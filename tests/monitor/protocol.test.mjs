@@ -6,7 +6,7 @@ import assert from "node:assert/strict";
 import net from "node:net";
 import { after, before, test } from "node:test";
 
-import { peers, startKeel, stopKeel, until } from "./run_keel.mjs";
+import { peers, startKeel, stopKeel, testComponents, until } from "./run_keel.mjs";
 
 const { FoxgloveClient } = peers("@foxglove/ws-protocol");
 const WebSocket = peers("ws");
@@ -157,6 +157,51 @@ test("a port's values come on its channel while subscribed, and stop after", asy
     client.close();
   } finally {
     await stopKeel(hello);
+  }
+});
+
+test("a client that stops reading loses messages, is told, and slows nobody", async () => {
+  // 10,000 values a second on /keel/ports/counter/count; each client may have 64 KiB queued.
+  const fast = await startKeel(["tests/integration/profiles/monitor/ten_khz.xml", "--duration", "30",
+                                "--monitor-queue", "64"], { env: { KEEL_COMPONENT_PATH: testComponents } });
+  try {
+    const watch = (name) => {
+      const ws = new WebSocket(`ws://${fast.host}/`, [FoxgloveClient.SUPPORTED_SUBPROTOCOL]);
+      const client = new FoxgloveClient({ ws });
+      const got = { values: [], statuses: [], ws, client };
+      let sub;
+      client.on("advertise", (chs) => {
+        const c = chs.find((ch) => ch.topic === "/keel/ports/counter/count");
+        if (c) sub = client.subscribe(c.id);
+      });
+      client.on("message", ({ subscriptionId, data }) => {
+        if (subscriptionId === sub) got.values.push(JSON.parse(new TextDecoder().decode(data)).value);
+      });
+      client.on("status", (s) => got.statuses.push(s));
+      client.on("error", () => {});
+      return got;
+    };
+    const slow = watch("slow");
+    const steady = watch("steady");
+    await until(() => (slow.values.length > 100 && steady.values.length > 100 ? true : undefined), "values to both");
+    slow.ws._socket.pause(); // stops reading: its TCP window fills, then keel's queue for it
+    const before = steady.values.length;
+    await new Promise((r) => setTimeout(r, 6000));
+    const during = steady.values.length - before;
+    assert.ok(during > 6 * 5000, `the steady client kept getting values while the other stalled: ${during} in 6 s`);
+    slow.ws._socket.resume();
+    const told = await until(() => slow.statuses.find((s) => /dropped/.test(s.message)), "the drop told to the slow client");
+    assert.equal(told.level, 1);
+    const [, count] = told.message.match(/^(\d+) messages dropped/);
+    assert.ok(Number(count) > 0);
+    // What the slow client got is in order with a gap, never a value twice.
+    assert.ok(slow.values.every((v, i) => i === 0 || v > slow.values[i - 1]), "in order, none twice");
+    const gaps = slow.values.filter((v, i) => i > 0 && v !== slow.values[i - 1] + 1).length;
+    assert.ok(gaps >= 1, "values were lost where the queue was full");
+    slow.client.close();
+    steady.client.close();
+  } finally {
+    assert.equal(await stopKeel(fast), 0, "keel run ended cleanly");
   }
 });
 

@@ -11,14 +11,17 @@ export const peers = createRequire(path.join(repo, "tests/peers/package.json"));
 
 /** The keel command under test: $KEEL_CLI (CTest gives it), else the default build's. */
 export const keelCli = process.env.KEEL_CLI || path.join(repo, "build/bin/keel");
+/** keel's test components (tests/integration/components): $KEEL_TEST_COMPONENTS, else the default build's. */
+export const testComponents = process.env.KEEL_TEST_COMPONENTS || path.join(repo, "build/tests/components");
 
 /**
  * Starts keel run with `args` and --monitor on a free port. Resolves once it printed its
  * monitor line: { url, token, port, host, child, output() }.
  */
-export function startKeel(args, { timeoutMs = 20000 } = {}) {
+export function startKeel(args, { timeoutMs = 20000, env = {} } = {}) {
   const child = spawn(keelCli, ["run", ...args, "--monitor", "127.0.0.1:0"], {
     cwd: repo,
+    env: { ...process.env, ...env },
     stdio: ["ignore", "pipe", "pipe"],
   });
   let out = "";
