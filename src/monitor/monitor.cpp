@@ -176,8 +176,8 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
     impl->record_state = impl->recording->addChannel("/keel/state", "keel.State", RunModel::snapshotSchema());
     impl->record_faults = impl->recording->addChannel("/keel/faults", "keel.FaultLogRecord", faultRecordSchema());
   }
-  impl->makePortChannels();
   if (impl->options.listen.empty()) {
+    impl->makePortChannels();
     impl->hub = std::thread([raw = impl.get()] { raw->runHub(); });
     return std::unique_ptr<Monitor>(new Monitor(std::move(impl)));
   }
@@ -202,6 +202,8 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
   });
   if (!server) return server.error();
   impl->server = std::move(*server);
+  // Last, once nothing can fail: a tap is a connection of its port for as long as the port lives.
+  impl->makePortChannels();
   std::vector<foxglove::Channel> channels{{kStateChannel, "/keel/state", "keel.State", RunModel::snapshotSchema()},
                                           {kFaultsChannel, "/keel/faults", "keel.FaultLogRecord", faultRecordSchema()}};
   for (const auto& p : impl->ports) channels.push_back(p.channel);
