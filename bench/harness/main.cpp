@@ -149,6 +149,11 @@ void recoveryCell(const Paths& paths, int n, const std::string& log, const std::
   row.failed = c.failed;
   if (c.unexpected) addNote(row.note, fmt::format("{} handled otherwise", c.unexpected));
   if (c.already_mapped) addNote(row.note, fmt::format("{} with the library already mapped", c.already_mapped));
+  if (!c.to_client_ns.empty()) {
+    const Summary to = summarise(std::move(c.to_client_ns));
+    addNote(row.note,
+            fmt::format("detection to a monitor client {:.0f} / {:.0f} µs (n {})", to.p50_us, to.p99_us, to.n));
+  }
   if (!c.in_place_ns.empty()) {
     const Summary in = summarise(std::move(c.in_place_ns));
     addNote(row.note, fmt::format("in place {:.1f} / {:.1f} µs", in.p50_us, in.p99_us));

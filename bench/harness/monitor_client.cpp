@@ -18,6 +18,21 @@ namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 using tcp = net::ip::tcp;
 
+namespace {
+
+std::int64_t wallNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::uint32_t le32(const std::string& s, std::size_t at) {
+  std::uint32_t v = 0;
+  for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
+  return v;
+}
+
+}  // namespace
+
 struct MonitorClient::Impl {
   net::io_context io;
   websocket::stream<tcp::socket> ws{io};
@@ -42,28 +57,48 @@ MonitorClient::MonitorClient(std::uint16_t port) : impl_(std::make_unique<Impl>(
   thread_ = std::thread([this] {
     beast::flat_buffer buffer;
     std::uint32_t next_id = 0;
+    std::int64_t start_unix_ns = 0;
+    std::uint32_t faults_subscription = UINT32_MAX;
     for (;;) {
       beast::error_code read_error;
       impl_->ws.read(buffer, read_error);
       if (read_error) return;  // closed by the destructor, or by the server
+      const auto received = wallNs();
       messages_.fetch_add(1, std::memory_order_relaxed);
+      const std::string bytes = beast::buffers_to_string(buffer.data());
+      buffer.consume(buffer.size());
       if (!impl_->ws.got_text()) {
         data_.fetch_add(1, std::memory_order_relaxed);
-      } else {
-        // Subscribes to every channel it is told of, as a page showing everything does.
-        const auto m = nlohmann::json::parse(beast::buffers_to_string(buffer.data()), nullptr, false);
-        if (m.is_object() && m.value("op", "") == "advertise") {
-          nlohmann::json subs = nlohmann::json::array();
-          for (const auto& c : m["channels"]) subs.push_back({{"id", next_id++}, {"channelId", c["id"]}});
-          beast::error_code write_error;
-          impl_->ws.text(true);
-          impl_->ws.write(net::buffer(nlohmann::json{{"op", "subscribe"}, {"subscriptions", subs}}.dump()),
-                          write_error);
+        // Message Data: 0x01, u32 subscription, u64 timestamp, then the JSON.
+        if (bytes.size() <= 13 || bytes[0] != 1 || le32(bytes, 1) != faults_subscription) continue;
+        const auto r = nlohmann::json::parse(bytes.substr(13), nullptr, false);
+        if (r.is_object() && r.value("event", "") == "detected") {
+          std::lock_guard lock(latencies_mutex_);
+          latencies_ns_.push_back(received - (start_unix_ns + r.value("t_ns", std::int64_t{0})));
         }
+        continue;
       }
-      buffer.consume(buffer.size());
+      const auto m = nlohmann::json::parse(bytes, nullptr, false);
+      if (!m.is_object()) continue;
+      if (m.value("op", "") == "serverInfo")
+        start_unix_ns = std::stoll(m["metadata"].value("start_unix_ns", std::string("0")));
+      if (m.value("op", "") != "advertise") continue;
+      // Subscribes to every channel it is told of, as a page showing everything does.
+      nlohmann::json subs = nlohmann::json::array();
+      for (const auto& c : m["channels"]) {
+        if (c.value("topic", "") == "/keel/faults") faults_subscription = next_id;
+        subs.push_back({{"id", next_id++}, {"channelId", c["id"]}});
+      }
+      beast::error_code write_error;
+      impl_->ws.text(true);
+      impl_->ws.write(net::buffer(nlohmann::json{{"op", "subscribe"}, {"subscriptions", subs}}.dump()), write_error);
     }
   });
+}
+
+std::vector<std::int64_t> MonitorClient::detectionLatencies() const {
+  std::lock_guard lock(latencies_mutex_);
+  return latencies_ns_;
 }
 
 MonitorClient::~MonitorClient() {

@@ -1,14 +1,18 @@
 // A client of keel's live monitor for the benchmarks (`keel bench recovery`'s
 // reset_monitored): connects over the Foxglove WebSocket protocol, subscribes to every channel
-// it is offered, and reads everything, as a page or Foxglove would, on a thread of its own.
-// Thread-safety: construct, messages() and the destructor from one thread.
+// it is offered, and reads everything, as a page or Foxglove would, on a thread of its own. For
+// each `detected` record it is sent, it keeps how long after the detection it got it (its wall
+// clock minus the record's: the server's start_unix_ns + t_ns).
+// Thread-safety: construct, messages(), detectionLatencies() and the destructor from one thread.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 namespace keel::bench {
 
@@ -23,6 +27,8 @@ class MonitorClient {
   /// Waits up to 2 s for the first message of a subscribed channel; false if none came.
   bool waitForData();
   std::uint64_t messages() const { return messages_.load(std::memory_order_relaxed); }
+  /// ns from each detection to this client's receiving it, in the order received.
+  std::vector<std::int64_t> detectionLatencies() const;
   const std::string& error() const { return error_; }
 
   struct Impl;
@@ -33,6 +39,8 @@ class MonitorClient {
   std::atomic<std::uint64_t> messages_{0};
   std::atomic<std::uint64_t> data_{0};
   std::string error_;
+  mutable std::mutex latencies_mutex_;
+  std::vector<std::int64_t> latencies_ns_;
 };
 
 }  // namespace keel::bench

@@ -77,7 +77,12 @@ struct Run {
     return *this;
   }
   explicit operator bool() const { return engine != nullptr; }
-  void reset() {
+  void reset(std::vector<std::int64_t>* to_client = nullptr) {
+    if (client && to_client) {
+      // What reached the client before it closes (the last record may still be on its way).
+      const auto latencies = client->detectionLatencies();
+      to_client->insert(to_client->end(), latencies.begin(), latencies.end());
+    }
     client.reset();
     if (monitor) (void)monitor->stop();
     monitor.reset();
@@ -180,18 +185,20 @@ RecoveryCell measureRecovery(const Paths& paths, const std::string& mechanism, b
     auto h = trial(*engine.engine, kind, bound);
     if (!h) {
       ++cell.failed;
-      engine.reset();  // a fresh start for the next trial
+      engine.reset(&cell.to_client_ns);  // a fresh start for the next trial
       continue;
     }
     if (h->actions != expected || h->failed) ++cell.unexpected;
     cell.latencies_ns.push_back(h->recovered_ns - h->detected_ns);
     if (per_engine) {
-      engine.reset();  // shutdown (the log is complete); the next trial gets a fresh engine
+      engine.reset(&cell.to_client_ns);  // shutdown (the log is complete); the next trial gets a fresh engine
       if (auto t = inPlaceNs(log_path)) cell.in_place_ns.push_back(*t);
     } else {
       std::this_thread::sleep_for(3ms);  // a few normal cycles between trials
     }
   }
+  if (engine.client) std::this_thread::sleep_for(100ms);  // the last detection on its way to the client
+  engine.reset(&cell.to_client_ns);
   cell.warnings = setup.warnings;
   return cell;
 }

@@ -26,6 +26,7 @@ namespace keel::bench {
 struct RecoveryCell {
   std::vector<std::int64_t> latencies_ns;  // recovered − detected, one per recovered fault
   std::vector<std::int64_t> in_place_ns;   // replacements: detected → the `replace` action
+  std::vector<std::int64_t> to_client_ns;  // _monitored: detected → a monitor client has the record
   std::size_t failed = 0;                  // trials without a `recovered` within the bound
   std::size_t unexpected = 0;              // trials whose actions were not the mechanism's
   std::size_t already_mapped = 0;          // replace_cold: the library was mapped before the fault

@@ -157,6 +157,9 @@ TEST(BenchCli, QuickRecoveryMeasuresResetWithTheMonitorWatchingBesidePlainReset)
   ASSERT_EQ(r.ran.status, 0) << r.ran.err;
   ASSERT_EQ(r.cells.size(), 2u) << r.ran.out;
   EXPECT_EQ(r.cells[1]["mechanism"], "reset_monitored");
+  EXPECT_NE(r.cells[1].value("note", "").find("detection to a monitor client"), std::string::npos)
+      << "every detection timed to the client: " << r.cells[1].dump();
+  EXPECT_NE(r.cells[1].value("note", "").find("(n 20)"), std::string::npos) << r.cells[1].dump();
   expectCellsSound(r.cells, "mechanism");
   for (const auto& c : r.cells) {
     EXPECT_FALSE(c.value("skipped", false)) << c.dump();
