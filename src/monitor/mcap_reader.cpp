@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <set>
 #include <system_error>
 
 #include "monitor/crc32.hpp"
@@ -38,8 +39,12 @@ struct Found {
   std::vector<ChannelRecord> channels;
   std::vector<McapMessage> messages;
 
-  /// Adds a Schema, Channel or Message record (others are not this layer's). False if malformed.
-  bool add(Op op, std::string_view content) {
+  /// Adds a Schema, Channel or Message record (others are not this layer's). False if malformed,
+  /// and a Message is malformed unless a Channel record before it, anywhere in the file so far,
+  /// defined its channel (`defined`: their ids; a Channel adds to it), as the spec requires. So
+  /// every message returned has its channel. (A bad chunk stops the scan, so the ids it defined
+  /// need not be taken back.)
+  bool add(Op op, std::string_view content, std::set<std::uint16_t>& defined) {
     ByteCursor in(content);
     if (op == Op::Schema) {
       const std::uint16_t id = in.u16();
@@ -50,7 +55,10 @@ struct Found {
       c.topic = in.string();
       c.encoding = in.string();
       (void)in.stringMap();
-      if (in.ok()) channels.push_back(std::move(c));
+      if (in.ok()) {
+        defined.insert(c.id);
+        channels.push_back(std::move(c));
+      }
     } else if (op == Op::Message) {
       McapMessage m;
       m.channel = in.u16();
@@ -58,6 +66,7 @@ struct Found {
       m.log_time = in.u64();
       (void)in.u64();  // publish_time
       m.payload = in.rest();
+      if (in.ok() && defined.count(m.channel) == 0) return false;
       if (in.ok()) messages.push_back(std::move(m));
     }
     return in.ok();
@@ -121,7 +130,7 @@ class Scanner {
       case Op::Schema:
       case Op::Channel:
       case Op::Message:
-        if (!found_.add(r.op, r.content)) return malformed(r, "record");
+        if (!found_.add(r.op, r.content, defined_)) return malformed(r, "record");
         return true;
       case Op::Metadata: return metadata(r);
       case Op::DataEnd: return dataEnd(r);
@@ -158,7 +167,7 @@ class Scanner {
     while (!chunk_in.atEnd()) {
       const auto op = static_cast<Op>(chunk_in.u8());
       const std::string_view content = chunk_in.bytes(chunk_in.u64());
-      if (!chunk_in.ok() || !inside.add(op, content)) return malformed(r, "chunk");
+      if (!chunk_in.ok() || !inside.add(op, content, defined_)) return malformed(r, "chunk");
     }
     found_.merge(std::move(inside));
     return true;
@@ -176,6 +185,7 @@ class Scanner {
     ByteCursor in(r.content);
     const std::uint32_t crc = in.u32();
     if (!in.ok()) return malformed(r, "Data End");
+    data_end_ = true;
     data_crc_ok_ = crc == 0 || crc == crc32(bytes_.substr(0, r.start));
     if (!data_crc_ok_) stop(fmt::format("data section CRC mismatch (the Data End at byte {})", r.start));
     return true;  // on to the summary: it may define channels that have no messages
@@ -195,7 +205,10 @@ class Scanner {
         (summary_start > crc_end || crc32(bytes_.substr(summary_start, crc_end - summary_start)) != summary_crc)) {
       return (void)stop("summary CRC mismatch");
     }
-    file_.complete = data_crc_ok_;
+    if (!data_end_) stop(fmt::format("no Data End record before the footer at byte {}", r.start));
+    // Complete only if nothing stopped the scan: a Data End with a bad CRC stops it, though the
+    // scan goes on into the summary (and a later Data End must not make up for it).
+    file_.complete = data_crc_ok_ && file_.stopped_at.empty();
   }
 
   bool malformed(const Record& r, const char* what) {
@@ -226,7 +239,9 @@ class Scanner {
   std::string_view bytes_;
   std::string_view name_;
   Found found_;
+  std::set<std::uint16_t> defined_;  // the ids of the Channel records so far
   McapFile file_;
+  bool data_end_ = false;
   bool data_crc_ok_ = false;
 };
 

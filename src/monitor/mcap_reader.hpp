@@ -2,7 +2,9 @@
 // the tests: one linear scan from the start, tolerant of a file cut anywhere (a kill -9 of the
 // writer) and of garbage: it stops at the first record that is cut or malformed, or at a chunk
 // whose CRC does not match, returns everything before it, and says where and why it stopped.
-// A bad chunk yields none of its messages. Reads uncompressed chunks only (keel writes no other;
+// A bad chunk yields none of its messages. A Message record before any Channel record of its
+// channel id is malformed (the spec requires the Channel first), so every message returned has
+// its channel among the file's channels. Reads uncompressed chunks only (keel writes no other;
 // PyPI's `mcap` writes them with CompressionType.NONE).
 // Thread-safety: plain functions and values.
 #pragma once
@@ -43,10 +45,11 @@ struct McapFile {
   std::vector<McapChannel> channels;  // by id, as first defined
   std::vector<McapMessage> messages;  // in file order
   std::vector<McapMetadata> metadata;
-  /// The footer and the closing magic were found, and the data section's CRC matched (or the
-  /// writer left it 0: not computed).
+  /// The footer and the closing magic were found after a Data End record, and the data section's
+  /// CRC matched (or the writer left it 0: not computed), and nothing on the way was wrong.
   bool complete = false;
-  /// Why the scan stopped before the footer ("" when complete), e.g. "a chunk cut at byte 81234".
+  /// Why the file is not complete ("" if and only if it is): where the scan stopped before the
+  /// footer, e.g. "a chunk cut at byte 81234", or what was wrong with the end.
   std::string stopped_at;
 
   const McapChannel* channel(std::uint16_t id) const;

@@ -297,6 +297,119 @@ TEST_F(Mcap, ACompressedChunkIsAnErrorNamingItsCompression) {
                                       " is compressed with zstd: keel reads uncompressed MCAP only");
 }
 
+/// A file built record by record, for what keel's writer never writes.
+struct Records {
+  std::string bytes{mcap::kMagic};
+
+  std::size_t add(mcap::Op op, const std::string& content) {
+    const std::size_t at = bytes.size();
+    const auto length = mcap::beginRecord(bytes, op);
+    bytes += content;
+    mcap::endRecord(bytes, length);
+    return at;
+  }
+  static std::string header() {
+    std::string c;
+    mcap::putString(c, "");
+    mcap::putString(c, "hand-built");
+    return c;
+  }
+  static std::string channel(std::uint16_t id) {
+    std::string c;
+    mcap::putU16(c, id);
+    mcap::putU16(c, 0);
+    mcap::putString(c, "/keel/faults");
+    mcap::putString(c, "json");
+    mcap::putStringMap(c, {});
+    return c;
+  }
+  static std::string message(std::uint16_t channel) {
+    std::string c;
+    mcap::putU16(c, channel);
+    mcap::putU32(c, 0);
+    mcap::putU64(c, kT0);
+    mcap::putU64(c, kT0);
+    return c + payload(channel);
+  }
+  static std::string u32(std::uint32_t v) {
+    std::string c;
+    mcap::putU32(c, v);
+    return c;
+  }
+  /// A Footer with no summary, and the closing magic.
+  void end() {
+    add(mcap::Op::Footer, std::string(20, '\0'));
+    bytes += mcap::kMagic;
+  }
+};
+
+// Found by the mcap_reader fuzz target (fuzz/corpus/mcap_reader/regression_message_before_its_channel):
+// a message whose channel was never defined came back, and channel() of it was null.
+TEST(McapReader, AMessageBeforeAChannelOfItsIdIsMalformed) {
+  Records f;
+  f.add(mcap::Op::Header, Records::header());
+  f.add(mcap::Op::Channel, Records::channel(1));
+  f.add(mcap::Op::Message, Records::message(1));
+  const std::size_t bad = f.add(mcap::Op::Message, Records::message(2));
+  f.add(mcap::Op::Channel, Records::channel(2));  // too late
+  f.add(mcap::Op::DataEnd, Records::u32(0));
+  f.end();
+  auto file = readMcapBytes(f.bytes, "early.mcap");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_FALSE(file->complete);
+  EXPECT_EQ(file->stopped_at, "a malformed record at byte " + std::to_string(bad));
+  ASSERT_EQ(file->messages.size(), 1U);
+  EXPECT_EQ(file->messages[0].channel, 1U);
+  ASSERT_EQ(file->channels.size(), 1U);
+
+  // In a chunk, likewise: the chunk is malformed and gives none of its messages.
+  Records chunked;
+  chunked.add(mcap::Op::Header, Records::header());
+  std::string records;
+  for (const auto& [op, content] :
+       {std::pair{mcap::Op::Channel, Records::channel(1)}, std::pair{mcap::Op::Message, Records::message(1)},
+        std::pair{mcap::Op::Message, Records::message(3)}}) {
+    const auto at = mcap::beginRecord(records, op);
+    records += content;
+    mcap::endRecord(records, at);
+  }
+  std::string chunk;
+  mcap::putU64(chunk, kT0);
+  mcap::putU64(chunk, kT0);
+  mcap::putU64(chunk, records.size());
+  mcap::putU32(chunk, crc32(records));
+  mcap::putString(chunk, "");
+  mcap::putU64(chunk, records.size());
+  const std::size_t chunk_at = chunked.add(mcap::Op::Chunk, chunk + records);
+  auto in_chunk = readMcapBytes(chunked.bytes, "early.mcap");
+  ASSERT_TRUE(in_chunk) << in_chunk.error().message;
+  EXPECT_EQ(in_chunk->stopped_at, "a malformed chunk at byte " + std::to_string(chunk_at));
+  EXPECT_TRUE(in_chunk->messages.empty());
+}
+
+TEST(McapReader, AFooterWithoutADataEndIsNotCompleteAndSaysWhy) {
+  Records f;
+  f.add(mcap::Op::Header, Records::header());
+  const std::size_t footer = f.bytes.size();
+  f.end();
+  auto file = readMcapBytes(f.bytes, "no_data_end.mcap");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_FALSE(file->complete);
+  EXPECT_EQ(file->stopped_at, "no Data End record before the footer at byte " + std::to_string(footer));
+}
+
+TEST(McapReader, ASecondDataEndDoesNotMakeUpForABadCrc) {
+  Records f;
+  f.add(mcap::Op::Header, Records::header());
+  const std::size_t bad = f.add(mcap::Op::DataEnd, Records::u32(0xDEADBEEF));
+  f.add(mcap::Op::DataEnd, Records::u32(0));  // "not computed"
+  f.end();
+  auto file = readMcapBytes(f.bytes, "two_ends.mcap");
+  ASSERT_TRUE(file) << file.error().message;
+  EXPECT_FALSE(file->complete);
+  EXPECT_EQ(file->stopped_at, "data section CRC mismatch (the Data End at byte " + std::to_string(bad) + ")");
+}
+
 TEST_F(Mcap, GarbageNeverCrashesTheReader) {
   const std::string good = twoChunks().bytes;
   std::mt19937 random(16);  // NOLINT(cert-msc51-cpp): a fixed seed, so that a failure reproduces
