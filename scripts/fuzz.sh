@@ -8,16 +8,18 @@
 # The targets are built by the `fuzz` preset (clang 14, ASan+UBSan, in build-fuzz/); the
 # packages they need (clang-14, libclang-rt-14-dev, libfuzzer-14-dev) are installed by
 # scripts/deps.sh. Each run starts from the checked-in seeds (fuzz/corpus/TARGET, read only)
-# and keeps what it finds in build-fuzz/corpus/TARGET; XML targets use fuzz/xml.dict. A crash,
-# a leak, a UBSan finding, a timeout (10 s per input) or a failed check exits non-zero, with
-# the input kept in build-fuzz/findings/TARGET/ and the command that reproduces it printed.
+# and keeps what it finds in build-fuzz/corpus/TARGET; XML targets use fuzz/xml.dict,
+# monitor_client fuzz/monitor_client.dict. A crash, a leak, a UBSan finding, a timeout (10 s
+# per input) or a failed check exits non-zero, with the input kept in
+# build-fuzz/findings/TARGET/ and the command that reproduces it printed.
 # Jobs for the build: $KEEL_JOBS, else the number of cores.
 set -euo pipefail
 
 usage() { sed -n '2,14s/^# \{0,1\}//p' "$0"; }
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-targets=(profile_component profile_composite profile_package profile_system scenario motion_board)
+targets=(profile_component profile_composite profile_package profile_system scenario motion_board monitor_client
+  mcap_reader)
 
 case "${1:-}" in
   --list) printf '%s\n' "${targets[@]}"; exit 0 ;;
@@ -45,7 +47,11 @@ run() {
   local target=$1 work=build-fuzz/corpus/$1 findings=build-fuzz/findings/$1
   mkdir -p "$work" "$findings"
   local dict=()
-  [[ $target == motion_board ]] || dict=(-dict=fuzz/xml.dict)
+  case $target in
+    motion_board | mcap_reader) ;;
+    monitor_client) dict=(-dict=fuzz/monitor_client.dict) ;;
+    *) dict=(-dict=fuzz/xml.dict) ;;
+  esac
   echo "fuzz.sh: $target for $seconds s (seeds: fuzz/corpus/$target, corpus: $work)"
   # The first corpus directory gets what is new; the seeds stay as checked in.
   if ! build-fuzz/fuzz/"$target" "$work" "fuzz/corpus/$target" "${dict[@]}" -max_total_time="$seconds" \

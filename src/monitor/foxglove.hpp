@@ -1,7 +1,7 @@
 // The Foxglove WebSocket protocol v1 (subprotocol foxglove.websocket.v1), as keel's monitor
 // speaks it (docs/monitor.md): the server's messages encoded, the client's parsed. Pure
 // functions over bytes, no sockets, so every client message can be fuzzed
-// (fuzz/monitor_client.cpp). Byte layouts are little-endian, as the protocol has them.
+// (fuzz/monitor_client_fuzz.cpp). Byte layouts are little-endian, as the protocol has them.
 // Thread-safety: plain functions.
 #pragma once
 
