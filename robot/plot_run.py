@@ -1,28 +1,39 @@
 #!/usr/bin/env python3
-"""Plots a run of the simulated test robot: its trajectory with the faults, and the paper's Fig. 6.
+"""Plots a run of keel: the fault timeline of any run; for the simulated test robot, its
+trajectory with the faults, and the paper's Fig. 6.
 
-Inputs (from `keel run robot/navigation.xml --log run.jsonl` with the referee's `trace` property
-set to trace.csv):
-  trace.csv             one row per referee execution (50 ms): simulated time, true pose, true,
-                        measured and reference wheel rpm, clearance, collisions so far
+Inputs:
+  run.jsonl             keel's fault log (`keel run --log`, or the records `keel report --plots`
+                        takes from a recording): `injected`, `detected`, `recovered`, `mission`...
+  trace.csv             (--trace) the robot referee's trace, its `trace` property: one row per
+                        referee execution (50 ms): simulated time, true pose, true, measured and
+                        reference wheel rpm, clearance, collisions so far
   trace.csv.world.json  the world: boxes, target, start (override with --world)
-  run.jsonl             keel's fault log: `injected`, `detected`, `action`, ..., `mission`
+  ports.jsonl           (--ports) port values from a recording, one {"port", "t_ns", "value"} a
+                        line (`keel report --plots` writes it): the robot's measured and reference
+                        wheel rpm are there, its true pose is not (only the referee knows it)
 
 Outputs in --out DIR (created):
-  trajectory.svg  the world, the path, the body at start and end, each detected fault at the
-                  robot's position when it was detected (one marker per kind) and each injected
-                  fault (x); the mission's outcome in the title
-  fig6.svg        left (and, lighter, right) wheel rpm, measured and reference, raw and filtered
+  timeline.svg    one row per component: each fault injected (x), detected (a marker per kind)
+                  and recovered (o), over the run's time, with the detection latency (detected -
+                  injected) and the recovery latency (the `recovered` record's latency_us)
+  trajectory.svg  (with --trace) the world, the path, the body at start and end, each detected
+                  fault at the robot's position when it was detected (one marker per kind) and
+                  each injected fault (x); the mission's outcome in the title
+  fig6.svg        (with --trace, else from --ports when it has the robot's wheel ports) left
+                  (and, lighter, right) wheel rpm, measured and reference, raw and filtered
                   (trailing moving average over --window rows), the threshold (--threshold x the
                   filtered reference), the injections and the `model` detections with their delay
-Prints one line per file written.
+Prints one line per file written; for the robot (a `mission` record, its wheel ports or a trace), a
+plot its inputs cannot give is said on stderr.
 
 Clocks: the trace's t_s is simulated time since the board started; the log's t_ns is time since
 the keel engine started. Without --offset-s the two are assumed to start together: the earliest
 log record is mapped to the trace's first row (offset = first t_s - earliest t_ns / 1e9). That is
 an approximation, off by up to one board period (20 ms) plus the engine's start-up (tens of ms);
 it only places the faults on the trajectory and on the time axis. Delays between an injection and
-its detection are computed on the log's clock alone and are exact.
+its detection are computed on the log's clock alone and are exact. Port values are on the log's
+clock: Fig. 6 drawn from them needs no offset. The timeline is on the log's clock.
 
 Bad input (a missing file, an empty trace, a malformed line) is reported on stderr with exit
 code 2.
@@ -41,6 +52,12 @@ BODY_LENGTH_M = 0.210  # robot/world/world.hpp: kBodyLengthM, along the heading
 BODY_WIDTH_M = 0.140   # kBodyWidthM
 SYSTEM_PYTHON = "/usr/bin/python3"  # where Debian's python3-matplotlib (scripts/deps.sh) lives
 REEXEC_GUARD = "KEEL_PLOT_RUN_REEXEC"
+
+# Fig. 6's four signals: the referee's trace columns, and the ports of robot/navigation.xml that
+# carry them (the referee takes its trace's from these very ports).
+WHEEL_PORTS = {"measured_left": "actuator/left_rpm", "measured_right": "actuator/right_rpm",
+               "reference_left": "wheel_model/left_reference", "reference_right": "wheel_model/right_reference"}
+TIMELINE_LABELLED = 40  # faults whose latencies are written on the timeline; more would overlap
 
 # One marker per detected kind (fault.hpp's kinds); others cycle through MORE_MARKERS.
 KIND_MARKERS = {"model": "D", "signal": "o", "range": "s", "vote": "^", "heartbeat": "v",
@@ -149,6 +166,54 @@ def read_log(path):
     return records
 
 
+def read_ports(path):
+    """Returns {port: [(t_ns, value)]} from a ports.jsonl (values that are not numbers are NaN)."""
+    ports = {}
+    try:
+        with open(path, encoding="utf-8") as f:
+            for n, line in enumerate(f, start=1):
+                if not line.strip():
+                    continue
+                try:
+                    rec = json.loads(line)
+                except json.JSONDecodeError as e:
+                    raise InputError(f"{path}:{n}: malformed JSON line: {e.msg} (column {e.colno})") from None
+                if not isinstance(rec, dict) or not isinstance(rec.get("port"), str) \
+                        or isinstance(rec.get("t_ns"), bool) or not isinstance(rec.get("t_ns"), (int, float)):
+                    raise InputError(f"{path}:{n}: not a port value ({{port, t_ns, value}})")
+                v = rec.get("value")
+                value = float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
+                ports.setdefault(rec["port"], []).append((rec["t_ns"], value))
+    except OSError as e:
+        raise InputError(f"cannot read the port values {path}: {e.strerror}") from None
+    except UnicodeDecodeError:
+        raise InputError(f"{path}: not a text file") from None
+    return ports
+
+
+def wheel_trace(ports):
+    """Fig. 6's columns rebuilt from the wheel ports, one row per measured left value, each other
+    signal its latest value then (t_s: the log's clock); None when a port is missing."""
+    if any(p not in ports for p in WHEEL_PORTS.values()):
+        return None
+    series = {c: sorted(ports[p]) for c, p in WHEEL_PORTS.items()}
+    at = {c: 0 for c in series}
+    columns = {"t_s": [], **{c: [] for c in series}}
+    for t_ns, _ in series["measured_left"]:
+        row = {}
+        for c, values in series.items():
+            while at[c] < len(values) and values[at[c]][0] <= t_ns:
+                at[c] += 1
+            if at[c] == 0:
+                break  # no value of this signal yet
+            row[c] = values[at[c] - 1][1]
+        if len(row) == len(series):
+            columns["t_s"].append(t_ns / 1e9)
+            for c, v in row.items():
+                columns[c].append(v)
+    return columns if columns["t_s"] else None
+
+
 # ---- the run, on the trace's clock -----------------------------------------------------------
 
 def text(v):
@@ -158,10 +223,10 @@ def text(v):
 def build_run(records, trace, offset_s):
     """Injections, detections (times in the trace's seconds) and the mission record."""
     timed = [r["t_ns"] for r in records if r.get("t_ns") is not None]
-    if offset_s is None:
-        offset_s = trace["t_s"][0] - (min(timed) / 1e9 if timed else 0.0)
+    if offset_s is None:  # without a trace: the log's clock
+        offset_s = 0.0 if trace is None else trace["t_s"][0] - (min(timed) / 1e9 if timed else 0.0)
     armed = {r.get("fault_id"): r for r in records if r.get("event") == "armed"}
-    injections, detections, seen, mission = [], [], set(), None
+    injections, detections, recoveries, seen, mission = [], [], {}, set(), None
     for r in records:
         ev = r.get("event")
         if ev == "injected":
@@ -181,6 +246,11 @@ def build_run(records, trace, offset_s):
                 "t_ns": r["t_ns"], "t": r["t_ns"] / 1e9 + offset_s, "fault_id": r.get("fault_id"),
                 "kind": text(r.get("kind") or "fault"), "component": text(r.get("component") or "?"),
                 "detector": text(r.get("detector")), "detail": text(r.get("detail"))})
+        elif ev == "recovered" and r.get("t_ns") is not None:
+            latency = r.get("latency_us")
+            recoveries[r.get("fault_id")] = {
+                "t": r["t_ns"] / 1e9 + offset_s,
+                "latency_us": latency if isinstance(latency, (int, float)) and not isinstance(latency, bool) else None}
         elif ev == "mission":
             mission = r.get("fields") if isinstance(r.get("fields"), dict) else r
     injections.sort(key=lambda i: i["t_ns"])
@@ -190,7 +260,23 @@ def build_run(records, trace, offset_s):
         before = [i for i in injections if i["t_ns"] <= d["t_ns"]]
         cause = same[0] if same else (before[-1] if before else None)
         d["delay_ms"] = None if cause is None else (d["t_ns"] - cause["t_ns"]) / 1e6
+        d["recovered"] = recoveries.get(d["fault_id"]) if d["fault_id"] is not None else None
+    link_causes(injections, detections)
     return {"offset_s": offset_s, "injections": injections, "detections": detections, "mission": mission}
+
+
+def link_causes(injections, detections):
+    """Sets each detection's "cause" for the timeline: the injection of its fault_id (keel's own
+    injections share it), else, for a hardware fault (whose detection gets an id of its own), the
+    latest injection into the same component before it that no other detection answers."""
+    answered = {d["fault_id"] for d in detections if d["fault_id"] is not None}
+    open_ = [i for i in injections if i["fault_id"] not in answered]
+    for d in detections:
+        same = [i for i in injections if d["fault_id"] is not None and i["fault_id"] == d["fault_id"]]
+        before = [i for i in open_ if i["component"] == d["component"] and i["t_ns"] <= d["t_ns"]]
+        d["cause"] = same[0] if same else (before[-1] if before else None)
+        if not same and before:
+            open_.remove(before[-1])
 
 
 def mission_outcome(mission):
@@ -346,7 +432,7 @@ def plot_trajectory(plt, trace, world, run, path):
     plt.close(fig)
 
 
-def plot_fig6(plt, trace, run, window, threshold, path):
+def plot_fig6(plt, trace, run, window, threshold, path, clock="simulated time"):
     fig, ax = plt.subplots(figsize=(11, 6))
     t_ms = [t * 1000.0 for t in trace["t_s"]]
     ml, rl = trace["measured_left"], trace["reference_left"]
@@ -378,7 +464,7 @@ def plot_fig6(plt, trace, run, window, threshold, path):
                  ("no injection before" if d["delay_ms"] is None else f"{d['delay_ms']:.0f} ms after injection"))
         ax.text(x, 0.02, label, transform=trans, rotation=90, va="bottom", ha="left", fontsize=8, color="black")
 
-    ax.set_xlabel("simulated time (ms)")
+    ax.set_xlabel(f"{clock} (ms)")
     ax.set_ylabel("wheel speed (rpm)")
     ax.grid(True, lw=0.3, alpha=0.5)
     ax.set_title(f"Fig. 6: wheel rpm and the process-model detection (window {window}, threshold {threshold:g})",
@@ -388,34 +474,116 @@ def plot_fig6(plt, trace, run, window, threshold, path):
     plt.close(fig)
 
 
+def duration_text(us):
+    return f"{us:.0f} us" if us < 1000 else f"{us / 1000:.1f} ms"
+
+
+def latency_text(d):
+    parts = []
+    if d["cause"] is not None:
+        parts.append(f"detected after {duration_text((d['t_ns'] - d['cause']['t_ns']) / 1e3)}")
+    rec = d["recovered"]
+    if rec is not None and rec["latency_us"] is not None:
+        parts.append(f"recovered after {duration_text(rec['latency_us'])}")
+    return ", ".join(parts)
+
+
+def plot_timeline(plt, run, path):
+    """One row per component with a fault: injected (x) -> detected (marker per kind) -> recovered (o)."""
+    faults = run["detections"] + run["injections"]
+    rows = sorted({f["component"] for f in faults})
+    y = {c: k for k, c in enumerate(rows)}
+    fig, ax = plt.subplots(figsize=(11, max(2.5, 1.0 + 0.6 * len(rows))))
+    assigned, legend = {}, set()
+
+    def once(label):
+        if label in legend:
+            return None
+        legend.add(label)
+        return label
+
+    for i in run["injections"]:
+        ax.plot(i["t"], y[i["component"]], marker="x", color="crimson", mew=2, ms=9, ls="none", zorder=4,
+                label=once("injected"))
+    for k, d in enumerate(run["detections"]):
+        row = y[d["component"]]
+        if d["cause"] is not None:
+            ax.plot([d["cause"]["t"], d["t"]], [row, row], "-", color="crimson", lw=1.2, zorder=3)
+        rec = d["recovered"]
+        if rec is not None:
+            ax.plot([d["t"], rec["t"]], [row, row], "-", color="tab:green", lw=2.5, zorder=3)
+            ax.plot(rec["t"], row, marker="o", mfc="none", color="tab:green", mew=1.5, ms=8, ls="none", zorder=5,
+                    label=once("recovered"))
+        ax.plot(d["t"], row, marker=marker_for(d["kind"], assigned), color="darkorange", mec="black", mew=0.6,
+                ms=8, ls="none", zorder=6, label=once(f"detected: {d['kind']}"))
+        text_ = latency_text(d)
+        if k < TIMELINE_LABELLED:
+            ax.annotate(f"#{d['fault_id']} {d['kind']}" + (f": {text_}" if text_ else ""), (d["t"], row), xytext=(6, 8 if k % 2 else -12),
+                        textcoords="offset points", fontsize=7, zorder=7)
+    if len(run["detections"]) > TIMELINE_LABELLED:
+        ax.text(1.0, -0.12, f"latencies written for the first {TIMELINE_LABELLED} of {len(run['detections'])} faults",
+                transform=ax.transAxes, ha="right", fontsize=7)
+    ax.set_yticks(range(len(rows)))
+    ax.set_yticklabels(rows)
+    ax.set_ylim(-0.7, len(rows) - 0.3)
+    ax.set_xlabel("time since the run started (s)")
+    ax.grid(True, axis="x", lw=0.3, alpha=0.5)
+    n = len(run["detections"])
+    ax.set_title(f"Fault timeline: {n} fault{'' if n == 1 else 's'} detected, {len(run['injections'])} injected"
+                 if faults else "Fault timeline: no faults", fontsize=10)
+    if legend:
+        ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    fig.savefig(path, format="svg", bbox_inches="tight", metadata={"Date": None})
+    plt.close(fig)
+
+
 # ---- main ------------------------------------------------------------------------------------
 
-def main(argv=None):
-    p = argparse.ArgumentParser(description="Plots a run of keel's simulated test robot (trajectory.svg, fig6.svg).")
-    p.add_argument("--trace", required=True, help="the referee's CSV trace (trace.csv)")
+def parse_args(argv):
+    p = argparse.ArgumentParser(description="Plots a run of keel: timeline.svg; for the test robot trajectory.svg "
+                                            "and fig6.svg.")
     p.add_argument("--log", required=True, help="keel's fault log (run.jsonl)")
     p.add_argument("--out", required=True, help="directory for the SVGs (created)")
+    p.add_argument("--trace", help="the robot referee's CSV trace (trace.csv): the trajectory and Fig. 6")
+    p.add_argument("--ports", help="port values of a recording (ports.jsonl, from keel report --plots): Fig. 6 "
+                                   "without a trace")
     p.add_argument("--world", help="the world JSON (default: TRACE.world.json)")
     p.add_argument("--window", type=int, default=9, help="moving-average window, in trace rows (default 9)")
     p.add_argument("--threshold", type=float, default=0.5, help="threshold as a fraction of the filtered reference (default 0.5)")
     p.add_argument("--offset-s", type=float, default=None,
                    help="trace time = t_ns / 1e9 + OFFSET (default: the earliest log record at the trace's first row)")
-    args = p.parse_args(argv)  # usage errors exit 2 too
+    return p.parse_args(argv)  # usage errors exit 2 too
+
+
+def read_inputs(args):
+    """(trace, world, run, fig6 columns and their clock), or InputError."""
+    if args.window < 1:
+        raise InputError("--window must be at least 1")
+    if not math.isfinite(args.threshold) or (args.offset_s is not None and not math.isfinite(args.offset_s)):
+        raise InputError("--threshold and --offset-s must be finite numbers")
+    trace = read_trace(args.trace) if args.trace else None
+    world = read_world(args.world or args.trace + ".world.json") if args.trace else None
+    records = read_log(args.log)
+    run = build_run(records, trace, args.offset_s if trace else None)
+    mission_outcome(run["mission"])  # a malformed mission record is an input error, before plotting
+    wheels, clock = (trace, "simulated time") if trace else (None, None)
+    robot = trace is not None or run["mission"] is not None  # the referee's record
+    if not trace and args.ports:
+        ports = read_ports(args.ports)
+        wheels, clock = wheel_trace(ports), "time since the run started"
+        robot = robot or any(p in ports for p in WHEEL_PORTS.values())
+    try:
+        os.makedirs(args.out, exist_ok=True)
+    except OSError as e:
+        raise InputError(f"cannot create the output directory {args.out}: {e.strerror}") from None
+    return trace, world, run, wheels, clock, robot
+
+
+def main(argv=None):
+    args = parse_args(argv)
     have_matplotlib = find_matplotlib()
     try:
-        if args.window < 1:
-            raise InputError("--window must be at least 1")
-        if not math.isfinite(args.threshold) or (args.offset_s is not None and not math.isfinite(args.offset_s)):
-            raise InputError("--threshold and --offset-s must be finite numbers")
-        trace = read_trace(args.trace)
-        world = read_world(args.world or args.trace + ".world.json")
-        records = read_log(args.log)
-        run = build_run(records, trace, args.offset_s)
-        mission_outcome(run["mission"])  # a malformed mission record is an input error, before plotting
-        try:
-            os.makedirs(args.out, exist_ok=True)
-        except OSError as e:
-            raise InputError(f"cannot create the output directory {args.out}: {e.strerror}") from None
+        trace, world, run, wheels, clock, robot = read_inputs(args)
     except InputError as e:
         print(f"plot_run: {e}", file=sys.stderr)
         return 2
@@ -424,16 +592,24 @@ def main(argv=None):
               "(scripts/deps.sh installs python3-matplotlib for /usr/bin/python3)", file=sys.stderr)
         return 1
     plt = import_matplotlib()
-    written = []
-    for name, draw in (("trajectory.svg", lambda f: plot_trajectory(plt, trace, world, run, f)),
-                       ("fig6.svg", lambda f: plot_fig6(plt, trace, run, args.window, args.threshold, f))):
+    plots = [("timeline.svg", lambda f: plot_timeline(plt, run, f))]
+    if trace:
+        plots.append(("trajectory.svg", lambda f: plot_trajectory(plt, trace, world, run, f)))
+    elif robot:  # another application has neither plot to miss
+        print("plot_run: no trajectory.svg: the robot's true pose is only in the referee's trace (--trace)",
+              file=sys.stderr)
+    if wheels:
+        plots.append(("fig6.svg", lambda f: plot_fig6(plt, wheels, run, args.window, args.threshold, f, clock)))
+    elif robot:
+        print("plot_run: no fig6.svg: neither a trace (--trace) nor the robot's wheel ports (--ports: "
+              + ", ".join(WHEEL_PORTS.values()) + ")", file=sys.stderr)
+    for name, draw in plots:
         out = os.path.join(args.out, name)
         try:
             draw(out)
         except OSError as e:
             print(f"plot_run: cannot write {out}: {e.strerror}", file=sys.stderr)
             return 2
-        written.append(out)
         print(out)
     return 0
 

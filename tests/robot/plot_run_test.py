@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Tests robot/plot_run.py on a small synthetic run: a robot driving straight along +x whose left
 wheel loses power at t = 1.0 s (injected motor_power_off) and is detected by the process model at
-t = 1.2 s. Runs the script as a subprocess, as a user would.
+t = 1.2 s; with the referee's trace, and with port values as `keel report --plots` writes them from
+a recording. Runs the script as a subprocess, as a user would.
 Run: python3 tests/robot/plot_run_test.py (or python3 -m unittest from tests/robot)."""
 
 import json
@@ -62,6 +63,8 @@ class PlotRunTest(unittest.TestCase):
              "detail": "rpm 21.3 below 0.5 x reference 60.0", "fault_id": 2, "t_ns": 1_150_000_000},
             {"event": "action", "action": "emergency_stop", "component": "actuator", "fault_id": 2,
              "t_ns": 1_150_100_000},
+            {"event": "recovered", "component": "actuator", "fault_id": 2, "latency_us": 350.0,
+             "t_ns": 1_150_450_000},
             {"event": "mission", "goal_reached": False, "collisions": 0, "min_clearance_cm": 42.5,
              "duration_s": 1.96, "ended": "stopped", "t_ns": 1_990_000_000},
         ]
@@ -80,7 +83,11 @@ class PlotRunTest(unittest.TestCase):
         r = self.run_script("--trace", self.trace, "--log", self.log, "--out", self.out)
         self.assertEqual(r.returncode, 0, r.stderr)
         trajectory, fig6 = os.path.join(self.out, "trajectory.svg"), os.path.join(self.out, "fig6.svg")
-        self.assertEqual(r.stdout.split(), [trajectory, fig6])
+        timeline = os.path.join(self.out, "timeline.svg")
+        self.assertEqual(r.stdout.split(), [timeline, trajectory, fig6])
+        texts = svg_texts(timeline)
+        self.assertIn("#2 model: detected after 200.0 ms, recovered after 350 us", texts)
+        self.assertIn("actuator", texts)  # its row
         texts = svg_texts(trajectory)
         self.assertIn("model@actuator", texts)                   # the detection, labelled
         self.assertIn("motor_power_off@actuator (hw)", texts)    # the injected hardware fault
@@ -90,6 +97,41 @@ class PlotRunTest(unittest.TestCase):
         texts = svg_texts(fig6)
         self.assertTrue(any("200 ms after injection" in t for t in texts), texts)
         self.assertTrue(any("motor_power_off: left" in t for t in texts), texts)
+
+    def write_ports(self, skip=None):
+        """The wheel ports of a recording, every 20 ms on the log's clock: the left wheel fails at 1 s."""
+        ports = os.path.join(self.dir, "ports.jsonl")
+        with open(ports, "w") as f:
+            for k in range(100):
+                t_ns = 20_000_000 * k
+                left = 60.0 if t_ns < 1_000_000_000 else 5.0
+                for port, value in (("actuator/left_rpm", left), ("actuator/right_rpm", 60.0),
+                                    ("wheel_model/left_reference", 60.0), ("wheel_model/right_reference", 60.0)):
+                    if port != skip:
+                        f.write(json.dumps({"port": port, "t_ns": t_ns, "value": value}) + "\n")
+        return ports
+
+    def test_plots_a_recording_without_a_trace(self):
+        if not have_matplotlib():
+            self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
+        r = self.run_script("--ports", self.write_ports(), "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        fig6 = os.path.join(self.out, "fig6.svg")
+        self.assertEqual(r.stdout.split(), [os.path.join(self.out, "timeline.svg"), fig6])
+        self.assertIn("no trajectory.svg: the robot's true pose is only in the referee's trace", r.stderr)
+        texts = svg_texts(fig6)
+        self.assertIn("time since the run started (ms)", texts)
+        self.assertTrue(any("200 ms after injection" in t for t in texts), texts)
+
+    def test_a_recording_without_the_wheel_ports_gets_the_timeline_only(self):
+        if not have_matplotlib():
+            self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
+        r = self.run_script("--ports", self.write_ports(skip="wheel_model/left_reference"), "--log", self.log,
+                            "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertEqual(r.stdout.split(), [os.path.join(self.out, "timeline.svg")])
+        self.assertIn("no fig6.svg", r.stderr)
+        self.assertIn("wheel_model/left_reference", r.stderr)
 
     def test_missing_trace(self):
         r = self.run_script("--trace", os.path.join(self.dir, "nope.csv"), "--log", self.log, "--out", self.out)
@@ -109,10 +151,10 @@ class PlotRunTest(unittest.TestCase):
 
     def test_malformed_log_line(self):
         with open(self.log, "a") as f:
-            f.write('{"event": "detected", "t_ns": \n')  # line 6
+            f.write('{"event": "detected", "t_ns": \n')  # line 7
         r = self.run_script("--trace", self.trace, "--log", self.log, "--out", self.out)
         self.assertEqual(r.returncode, 2)
-        self.assertIn("run.jsonl:6: malformed JSON line", r.stderr)
+        self.assertIn("run.jsonl:7: malformed JSON line", r.stderr)
         self.assertNotIn("Traceback", r.stderr)
 
 
