@@ -17,5 +17,6 @@ void addInspectCommand(CLI::App& app, std::function<int()>& run);
 void addGraphCommand(CLI::App& app, std::function<int()>& run);
 void addBenchCommand(CLI::App& app, std::function<int()>& run);
 void addSoakCommand(CLI::App& app, std::function<int()>& run);
+void addReportCommand(CLI::App& app, std::function<int()>& run);
 
 }  // namespace keel::cli

@@ -14,6 +14,7 @@ int main(int argc, char** argv) try {
   keel::cli::addGraphCommand(app, run);
   keel::cli::addBenchCommand(app, run);
   keel::cli::addSoakCommand(app, run);
+  keel::cli::addReportCommand(app, run);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
