@@ -262,7 +262,9 @@ def build_run(records, trace, offset_s):
         d["delay_ms"] = None if cause is None else (d["t_ns"] - cause["t_ns"]) / 1e6
         d["recovered"] = recoveries.get(d["fault_id"]) if d["fault_id"] is not None else None
     link_causes(injections, detections)
-    return {"offset_s": offset_s, "injections": injections, "detections": detections, "mission": mission}
+    span = (min(timed) / 1e9 + offset_s, max(timed) / 1e9 + offset_s) if timed else None
+    return {"offset_s": offset_s, "injections": injections, "detections": detections, "mission": mission,
+            "span": span}
 
 
 def link_causes(injections, detections):
@@ -526,6 +528,9 @@ def plot_timeline(plt, run, path):
     ax.set_yticks(range(len(rows)))
     ax.set_yticklabels(rows)
     ax.set_ylim(-0.7, len(rows) - 0.3)
+    if run["span"] and run["span"][1] > run["span"][0]:  # the whole run, not only its faults
+        margin = 0.02 * (run["span"][1] - run["span"][0])
+        ax.set_xlim(run["span"][0] - margin, run["span"][1] + margin)
     ax.set_xlabel("time since the run started (s)")
     ax.grid(True, axis="x", lw=0.3, alpha=0.5)
     n = len(run["detections"])

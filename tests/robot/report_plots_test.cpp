@@ -1,0 +1,58 @@
+// keel report --plots on a recorded run of the test robot (Fig. 6's experiment): Fig. 6 rebuilt
+// from the recording's wheel ports, the timeline, and the trajectory only with the referee's
+// trace, since the robot's true pose is on no port.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "support/process.hpp"
+
+namespace keel::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+class RobotReport : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (std::system("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") != 0)
+      GTEST_SKIP() << "no matplotlib for /usr/bin/python3 (scripts/deps.sh installs it)";
+    dir_ = fs::temp_directory_path() / ("keel_robot_report_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (!HasFailure()) fs::remove_all(dir_);  // kept for a look when something failed
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  fs::path dir_;
+};
+
+TEST_F(RobotReport, PlotsFig6FromTheRecordingAndTheTrajectoryFromTheTrace) {
+  const Ran run = runProcess({KEEL_CLI, "run", std::string(KEEL_ROBOT) + "/navigation.xml", "--duration", "5",
+                              "--inject", std::string(KEEL_ROBOT) + "/scenarios/fig6_left_motor_off.xml", "--record",
+                              path("run.mcap"), "--set", "referee.trace=" + path("trace.csv")});
+  ASSERT_EQ(run.status, 0) << run.err;
+
+  const Ran plots = runProcess({KEEL_CLI, "report", path("run.mcap"), "--plots", path("plots")});
+  ASSERT_EQ(plots.status, 0) << plots.err;
+  EXPECT_TRUE(plots.out.starts_with(run.out)) << plots.out;
+  EXPECT_FALSE(fs::exists(path("plots/trajectory.svg")));
+  EXPECT_NE(plots.err.find("the robot's true pose is only in the referee's trace"), std::string::npos) << plots.err;
+  const std::string fig6 = slurp(path("plots/fig6.svg"));
+  EXPECT_NE(fig6.find("time since the run started (ms)"), std::string::npos);
+  EXPECT_NE(fig6.find("model@actuator"), std::string::npos) << "the detection, with its delay";
+  EXPECT_NE(slurp(path("plots/timeline.svg")).find("actuator"), std::string::npos);
+
+  const Ran traced = runProcess(
+      {KEEL_CLI, "report", path("run.mcap"), "--plots", path("traced"), "--trace", path("trace.csv")});
+  ASSERT_EQ(traced.status, 0) << traced.err;
+  for (const char* svg : {"timeline.svg", "trajectory.svg", "fig6.svg"})
+    EXPECT_NE(slurp(path(std::string("traced/") + svg)).find("</svg>"), std::string::npos) << svg;
+  EXPECT_NE(slurp(path("traced/fig6.svg")).find("simulated time (ms)"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace keel::test
