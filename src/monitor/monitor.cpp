@@ -40,6 +40,7 @@ constexpr std::uint32_t kClearService = 2;
 constexpr auto kStateEvery = std::chrono::seconds(1);      // SPEC: a snapshot at least once a second
 constexpr auto kWait = std::chrono::milliseconds(100);     // the hub's longest sleep
 constexpr auto kPortWait = std::chrono::milliseconds(20);  // ... while it takes port values
+constexpr auto kSettle = std::chrono::milliseconds(1);     // from a write to the hub's reading it
 
 const std::string& faultRecordSchema() {
   static const std::string schema = json{
@@ -370,6 +371,9 @@ void Monitor::Impl::runHub() {
     const bool taking = takePortValues();
     if (last) return;  // read once more after stop(): the run's last records go out too
     follower->wait(taking ? kPortWait : kWait);
+    // A fault's first records come while its recovery still runs: the monitor's work (and the
+    // clients' it wakes) waits until that is over, for a reset (microseconds) at least.
+    std::this_thread::sleep_for(kSettle);
   }
 }
 
