@@ -138,56 +138,51 @@ def read_world(path):
     return {"boxes": boxes, "target": target, "start": start}
 
 
-def read_log(path):
-    """Returns (records in file order, each with its line number as '_line')."""
-    records = []
+def json_lines(path, what):
+    """Yields (line number, parsed value) for each non-blank line of the JSON-lines file `path`;
+    a line that is not JSON, an unreadable file or one that is not text is an InputError naming
+    `what` the file is."""
     try:
         with open(path, encoding="utf-8") as f:
             for n, line in enumerate(f, start=1):
                 if not line.strip():
                     continue
                 try:
-                    rec = json.loads(line)
+                    yield n, json.loads(line)
                 except json.JSONDecodeError as e:
                     raise InputError(f"{path}:{n}: malformed JSON line: {e.msg} (column {e.colno})") from None
-                if not isinstance(rec, dict):
-                    raise InputError(f"{path}:{n}: malformed line: not a JSON object")
-                t = rec.get("t_ns")
-                if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float))):
-                    raise InputError(f"{path}:{n}: t_ns is not a number")
-                if rec.get("event") in ("injected", "detected") and t is None:
-                    raise InputError(f"{path}:{n}: '{rec['event']}' record without t_ns")
-                rec["_line"] = n
-                records.append(rec)
     except OSError as e:
-        raise InputError(f"cannot read the log {path}: {e.strerror}") from None
+        raise InputError(f"cannot read {what} {path}: {e.strerror}") from None
     except UnicodeDecodeError:
         raise InputError(f"{path}: not a text file") from None
+
+
+def read_log(path):
+    """Returns (records in file order, each with its line number as '_line')."""
+    records = []
+    for n, rec in json_lines(path, "the log"):
+        if not isinstance(rec, dict):
+            raise InputError(f"{path}:{n}: malformed line: not a JSON object")
+        t = rec.get("t_ns")
+        if t is not None and (isinstance(t, bool) or not isinstance(t, (int, float))):
+            raise InputError(f"{path}:{n}: t_ns is not a number")
+        if rec.get("event") in ("injected", "detected") and t is None:
+            raise InputError(f"{path}:{n}: '{rec['event']}' record without t_ns")
+        rec["_line"] = n
+        records.append(rec)
     return records
 
 
 def read_ports(path):
     """Returns {port: [(t_ns, value)]} from a ports.jsonl (values that are not numbers are NaN)."""
     ports = {}
-    try:
-        with open(path, encoding="utf-8") as f:
-            for n, line in enumerate(f, start=1):
-                if not line.strip():
-                    continue
-                try:
-                    rec = json.loads(line)
-                except json.JSONDecodeError as e:
-                    raise InputError(f"{path}:{n}: malformed JSON line: {e.msg} (column {e.colno})") from None
-                if not isinstance(rec, dict) or not isinstance(rec.get("port"), str) \
-                        or isinstance(rec.get("t_ns"), bool) or not isinstance(rec.get("t_ns"), (int, float)):
-                    raise InputError(f"{path}:{n}: not a port value ({{port, t_ns, value}})")
-                v = rec.get("value")
-                value = float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
-                ports.setdefault(rec["port"], []).append((rec["t_ns"], value))
-    except OSError as e:
-        raise InputError(f"cannot read the port values {path}: {e.strerror}") from None
-    except UnicodeDecodeError:
-        raise InputError(f"{path}: not a text file") from None
+    for n, rec in json_lines(path, "the port values"):
+        if not isinstance(rec, dict) or not isinstance(rec.get("port"), str) \
+                or isinstance(rec.get("t_ns"), bool) or not isinstance(rec.get("t_ns"), (int, float)):
+            raise InputError(f"{path}:{n}: not a port value ({{port, t_ns, value}})")
+        v = rec.get("value")
+        value = float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
+        ports.setdefault(rec["port"], []).append((rec["t_ns"], value))
     return ports
 
 

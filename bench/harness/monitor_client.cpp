@@ -11,6 +11,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "monitor/little_endian.hpp"
+
 namespace keel::bench {
 
 namespace net = boost::asio;
@@ -23,12 +25,6 @@ namespace {
 std::int64_t wallNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::system_clock::now().time_since_epoch())
       .count();
-}
-
-std::uint32_t le32(const std::string& s, std::size_t at) {
-  std::uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
-  return v;
 }
 
 }  // namespace
@@ -64,14 +60,16 @@ MonitorClient::MonitorClient(std::uint16_t port) : impl_(std::make_unique<Impl>(
       impl_->ws.read(buffer, read_error);
       if (read_error) return;  // closed by the destructor, or by the server
       const auto received = wallNs();
-      messages_.fetch_add(1, std::memory_order_relaxed);
       const std::string bytes = beast::buffers_to_string(buffer.data());
       buffer.consume(buffer.size());
       if (!impl_->ws.got_text()) {
         data_.fetch_add(1, std::memory_order_relaxed);
         // Message Data: 0x01, u32 subscription, u64 timestamp, then the JSON.
-        if (bytes.size() <= 13 || bytes[0] != 1 || le32(bytes, 1) != faults_subscription) continue;
-        const auto r = nlohmann::json::parse(bytes.substr(13), nullptr, false);
+        monitor::ByteCursor in(bytes);
+        if (in.u8() != 0x01 || in.u32() != faults_subscription) continue;
+        (void)in.u64();  // its timestamp: the latency is taken from the record's own time
+        if (!in.ok()) continue;
+        const auto r = nlohmann::json::parse(in.rest(), nullptr, false);
         if (r.is_object() && r.value("event", "") == "detected") {
           std::lock_guard lock(latencies_mutex_);
           latencies_ns_.push_back(received - (start_unix_ns + r.value("t_ns", std::int64_t{0})));

@@ -3,7 +3,7 @@
 // it is offered, and reads everything, as a page or Foxglove would, on a thread of its own. For
 // each `detected` record it is sent, it keeps how long after the detection it got it (its wall
 // clock minus the record's: the server's start_unix_ns + t_ns).
-// Thread-safety: construct, messages(), detectionLatencies() and the destructor from one thread.
+// Thread-safety: construct, waitForData(), detectionLatencies() and the destructor from one thread.
 #pragma once
 
 #include <atomic>
@@ -26,7 +26,6 @@ class MonitorClient {
 
   /// Waits up to 2 s for the first message of a subscribed channel; false if none came.
   bool waitForData();
-  std::uint64_t messages() const { return messages_.load(std::memory_order_relaxed); }
   /// ns from each detection to this client's receiving it, in the order received.
   std::vector<std::int64_t> detectionLatencies() const;
   const std::string& error() const { return error_; }
@@ -36,7 +35,6 @@ class MonitorClient {
  private:
   std::unique_ptr<Impl> impl_;
   std::thread thread_;
-  std::atomic<std::uint64_t> messages_{0};
   std::atomic<std::uint64_t> data_{0};
   std::string error_;
   mutable std::mutex latencies_mutex_;

@@ -38,8 +38,6 @@ void ClientSession::start(http::request<http::string_body> req) {
   ws_.async_accept(req_, [self = shared_from_this()](beast::error_code ec) {
     if (ec) return self->finish();
     self->open_ = true;
-    ++self->server_.stats.connections;
-    ++self->server_.stats.clients;
     self->sendText(self->server_.options.server_info);
     std::vector<foxglove::Channel> channels;
     for (const auto& [id, c] : self->server_.channels) channels.push_back(c);
@@ -66,7 +64,6 @@ void ClientSession::onMessage(const std::string& data, bool binary) {
   if (auto* u = std::get_if<foxglove::Unsubscribe>(&message)) return unsubscribe(*u);
   if (auto* c = std::get_if<foxglove::ServiceCall>(&message)) return call(std::move(*c));
   if (auto* bad = std::get_if<foxglove::Invalid>(&message)) {
-    ++server_.stats.bad_messages;
     sendText(foxglove::status(foxglove::StatusLevel::Error, "keel cannot read that message: " + bad->why, "keel.bad"));
   }
   // Unsupported: a capability keel does not announce; ignored, as the protocol has it.
@@ -145,7 +142,6 @@ void ClientSession::sendMessage(std::uint32_t channel, std::uint64_t timestamp_n
   if (queued_bytes_ + out.size() > server_.options.max_queued_bytes) {
     // Too slow a reader loses messages, never the robot: counted, and told at most once a second.
     ++dropped_;
-    ++server_.stats.dropped;
     const auto now = std::chrono::steady_clock::now();
     if (now - dropped_told_ >= kDroppedToldEvery) {
       dropped_told_ = now;
@@ -185,7 +181,6 @@ void ClientSession::write() {
       self->queued_bytes_ = 0;
       return self->finish();
     }
-    ++self->server_.stats.sent;
     self->write();
   });
 }
@@ -219,7 +214,7 @@ void ClientSession::finish() {
   }
   beast::error_code ignored;
   beast::get_lowest_layer(ws_).socket().close(ignored);
-  if (server_.sessions.erase(shared_from_this()) && server_.stats.clients > 0) --server_.stats.clients;
+  server_.sessions.erase(shared_from_this());
 }
 
 // ---- the server's fan-out ------------------------------------------------------------------

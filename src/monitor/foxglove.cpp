@@ -4,22 +4,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "monitor/little_endian.hpp"
+
 namespace keel::monitor::foxglove {
 namespace {
 
 using nlohmann::json;
 
 std::string dump(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
-
-void putLe(std::string& out, std::uint64_t v, int bytes) {
-  for (int i = 0; i < bytes; ++i) out += static_cast<char>((v >> (8 * i)) & 0xFF);
-}
-
-std::uint32_t getU32(std::string_view s, std::size_t at) {
-  std::uint32_t v = 0;
-  for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(s[at + static_cast<std::size_t>(i)]);
-  return v;
-}
 
 json schemaPair(std::string_view schema_name, std::string_view schema) {
   return {{"encoding", "json"}, {"schemaName", schema_name}, {"schemaEncoding", "jsonschema"}, {"schema", schema}};
@@ -72,16 +64,7 @@ ClientMessage parseText(std::string_view data) {
   const auto& name = op->get_ref<const std::string&>();
   if (name == "subscribe") return parseSubscribe(m);
   if (name == "unsubscribe") return parseUnsubscribe(m);
-  static constexpr std::string_view kKnown[] = {"advertise",
-                                                "unadvertise",
-                                                "getParameters",
-                                                "setParameters",
-                                                "subscribeParameterUpdates",
-                                                "unsubscribeParameterUpdates",
-                                                "subscribeConnectionGraph",
-                                                "unsubscribeConnectionGraph",
-                                                "fetchAsset"};
-  for (auto known : kKnown)
+  for (auto known : kUnsupportedOps)
     if (name == known) return Unsupported{name};
   return Invalid{fmt::format("unknown op '{}'", name.substr(0, 64))};
 }
@@ -93,13 +76,13 @@ ClientMessage parseBinary(std::string_view data) {
   if (opcode != 0x02) return Invalid{fmt::format("unknown binary opcode 0x{:02x}", opcode)};
   // 0x02 Service Call Request: u32 service id, u32 call id, u32 encoding length, encoding, payload.
   if (data.size() < 13) return Invalid{"a service call shorter than its 13-byte header"};
+  ByteCursor in(data.substr(1));
   ServiceCall call;
-  call.service_id = getU32(data, 1);
-  call.call_id = getU32(data, 5);
-  const std::uint32_t encoding_length = getU32(data, 9);
-  if (encoding_length > data.size() - 13) return Invalid{"a service call whose encoding runs past its end"};
-  call.encoding = std::string(data.substr(13, encoding_length));
-  call.payload = std::string(data.substr(13 + encoding_length));
+  call.service_id = in.u32();
+  call.call_id = in.u32();
+  call.encoding = std::string(in.string());
+  if (!in.ok()) return Invalid{"a service call whose encoding runs past its end"};
+  call.payload = std::string(in.rest());
   return call;
 }
 
@@ -152,19 +135,18 @@ std::string serviceCallFailure(std::uint32_t service_id, std::uint32_t call_id, 
 std::string messageDataHeader(std::uint32_t subscription_id, std::uint64_t timestamp_ns) {
   std::string out;
   out.reserve(kMessageDataHeader);
-  out += '\x01';
-  putLe(out, subscription_id, 4);
-  putLe(out, timestamp_ns, 8);
+  putU8(out, 0x01);
+  putU32(out, subscription_id);
+  putU64(out, timestamp_ns);
   return out;
 }
 
 std::string serviceCallResponse(std::uint32_t service_id, std::uint32_t call_id, std::string_view json_payload) {
   std::string out;
-  out += '\x03';
-  putLe(out, service_id, 4);
-  putLe(out, call_id, 4);
-  putLe(out, 4, 4);
-  out += "json";
+  putU8(out, 0x03);
+  putU32(out, service_id);
+  putU32(out, call_id);
+  putString(out, "json");
   out += json_payload;
   return out;
 }

@@ -68,8 +68,20 @@ struct ServiceCall {
   std::string encoding;
   std::string payload;
 };
-/// A well-formed message for a capability keel does not offer (getParameters, a client
-/// advertise, ...): ignored, as the protocol has it.
+/// The protocol's client ops for capabilities keel does not announce: ignored, as the protocol
+/// has it.
+inline constexpr std::string_view kUnsupportedOps[] = {"advertise",
+                                                       "unadvertise",
+                                                       "getParameters",
+                                                       "setParameters",
+                                                       "subscribeParameterUpdates",
+                                                       "unsubscribeParameterUpdates",
+                                                       "subscribeConnectionGraph",
+                                                       "unsubscribeConnectionGraph",
+                                                       "fetchAsset"};
+
+/// A well-formed message for a capability keel does not offer (one of kUnsupportedOps, or
+/// client message data): ignored.
 struct Unsupported {
   std::string op;
 };

@@ -1,7 +1,6 @@
 // MCAP's byte layer (https://mcap.dev/spec), shared by McapWriter and readMcap: the magic, the
-// opcodes, little-endian appenders for its primitive types (integers, String, Bytes, Map) and
-// records, and ByteCursor, a bounded reader that never reads past its view: a short or malformed
-// input sets a sticky failure instead of reading out of bounds or throwing.
+// opcodes, its Map types and records, over the little-endian integers and bounded reader of
+// monitor/little_endian.hpp.
 // Thread-safety: plain functions and a value type with one owner.
 #pragma once
 
@@ -10,6 +9,8 @@
 #include <map>
 #include <string>
 #include <string_view>
+
+#include "monitor/little_endian.hpp"
 
 namespace keel::monitor::mcap {
 
@@ -39,20 +40,12 @@ enum class Op : std::uint8_t {
 
 // --- writing: append to a byte buffer ------------------------------------------------------
 
-/// Appends `value` in `width` little-endian bytes.
-inline void putLittleEndian(std::string& out, std::uint64_t value, int width) {
-  for (int i = 0; i < width; ++i) out.push_back(static_cast<char>((value >> (8 * i)) & 0xFFU));
-}
-inline void putU8(std::string& out, std::uint8_t v) { putLittleEndian(out, v, 1); }
-inline void putU16(std::string& out, std::uint16_t v) { putLittleEndian(out, v, 2); }
-inline void putU32(std::string& out, std::uint32_t v) { putLittleEndian(out, v, 4); }
-inline void putU64(std::string& out, std::uint64_t v) { putLittleEndian(out, v, 8); }
-
-/// String and u32-length Bytes have the same layout: u32 length, then the bytes.
-inline void putString(std::string& out, std::string_view s) {
-  putU32(out, static_cast<std::uint32_t>(s.size()));
-  out.append(s);
-}
+using monitor::putLittleEndian;
+using monitor::putString;
+using monitor::putU16;
+using monitor::putU32;
+using monitor::putU64;
+using monitor::putU8;
 
 /// Map<String, String>: u32 byte length of the entries, then key, value, key, value...
 inline void putStringMap(std::string& out, const std::map<std::string, std::string>& m) {
@@ -91,69 +84,18 @@ inline void endRecord(std::string& out, std::size_t at) {
 
 // --- reading: a bounded cursor -------------------------------------------------------------
 
-/// Reads MCAP primitives from a view. Each read past the end returns a zero value and makes
-/// ok() false for good, so a parser reads a whole record and checks once.
-class ByteCursor {
- public:
-  explicit ByteCursor(std::string_view bytes) : bytes_(bytes) {}
+using monitor::ByteCursor;
 
-  bool ok() const { return ok_; }
-  std::size_t position() const { return pos_; }
-  std::size_t remaining() const { return bytes_.size() - pos_; }
-  bool atEnd() const { return pos_ == bytes_.size(); }
-
-  std::uint64_t littleEndian(std::size_t width) {
-    if (!take(width)) return 0;
-    std::uint64_t v = 0;
-    for (std::size_t i = width; i-- > 0;) v = (v << 8) | static_cast<unsigned char>(bytes_[pos_ - width + i]);
-    return v;
+/// Map<String, String>, read from `in`; a malformed map fails `in`.
+inline std::map<std::string, std::string> readStringMap(ByteCursor& in) {
+  ByteCursor entries(in.string());
+  std::map<std::string, std::string> m;
+  while (in.ok() && entries.ok() && !entries.atEnd()) {
+    std::string key(entries.string());
+    m[key] = std::string(entries.string());
   }
-  std::uint8_t u8() { return static_cast<std::uint8_t>(littleEndian(1)); }
-  std::uint16_t u16() { return static_cast<std::uint16_t>(littleEndian(2)); }
-  std::uint32_t u32() { return static_cast<std::uint32_t>(littleEndian(4)); }
-  std::uint64_t u64() { return littleEndian(8); }
-
-  /// The next `n` bytes (a view into the input), or "" past the end.
-  std::string_view bytes(std::uint64_t n) {
-    if (n > remaining()) {
-      ok_ = false;
-      pos_ = bytes_.size();
-      return {};
-    }
-    pos_ += static_cast<std::size_t>(n);
-    return bytes_.substr(pos_ - static_cast<std::size_t>(n), static_cast<std::size_t>(n));
-  }
-  /// A String or u32-length Bytes.
-  std::string_view string() { return bytes(u32()); }
-  /// The rest of the view (a Message's data).
-  std::string_view rest() { return bytes(remaining()); }
-
-  /// Map<String, String>.
-  std::map<std::string, std::string> stringMap() {
-    ByteCursor entries(string());
-    std::map<std::string, std::string> m;
-    while (ok_ && entries.ok() && !entries.atEnd()) {
-      std::string key(entries.string());
-      m[key] = std::string(entries.string());
-    }
-    if (!entries.ok()) ok_ = false;
-    return m;
-  }
-
- private:
-  bool take(std::size_t n) {
-    if (n <= remaining()) {
-      pos_ += n;
-      return true;
-    }
-    ok_ = false;
-    pos_ = bytes_.size();
-    return false;
-  }
-
-  std::string_view bytes_;
-  std::size_t pos_ = 0;
-  bool ok_ = true;
-};
+  if (!entries.ok()) in.fail();
+  return m;
+}
 
 }  // namespace keel::monitor::mcap

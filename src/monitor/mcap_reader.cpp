@@ -54,7 +54,7 @@ struct Found {
       ChannelRecord c{in.u16(), in.u16(), {}, {}};
       c.topic = in.string();
       c.encoding = in.string();
-      (void)in.stringMap();
+      (void)mcap::readStringMap(in);
       if (in.ok()) {
         defined.insert(c.id);
         channels.push_back(std::move(c));
@@ -175,7 +175,7 @@ class Scanner {
 
   bool metadata(const Record& r) {
     ByteCursor in(r.content);
-    McapMetadata m{std::string(in.string()), in.stringMap()};
+    McapMetadata m{std::string(in.string()), mcap::readStringMap(in)};
     if (!in.ok()) return malformed(r, "Metadata");
     file_.metadata.push_back(std::move(m));
     return true;

@@ -54,13 +54,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (ec) return close();
     http::request<http::string_body> req = parser_->release();
     if (std::string why = server_.refusal(req); !why.empty()) {
-      ++server_.stats.refused;
       return respond(req, http::status::forbidden, "text/plain; charset=utf-8", why + "\n", false);
     }
     if (websocket::is_upgrade(req)) {
       const std::string offered(req[http::field::sec_websocket_protocol]);
       if (!offersSubprotocol(offered)) {
-        ++server_.stats.refused;
         return respond(req, http::status::bad_request, "text/plain; charset=utf-8",
                        fmt::format("keel speaks the WebSocket subprotocol {}\n", foxglove::kSubprotocol), false);
       }
@@ -214,12 +212,6 @@ bool Server::subscribed(std::uint32_t channel) const {
   std::lock_guard lock(impl_->subscribed_mutex);
   auto it = impl_->subscriber_counts.find(channel);
   return it != impl_->subscriber_counts.end() && it->second > 0;
-}
-
-ServerStats Server::stats() const {
-  const auto& s = impl_->stats;
-  return {s.clients.load(), s.connections.load(), s.refused.load(),
-          s.sent.load(),    s.dropped.load(),     s.bad_messages.load()};
 }
 
 }  // namespace keel::monitor

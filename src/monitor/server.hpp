@@ -4,7 +4,7 @@
 // each client has a bounded queue, and a client too slow to empty it loses messages, counted
 // and told, never slowing the others or the run. Browsers from another origin are refused, and
 // so is a Host the server does not answer to (DNS rebinding).
-// Thread-safety: publish(), advertise(), unadvertise(), subscribed(), stats() from any thread.
+// Thread-safety: publish(), advertise(), unadvertise(), subscribed() from any thread.
 #pragma once
 
 #include <cstdint>
@@ -39,15 +39,6 @@ struct ServiceReply {
 /// Called on the io thread for each service call; `reply` may be called later, from any thread.
 using ServiceHandler = std::function<void(foxglove::ServiceCall, std::function<void(ServiceReply)> reply)>;
 
-struct ServerStats {
-  std::uint64_t clients = 0;       // connected now
-  std::uint64_t connections = 0;   // WebSocket clients ever accepted
-  std::uint64_t refused = 0;       // handshakes refused (origin, host, subprotocol)
-  std::uint64_t sent = 0;          // messages handed to clients' sockets
-  std::uint64_t dropped = 0;       // messages a slow client lost
-  std::uint64_t bad_messages = 0;  // client messages keel could not read
-};
-
 class Server {
  public:
   static Result<std::unique_ptr<Server>> start(ServerOptions options, ServiceHandler on_service_call);
@@ -73,7 +64,6 @@ class Server {
                Retain retain = Retain::None);
   /// Whether any client subscribes to `channel` now.
   bool subscribed(std::uint32_t channel) const;
-  ServerStats stats() const;
 
   struct Impl;
 

@@ -1,7 +1,7 @@
 // The server's insides (monitor/server.hpp), shared by its two files: server.cpp (accepting,
 // HTTP) and client_session.cpp (a WebSocket client). The only header that includes Boost; it
-// is private to them. Everything here runs on the io thread, except `stats` and the
-// subscriber counts (read from any thread).
+// is private to them. Everything here runs on the io thread, except the subscriber
+// counts (read from any thread).
 #pragma once
 
 #include <boost/asio/io_context.hpp>
@@ -41,10 +41,6 @@ struct Server::Impl {
   std::thread thread;
   std::uint16_t port = 0;
   std::vector<std::string> hosts;  // host:port names a Host header may give
-
-  struct Stats {
-    std::atomic<std::uint64_t> clients{0}, connections{0}, refused{0}, sent{0}, dropped{0}, bad_messages{0};
-  } stats;
 
   // io thread only
   std::map<std::uint32_t, foxglove::Channel> channels;

@@ -19,11 +19,12 @@ import sys
 import tempfile
 from collections import Counter
 
-from mcap.exceptions import McapError
 from mcap.reader import make_reader
-from mcap.records import Channel, Chunk, DataEnd, Footer, Message, MessageIndex
+from mcap.records import Chunk, DataEnd, Footer, MessageIndex
 from mcap.stream_reader import StreamReader
 from mcap.writer import CompressionType, Writer
+
+from mcap_cut import messages_up_to_the_cut
 
 T0 = 1_700_000_000_000_000_000  # the tool's first log time, ns
 TOPICS = ["/keel/faults", "/keel/state", "/keel/ports/arm/pose"]  # message i is on TOPICS[i % 3]
@@ -112,21 +113,6 @@ def message_indexes_point_at_messages(path, summary, check):
     per_chunk = [min(PER_CHUNK, N - k) for k in range(0, N, PER_CHUNK)]
     check([sum(c.values()) for c in seen] == per_chunk, f"(a) message indexes list {seen}, not {per_chunk}")
     check(len(seen) == len(summary.chunk_indexes), "(a) chunks and chunk indexes differ")
-
-
-def messages_up_to_the_cut(path):
-    """The research notes' recipe: the stream reader, stopping at the first error."""
-    topics, out = {}, []
-    with open(path, "rb") as f:
-        try:
-            for r in StreamReader(f, validate_crcs=True).records:
-                if isinstance(r, Channel):
-                    topics[r.id] = r.topic
-                elif isinstance(r, Message):
-                    out.append((topics[r.channel_id], r.log_time, r.data))
-        except (McapError, struct.error):  # EndOfFile, CRCValidationError, a torn header
-            pass
-    return out
 
 
 def cut_copies_give_the_whole_chunks(path, summary, tmp, check):

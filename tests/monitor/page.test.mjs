@@ -14,35 +14,33 @@
 //     KEEL_MONITOR_CRASH    the injected kind the fault row test waits for (default segfault)
 //   KEEL_MONITOR_SHOT       the screenshot's path     (default /tmp/keel-monitor.png)
 //
-// Modules: tests/peers/node_modules (scripts/peers.sh installs them), resolved with createRequire
-// from tests/peers/package.json: no NODE_PATH, and any working directory works.
+// Modules: tests/peers/node_modules (scripts/peers.sh installs them), resolved by run_keel.mjs's
+// peers(): no NODE_PATH, and any working directory works. The server is started by its serve().
 import { test, before, after } from "node:test";
 import assert from "node:assert/strict";
-import { createRequire } from "node:module";
-import { spawn } from "node:child_process";
 import { mkdtempSync, writeFileSync, rmSync } from "node:fs";
 import { tmpdir } from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
 
-const require = createRequire(new URL("../peers/package.json", import.meta.url));
-const puppeteer = require("puppeteer-core");
-const { FoxgloveClient } = require("@foxglove/ws-protocol");
-const WebSocket = require("ws");
+import { peers, repo as ROOT, serve, stopKeel } from "./run_keel.mjs";
 
-const ROOT = fileURLToPath(new URL("../..", import.meta.url));
+const puppeteer = peers("puppeteer-core");
+const { FoxgloveClient } = peers("@foxglove/ws-protocol");
+const WebSocket = peers("ws");
+
 const CHROMIUM = process.env.KEEL_CHROMIUM || "/usr/bin/chromium";
 const SHOT = process.env.KEEL_MONITOR_SHOT || "/tmp/keel-monitor.png";
 const CRASH = process.env.KEEL_MONITOR_CRASH || "segfault";
 const TEST = { timeout: 30000, polling: 100 };
 
 // ------------------------------------------------------------------ the server
-let server;       // child process
+let server;       // what serve() started
 let tmp;          // temporary directory (keel mode)
 let base;         // http://127.0.0.1:PORT/
 let token;
 
-function startServer() {
+async function startServer() {
   let cmd, args;
   if (process.env.KEEL_CLI) {
     tmp = mkdtempSync(path.join(tmpdir(), "keel-monitor-"));
@@ -62,33 +60,15 @@ function startServer() {
     cmd = process.execPath;
     args = [fileURLToPath(new URL("mock_server.mjs", import.meta.url)), "--monitor", "127.0.0.1:0", "--fault-every", "1000"];
   }
-  server = spawn(cmd, args, { cwd: ROOT, stdio: ["ignore", "pipe", "pipe"] });
-  let seen = "";
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`no 'monitor: http://...' line within 20 s; output:\n${seen}`)), 20000);
-    const look = (chunk) => {
-      seen += chunk;
-      const m = /monitor: (http:\/\/\S+)/.exec(seen);
-      if (!m) return;
-      clearTimeout(timer);
-      const url = new URL(m[1]);
-      token = url.searchParams.get("token");
-      url.search = "";
-      resolve(url.href);
-    };
-    server.stdout.setEncoding("utf8").on("data", look);
-    server.stderr.setEncoding("utf8").on("data", look);
-    server.on("exit", (code, sig) => { clearTimeout(timer); reject(new Error(`${cmd} exited (${code ?? sig}) before serving:\n${seen}`)); });
-  });
+  server = await serve(cmd, args);
+  token = server.token;
+  const url = new URL(server.url);
+  url.search = "";
+  return url.href;
 }
 
 async function stopServer() {
-  if (!server || server.exitCode !== null) return;
-  const gone = new Promise((ok) => server.once("exit", ok));
-  server.kill("SIGINT");
-  const t = setTimeout(() => server.kill("SIGKILL"), 5000);
-  await gone;
-  clearTimeout(t);
+  if (server) await stopKeel(server);
 }
 
 // ------------------------------------------------------------------ the oracle

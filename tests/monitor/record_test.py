@@ -12,17 +12,16 @@ And a counter sending 10,000 values a second: the recording holds every one of t
 import json
 import os
 import signal
-import struct
 import subprocess
 import sys
 import tempfile
 import time
 import unittest
 
-from mcap.exceptions import McapError
 from mcap.reader import make_reader
-from mcap.records import Channel, Message
 from mcap.stream_reader import StreamReader
+
+from mcap_cut import messages_up_to_the_cut
 
 KEEL = sys.argv.pop(1) if len(sys.argv) > 1 else "build/bin/keel"
 TEST_COMPONENTS = sys.argv.pop(1) if len(sys.argv) > 1 else "build/tests/components"
@@ -34,21 +33,6 @@ TEN_KHZ = os.path.join(REPO, "tests/integration/profiles/monitor/ten_khz.xml")
 def log_records(path):
     with open(path) as f:
         return [json.loads(line) for line in f if line.endswith("\n")]
-
-
-def up_to_the_cut(path):
-    """(topic, log_time, record) of every message before the first damaged record."""
-    topics, out = {}, []
-    with open(path, "rb") as f:
-        try:
-            for r in StreamReader(f, validate_crcs=True).records:
-                if isinstance(r, Channel):
-                    topics[r.id] = r.topic
-                elif isinstance(r, Message):
-                    out.append((topics[r.channel_id], r.log_time, json.loads(r.data)))
-        except (McapError, struct.error):
-            pass
-    return out
 
 
 class Record(unittest.TestCase):
@@ -105,7 +89,7 @@ class Record(unittest.TestCase):
             start = next(int(r.metadata["start_unix_ns"]) for r in StreamReader(f).records
                          if type(r).__name__ == "Metadata")
         killed_at = killed_wall - start  # on the run's clock
-        messages = up_to_the_cut(self.mcap)
+        messages = [(t, lt, json.loads(d)) for t, lt, d in messages_up_to_the_cut(self.mcap)]
         recorded = [r for topic, _, r in messages if topic == "/keel/faults"]
         states = [log_time for topic, log_time, _ in messages if topic == "/keel/state"]
         # A snapshot a second, and at most the last second lost.

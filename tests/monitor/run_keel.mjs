@@ -1,5 +1,5 @@
-// Test support: `keel run PROFILE --monitor 127.0.0.1:0 ...` started for a test, its monitor's
-// address read from the line it prints, and the npm peers (Foxglove's client, ws) resolved from
+// Test support: `keel run PROFILE --monitor 127.0.0.1:0 ...` (or another server printing the same
+// line) started for a test, its monitor's address read from the line it prints, and the npm peers (Foxglove's client, ws) resolved from
 // tests/peers, where scripts/peers.sh installs them.
 import { spawn } from "node:child_process";
 import { createRequire } from "node:module";
@@ -15,21 +15,21 @@ export const keelCli = process.env.KEEL_CLI || path.join(repo, "build/bin/keel")
 export const testComponents = process.env.KEEL_TEST_COMPONENTS || path.join(repo, "build/tests/components");
 
 /**
- * Starts keel run with `args` and --monitor on a free port. Resolves once it printed its
- * monitor line: { url, token, port, host, child, output() }.
+ * Starts `cmd args` (keel run --monitor, or the page test's mock server) and resolves once it
+ * printed its monitor line: { url, token, port, host, child, output() }.
  */
-export function startKeel(args, { timeoutMs = 20000, env = {} } = {}) {
-  const child = spawn(keelCli, ["run", ...args, "--monitor", "127.0.0.1:0"], {
-    cwd: repo,
-    env: { ...process.env, ...env },
-    stdio: ["ignore", "pipe", "pipe"],
-  });
+export function serve(cmd, args, { timeoutMs = 20000, env = {} } = {}) {
+  const child = spawn(cmd, args, { cwd: repo, env: { ...process.env, ...env }, stdio: ["ignore", "pipe", "pipe"] });
   let out = "";
   let err = "";
   child.stderr.on("data", (d) => (err += d));
   return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`keel run printed no monitor line:\n${out}\n${err}`)), timeoutMs);
-    child.on("exit", (code) => reject(new Error(`keel run exited (${code}) before serving:\n${out}\n${err}`)));
+    const timer = setTimeout(() => reject(new Error(`${cmd} printed no monitor line:\n${out}\n${err}`)), timeoutMs);
+    const early = (code, signal) => {
+      clearTimeout(timer);
+      reject(new Error(`${cmd} exited (${code ?? signal}) before serving:\n${out}\n${err}`));
+    };
+    child.once("exit", early);
     let served = false;
     child.stdout.on("data", (d) => {
       out += d;
@@ -38,7 +38,7 @@ export function startKeel(args, { timeoutMs = 20000, env = {} } = {}) {
       if (!m) return;
       served = true;
       clearTimeout(timer);
-      child.removeAllListeners("exit");
+      child.off("exit", early);
       resolve({
         url: m[1],
         host: m[2],
@@ -51,11 +51,20 @@ export function startKeel(args, { timeoutMs = 20000, env = {} } = {}) {
   });
 }
 
-/** Stops a keel run started above (SIGINT: a clean stop) and resolves with its exit code. */
+/** keel run with `args` and --monitor on a free port, as serve() starts it. */
+export function startKeel(args, options = {}) {
+  return serve(keelCli, ["run", ...args, "--monitor", "127.0.0.1:0"], options);
+}
+
+/** Stops what serve() started (SIGINT: a clean stop; SIGKILL after 5 s) and resolves with its exit code. */
 export function stopKeel(run) {
   return new Promise((resolve) => {
     if (run.child.exitCode !== null) return resolve(run.child.exitCode);
-    run.child.on("exit", (code) => resolve(code));
+    const kill = setTimeout(() => run.child.kill("SIGKILL"), 5000);
+    run.child.once("exit", (code, signal) => {
+      clearTimeout(kill);
+      resolve(code ?? 128);
+    });
     run.child.kill("SIGINT");
   });
 }
