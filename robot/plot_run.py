@@ -11,13 +11,13 @@ Inputs:
   trace.csv.world.json  the world: boxes, target, start (override with --world)
   ports.jsonl           (--ports) port values from a recording, one {"port", "t_ns", "value"} a
                         line (`keel report --plots` writes it): the robot's measured and reference
-                        wheel rpm are there, its true pose is not (only the referee knows it)
+                        wheel rpm, and the referee's `truth` (its true pose) and `world` ports
 
 Outputs in --out DIR (created):
   timeline.svg    one row per component: each fault injected (x), detected (a marker per kind)
                   and recovered (o), over the run's time, with the detection latency (detected -
                   injected) and the recovery latency (the `recovered` record's latency_us)
-  trajectory.svg  (with --trace) the world, the path, the body at start and end, each detected
+  trajectory.svg  (with --trace, else from --ports when it has the referee's truth) the world, the path, the body at start and end, each detected
                   fault at the robot's position when it was detected (one marker per kind) and
                   each injected fault (x); the mission's outcome in the title
   fig6.svg        (with --trace, else from --ports when it has the robot's wheel ports) left
@@ -33,7 +33,10 @@ log record is mapped to the trace's first row (offset = first t_s - earliest t_n
 an approximation, off by up to one board period (20 ms) plus the engine's start-up (tens of ms);
 it only places the faults on the trajectory and on the time axis. Delays between an injection and
 its detection are computed on the log's clock alone and are exact. Port values are on the log's
-clock: Fig. 6 drawn from them needs no offset. The timeline is on the log's clock.
+clock: Fig. 6 and the trajectory drawn from them need no offset. The timeline is on the log's clock.
+
+A port is named component/port; in a system profile the component has its application's prefix
+(navigation.actuator/left_rpm), and a port named here matches with or without one.
 
 Bad input (a missing file, an empty trace, a malformed line) is reported on stderr with exit
 code 2.
@@ -57,6 +60,10 @@ REEXEC_GUARD = "KEEL_PLOT_RUN_REEXEC"
 # carry them (the referee takes its trace's from these very ports).
 WHEEL_PORTS = {"measured_left": "actuator/left_rpm", "measured_right": "actuator/right_rpm",
                "reference_left": "wheel_model/left_reference", "reference_right": "wheel_model/right_reference"}
+# The referee's ports (robot/components/mission_referee.hpp): its ground truth and its world.
+TRUTH_PORT, TRUTH_VALUES = "referee/truth", ("t_s", "x_m", "y_m", "heading_rad", "rpm_left", "rpm_right",
+                                             "clearance_m", "collisions")
+WORLD_PORT = "referee/world"  # target x, y, r; start x, y, heading; boxes of 4, null after the last
 TIMELINE_LABELLED = 40  # faults whose latencies are written on the timeline; more would overlap
 
 # One marker per detected kind (fault.hpp's kinds); others cycle through MORE_MARKERS.
@@ -173,25 +180,70 @@ def read_log(path):
     return records
 
 
+def number(v):
+    """A port value's number; NaN for null, a boolean or anything else."""
+    return float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
+
+
 def read_ports(path):
-    """Returns {port: [(t_ns, value)]} from a ports.jsonl (values that are not numbers are NaN)."""
+    """Returns {port: [(t_ns, value)]} from a ports.jsonl: a value is a float, or a list of floats
+    for an array (anything that is not a number is NaN)."""
     ports = {}
     for n, rec in json_lines(path, "the port values"):
         if not isinstance(rec, dict) or not isinstance(rec.get("port"), str) \
                 or isinstance(rec.get("t_ns"), bool) or not isinstance(rec.get("t_ns"), (int, float)):
             raise InputError(f"{path}:{n}: not a port value ({{port, t_ns, value}})")
         v = rec.get("value")
-        value = float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else math.nan
+        value = [number(e) for e in v] if isinstance(v, list) else number(v)
         ports.setdefault(rec["port"], []).append((rec["t_ns"], value))
     return ports
+
+
+def port_values(ports, name):
+    """The values of the port `name` (component/port), in time order: the port of that name, else
+    the one port whose component ends with ".component" (an application's prefix); None when there
+    is none, or when several applications have it (said on stderr)."""
+    if name in ports:
+        return sorted(ports[name], key=lambda tv: tv[0])
+    found = [p for p in ports if p.endswith("." + name)]
+    if len(found) > 1:
+        print(f"plot_run: ignoring {name}: several ports match it ({', '.join(sorted(found))})", file=sys.stderr)
+    return sorted(ports[found[0]], key=lambda tv: tv[0]) if len(found) == 1 else None
+
+
+def truth_trace(ports):
+    """The trajectory's columns from the referee's truth port (t_s: the log's clock, when the
+    referee sent it); None without one. Values that are not 8 numbers with a finite pose are
+    skipped."""
+    values = port_values(ports, TRUTH_PORT)
+    columns = {c: [] for c in TRUTH_VALUES}
+    for t_ns, v in values or []:
+        if not isinstance(v, list) or len(v) != len(TRUTH_VALUES) or not all(map(math.isfinite, v[1:4])):
+            continue
+        columns["t_s"].append(t_ns / 1e9)
+        for c, e in zip(TRUTH_VALUES[1:], v[1:]):
+            columns[c].append(e)
+    return columns if columns["t_s"] else None
+
+
+def port_world(ports):
+    """The world from the referee's world port (its last value), as read_world gives it; None
+    without one."""
+    values = port_values(ports, WORLD_PORT)
+    v = values[-1][1] if values else None
+    if not isinstance(v, list) or len(v) < 6 or (len(v) - 6) % 4 or not all(map(math.isfinite, v[:6])):
+        return None
+    boxes = [tuple(v[i:i + 4]) for i in range(6, len(v), 4) if all(map(math.isfinite, v[i:i + 4]))]
+    return {"boxes": boxes, "target": {"x": v[0], "y": v[1], "r": v[2]},
+            "start": {"x": v[3], "y": v[4], "heading": v[5]}}
 
 
 def wheel_trace(ports):
     """Fig. 6's columns rebuilt from the wheel ports, one row per measured left value, each other
     signal its latest value then (t_s: the log's clock); None when a port is missing."""
-    if any(p not in ports for p in WHEEL_PORTS.values()):
+    series = {c: port_values(ports, p) for c, p in WHEEL_PORTS.items()}
+    if any(v is None for v in series.values()):
         return None
-    series = {c: sorted(ports[p]) for c, p in WHEEL_PORTS.items()}
     at = {c: 0 for c in series}
     columns = {"t_s": [], **{c: [] for c in series}}
     for t_ns, _ in series["measured_left"]:
@@ -545,9 +597,9 @@ def parse_args(argv):
     p.add_argument("--log", required=True, help="keel's fault log (run.jsonl)")
     p.add_argument("--out", required=True, help="directory for the SVGs (created)")
     p.add_argument("--trace", help="the robot referee's CSV trace (trace.csv): the trajectory and Fig. 6")
-    p.add_argument("--ports", help="port values of a recording (ports.jsonl, from keel report --plots): Fig. 6 "
-                                   "without a trace")
-    p.add_argument("--world", help="the world JSON (default: TRACE.world.json)")
+    p.add_argument("--ports", help="port values of a recording (ports.jsonl, from keel report --plots): the "
+                                   "trajectory and Fig. 6 without a trace")
+    p.add_argument("--world", help="the world JSON (default: TRACE.world.json, else the referee's world port)")
     p.add_argument("--window", type=int, default=9, help="moving-average window, in trace rows (default 9)")
     p.add_argument("--threshold", type=float, default=0.5, help="threshold as a fraction of the filtered reference (default 0.5)")
     p.add_argument("--offset-s", type=float, default=None,
@@ -568,10 +620,11 @@ def read_inputs(args):
     mission_outcome(run["mission"])  # a malformed mission record is an input error, before plotting
     wheels, clock = (trace, "simulated time") if trace else (None, None)
     robot = trace is not None or run["mission"] is not None  # the referee's record
-    if not trace and args.ports:
+    if not trace and args.ports:  # a recording: everything on the log's clock
         ports = read_ports(args.ports)
+        trace, world = truth_trace(ports), (read_world(args.world) if args.world else port_world(ports))
         wheels, clock = wheel_trace(ports), "time since the run started"
-        robot = robot or any(p in ports for p in WHEEL_PORTS.values())
+        robot = robot or trace is not None or any(port_values(ports, p) for p in WHEEL_PORTS.values())
     try:
         os.makedirs(args.out, exist_ok=True)
     except OSError as e:
@@ -596,8 +649,8 @@ def main(argv=None):
     if trace:
         plots.append(("trajectory.svg", lambda f: plot_trajectory(plt, trace, world, run, f)))
     elif robot:  # another application has neither plot to miss
-        print("plot_run: no trajectory.svg: the robot's true pose is only in the referee's trace (--trace)",
-              file=sys.stderr)
+        print(f"plot_run: no trajectory.svg: neither a trace (--trace) nor the referee's true pose (--ports: "
+              f"{TRUTH_PORT})", file=sys.stderr)
     if wheels:
         plots.append(("fig6.svg", lambda f: plot_fig6(plt, wheels, run, args.window, args.threshold, f, clock)))
     elif robot:

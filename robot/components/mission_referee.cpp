@@ -3,7 +3,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -19,6 +22,9 @@ ReturnCode MissionReferee::onInitialize() {
   const auto world_name = property<std::string>("world", "paper");
   world_ = worldByName(world_name);
   if (!world_) rejectProperty("world", "names unknown world '" + world_name + "' (worlds: " + worldNames() + ")");
+  if (world_->boxes().size() > kWorldBoxes)
+    rejectProperty("world", fmt::format("names world '{}' of {} boxes; the `world` port carries {} at most", world_name,
+                                        world_->boxes().size(), kWorldBoxes));
   truth_.emplace(truthPath(property<std::string>("sim", "robot"), getpid()));
   goal_radius_m_ = property<double>("goal_radius_m", goal_radius_m_);
   settle_s_ = property<double>("settle_s", settle_s_);
@@ -40,10 +46,15 @@ ReturnCode MissionReferee::onExecute() {
   InputDataPort<double>* ports[4] = {&measured_left, &measured_right, &reference_left, &reference_right};
   for (int i = 0; i < 4; ++i)
     while (std::optional<double> v = ports[i]->pop()) signals_[i] = *v;
+  if (!world_sent_) {
+    world.push(worldValues());
+    world_sent_ = true;
+  }
   const std::optional<TruthSample> t = truth_->read();
   if (!t || finished_) return ReturnCode::Ok;
   last_ = t;
   if (first_t_s_ < 0) first_t_s_ = t->t_s;
+  truth.push({t->t_s, t->x_m, t->y_m, t->heading_rad, t->rpm_left, t->rpm_right, t->clearance_m, t->collisions});
   writeTrace(*t);
   const bool at_rest = std::fabs(t->rpm_left) < kAtRestRpm && std::fabs(t->rpm_right) < kAtRestRpm;
   moved_ = moved_ || std::fabs(t->rpm_left) > kMovingRpm || std::fabs(t->rpm_right) > kMovingRpm;
@@ -101,6 +112,19 @@ void MissionReferee::writeTrace(const TruthSample& t) {
                t.heading_rad, t.rpm_left, t.rpm_right, signals_[0], signals_[1], signals_[2], signals_[3],
                t.clearance_m, static_cast<int>(t.collisions));
   std::fflush(trace_);
+}
+
+std::array<double, kWorldValues> MissionReferee::worldValues() const {
+  std::array<double, kWorldValues> v;
+  v.fill(std::numeric_limits<double>::quiet_NaN());
+  const Target& t = world_->target();
+  const Pose& s = world_->start();
+  const double head[6] = {t.x_m, t.y_m, t.radius_m, s.x_m, s.y_m, s.heading_rad};
+  std::copy(std::begin(head), std::end(head), v.begin());
+  std::size_t i = 6;
+  for (const Box& b : world_->boxes())
+    for (const double c : {b.min_x, b.min_y, b.max_x, b.max_y}) v[i++] = c;
+  return v;
 }
 
 void MissionReferee::writeWorld(const std::string& path) const {

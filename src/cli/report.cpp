@@ -3,8 +3,8 @@
 // channel is every record of the log, in order). A recording cut by a kill -9 is reported up to
 // the cut, and the first line says so. With --plots it writes the run's records into DIR and
 // runs the plotting script (robot/plot_run.py, installed in share/keel/robot) there: the fault
-// timeline of any run, Fig. 6 when the recording has the robot's wheel ports, the trajectory
-// when given the referee's trace (the true pose is on no port: docs/commands.md#keel-report).
+// timeline of any run; for the robot, Fig. 6 from its wheel ports and the trajectory from its
+// referee's truth and world ports, or both from the referee's trace (docs/commands.md#keel-report).
 // Bad input: `keel report: FILE:LINE: what` (or FILE: what), exit 2.
 #include <fmt/format.h>
 #include <sys/wait.h>
@@ -222,8 +222,10 @@ void addReportCommand(CLI::App& app, std::function<int()>& run) {
   CLI::Option* plots =
       cmd->add_option("--plots", opts->plots,
                       "DIR: draw the run's plots there as SVG (python3 and matplotlib): the fault timeline; for the "
-                      "robot, Fig. 6 from a recording and the trajectory with --trace");
-  cmd->add_option("--trace", opts->trace, "CSV: the robot referee's trace (its `trace` property), for --plots")
+                      "robot, Fig. 6 and the trajectory");
+  cmd->add_option("--trace", opts->trace,
+                  "CSV: the robot referee's trace (its `trace` property): Fig. 6 and the trajectory on "
+                  "simulated time")
       ->needs(plots);
   cmd->callback([opts, &run] { run = [opts] { return report(*opts); }; });
 }

@@ -1,5 +1,6 @@
 #include "monitor/port_tap.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -10,7 +11,10 @@ namespace keel::monitor {
 
 PortTap::PortTap(detail::OutputPortBase& port, std::size_t capacity)
     : port_(port), to_json_(detail::PortAccess::toJson(port)), value_size_(port.byteSize()),
-      slot_size_(1 + (value_size_ + 7) / 8), mask_(std::bit_ceil(capacity < 2 ? std::size_t{2} : capacity) - 1),
+      slot_size_(1 + (value_size_ + 7) / 8),
+      mask_(std::min(std::bit_ceil(std::max(capacity, std::size_t{2})),
+                     std::bit_floor(std::max(kMaxRingBytes / (8 * slot_size_), std::size_t{2}))) -
+            1),
       slots_((mask_ + 1) * slot_size_), newest_(std::make_unique<std::atomic<std::uint64_t>[]>(slot_size_)) {}
 
 PortTap::~PortTap() = default;

@@ -22,11 +22,14 @@ namespace keel::monitor {
 
 class PortTap final : public detail::ByteSink {
  public:
-  /// The largest value a tap takes, in 8-byte words with its time: 248 bytes (a pose, a
-  /// handful of ranges; an image is not shown).
-  static constexpr std::size_t kMaxWords = 32;
+  /// The largest value a tap takes, in 8-byte words with its time: 504 bytes (a pose, a
+  /// sonar ring, a small map; an image is not shown).
+  static constexpr std::size_t kMaxWords = 64;
+  /// A ring's size at most: large values get fewer slots.
+  static constexpr std::size_t kMaxRingBytes = std::size_t{2} << 20;
 
-  /// Holds up to `capacity` (rounded up to a power of two) values between two drains.
+  /// Holds up to `capacity` (rounded up to a power of two) values between two drains, fewer
+  /// (a power of two) when that many would take more than kMaxRingBytes.
   PortTap(detail::OutputPortBase& port, std::size_t capacity);
   ~PortTap() override;
   PortTap(const PortTap&) = delete;
@@ -49,6 +52,8 @@ class PortTap final : public detail::ByteSink {
   /// Values lost: the ring was full (the hub was behind).
   std::uint64_t dropped() const { return dropped_.load(std::memory_order_relaxed); }
   std::uint64_t taken() const { return taken_.load(std::memory_order_relaxed); }
+  /// How many values the ring holds.
+  std::size_t capacity() const { return mask_ + 1; }
 
  private:
   detail::OutputPortBase& port_;  // until attach(): the port may be gone before the last drain

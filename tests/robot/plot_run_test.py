@@ -98,10 +98,16 @@ class PlotRunTest(unittest.TestCase):
         self.assertTrue(any("200 ms after injection" in t for t in texts), texts)
         self.assertTrue(any("motor_power_off: left" in t for t in texts), texts)
 
-    def write_ports(self, skip=None):
-        """The wheel ports of a recording, every 20 ms on the log's clock: the left wheel fails at 1 s."""
+    def write_ports(self, skip=None, referee=None):
+        """The wheel ports of a recording, every 20 ms on the log's clock: the left wheel fails at 1 s.
+        With `referee` (its name), the referee's world once and its truth: driving along +x."""
         ports = os.path.join(self.dir, "ports.jsonl")
+        nan = float("nan")
         with open(ports, "w") as f:
+            if referee:
+                world = [2.5, 1.0, 0.15, 0.5, 1.0, 0.0, 0, 0, 3, 0.1, 1.5, 1.4, 1.7, 1.6] + [nan] * 40
+                f.write(json.dumps({"port": f"{referee}/world", "t_ns": 0, "value": world}).replace("NaN", "null")
+                        + "\n")
             for k in range(100):
                 t_ns = 20_000_000 * k
                 left = 60.0 if t_ns < 1_000_000_000 else 5.0
@@ -109,6 +115,9 @@ class PlotRunTest(unittest.TestCase):
                                     ("wheel_model/left_reference", 60.0), ("wheel_model/right_reference", 60.0)):
                     if port != skip:
                         f.write(json.dumps({"port": port, "t_ns": t_ns, "value": value}) + "\n")
+                if referee:
+                    truth = [0.01 + t_ns / 1e9, 0.5 + 0.2 * t_ns / 1e9, 1.0, 0.0, left, 60.0, 0.8, 0]
+                    f.write(json.dumps({"port": f"{referee}/truth", "t_ns": t_ns, "value": truth}) + "\n")
         return ports
 
     def test_plots_a_recording_without_a_trace(self):
@@ -118,10 +127,40 @@ class PlotRunTest(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         fig6 = os.path.join(self.out, "fig6.svg")
         self.assertEqual(r.stdout.split(), [os.path.join(self.out, "timeline.svg"), fig6])
-        self.assertIn("no trajectory.svg: the robot's true pose is only in the referee's trace", r.stderr)
+        self.assertIn("no trajectory.svg: neither a trace (--trace) nor the referee's true pose", r.stderr)
         texts = svg_texts(fig6)
         self.assertIn("time since the run started (ms)", texts)
         self.assertTrue(any("200 ms after injection" in t for t in texts), texts)
+
+    def test_plots_the_trajectory_from_a_recordings_referee(self):
+        if not have_matplotlib():
+            self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
+        # a system profile's referee: its application's prefix (robot/system.xml)
+        r = self.run_script("--ports", self.write_ports(referee="hri.referee"), "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        trajectory = os.path.join(self.out, "trajectory.svg")
+        self.assertEqual(r.stdout.split(), [os.path.join(self.out, n) for n in ("timeline.svg", "trajectory.svg",
+                                                                               "fig6.svg")])
+        texts = svg_texts(trajectory)
+        self.assertIn("model@actuator", texts)
+        self.assertIn("target", texts)  # the world, from the world port
+        root = ET.parse(trajectory).getroot()
+        boxes = [e for e in root.iter() if e.get("id", "").startswith("patch") and "fill: #999999" in e.get(
+            "style", "") + "".join(c.get("style", "") for c in e)]
+        self.assertEqual(len(boxes), 2, "the world's two boxes; none from the nulls past them")
+
+    def test_a_referee_in_two_applications_is_not_guessed(self):
+        if not have_matplotlib():
+            self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
+        ports = self.write_ports(referee="a.referee")
+        with open(ports) as f:
+            lines = f.read()
+        with open(ports, "a") as f:
+            f.write(lines.replace("a.referee", "b.referee"))
+        r = self.run_script("--ports", ports, "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("several ports match it (a.referee/truth, b.referee/truth)", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "trajectory.svg")))
 
     def test_a_recording_without_the_wheel_ports_gets_the_timeline_only(self):
         if not have_matplotlib():

@@ -22,6 +22,8 @@ class Source : public Component {
   OutputDataPort<bool> bumper{this, "bumper"};
   OutputDataPort<Pose> pose{this, "pose"};
   OutputDataPort<std::string> label{this, "label"};
+  OutputDataPort<std::array<double, PortTap::kMaxWords - 1>> largest{this, "largest"};
+  OutputDataPort<std::array<double, PortTap::kMaxWords>> too_large{this, "too_large"};
 };
 
 std::vector<std::string> drained(PortTap& tap) {
@@ -64,6 +66,22 @@ TEST(PortTap, PortsWithoutAJsonFormAreNotTapped) {
   PortTap pose(s.pose, 4), label(s.label, 4);
   EXPECT_FALSE(pose.attach()) << "a struct has bytes but no JSON form";
   EXPECT_FALSE(label.attach()) << "a std::string is not trivially copyable";
+}
+
+TEST(PortTap, TakesValuesUpToItsLargestInASmallerRing) {
+  Source s;
+  PortTap largest(s.largest, 1 << 20), too_large(s.too_large, 4), range(s.range, 1000);
+  ASSERT_TRUE(largest.attach()) << "with its time, 64 words";
+  EXPECT_FALSE(too_large.attach());
+  EXPECT_EQ(range.capacity(), 1024U) << "rounded up to a power of two";
+  EXPECT_EQ(largest.capacity(), 4096U) << "2 MiB of 512-byte slots";
+  largest.setActive(true);
+  std::array<double, PortTap::kMaxWords - 1> v{};
+  v.back() = 7.5;
+  s.largest.push(v);
+  const auto got = drained(largest);
+  ASSERT_EQ(got.size(), 1U);
+  EXPECT_TRUE(got[0].ends_with(",0,7.5]")) << got[0];
 }
 
 TEST(PortTap, InactiveItKeepsOnlyTheNewestValue) {
