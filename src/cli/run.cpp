@@ -52,6 +52,7 @@ struct RunOptions {
   std::string record;   // FILE.mcap
   std::vector<std::string> monitor_origins;
   std::size_t monitor_queue_kib = 4096;
+  bool strict = false;  // profile warnings are errors
 };
 
 /// Reads operator commands from stdin until EOF or `stop`; each is logged by the engine.
@@ -177,6 +178,10 @@ int runProfile(const RunOptions& o) {
     for (const auto& d : set.error()) std::cerr << d.str() << '\n';
     return 2;
   }
+  if (o.strict && !set->warnings.empty()) {
+    for (const auto& w : set->warnings) std::cerr << w.str() << " (--strict)\n";
+    return 2;
+  }
   for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
   const profile::Diagnostics warnings = set->warnings;
   auto planned = plan::planProfiles(std::move(*set));  // the run's one plan
@@ -273,6 +278,9 @@ void addRunCommand(CLI::App& app, std::function<int()>& run) {
                   "also write each log line, right after the log has it, to this pipe, FIFO (never waiting for its "
                   "reader: a line it has no room for is dropped and counted) or file (appended to)");
   cmd->add_option("--inject", opts->inject, "inject the faults of this fault_scenario XML");
+  cmd->add_flag("--strict", opts->strict,
+                "refuse to run a profile with warnings (what it says and keel does not act on, as keel validate "
+                "--strict)");
   cmd->add_option("--set", opts->sets,
                   "INSTANCE.PROPERTY=VALUE: set a component's property for this run, after the profile's "
                   "overrides (repeatable; e.g. --set actuator.seed=7 --set navigation.planner.speed=0.4)")

@@ -1,5 +1,6 @@
-// keel validate FILE.xml... [--load]: exit 0, or `file:line: message` per problem and exit 2.
-// What loads but has no effect is a `file:line: warning: message` (exit 0).
+// keel validate FILE.xml... [--load] [--strict]: exit 0, or `file:line: message` per problem and
+// exit 2. What loads but has no effect is a `file:line: warning: message` (exit 0; with --strict
+// a problem, `file:line: message (--strict)`).
 // Profiles, and fault scenarios (checked as `keel run --inject` reads them, before a run).
 // With --load, libraries are also loaded and every port of code checked against its profile
 // (nothing is initialized or run).
@@ -16,6 +17,7 @@ namespace {
 struct ValidateOptions {
   std::vector<std::string> files;
   bool load = false;
+  bool strict = false;
 };
 
 int validateFiles(const ValidateOptions& o) {
@@ -39,8 +41,13 @@ int validateFiles(const ValidateOptions& o) {
       problems += static_cast<int>(set.error().size());
       continue;
     }
-    for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
     const std::size_t warnings = set->warnings.size();
+    if (o.strict && warnings > 0) {
+      for (const auto& w : set->warnings) std::cerr << w.str() << " (--strict)\n";
+      problems += static_cast<int>(warnings);
+      continue;
+    }
+    for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
     bool runnable = set->root_kind == profile::RootKind::Package || set->root_kind == profile::RootKind::System;
     if (o.load && runnable) {
       engine::EngineOptions eo;
@@ -64,6 +71,9 @@ void addValidateCommand(CLI::App& app, std::function<int()>& run) {
   CLI::App* cmd = app.add_subcommand("validate", "Check profiles (and what they reference) and fault scenarios");
   cmd->add_option("files", opts->files, "profiles and fault scenarios to check")->required();
   cmd->add_flag("--load", opts->load, "also load the libraries and check ports against code");
+  cmd->add_flag("--strict", opts->strict,
+                "make warnings errors: what a profile says and keel does not act on (OPRoS's vocabulary, "
+                "docs/opros.md), settings without effect");
   cmd->callback([opts, &run] { run = [opts] { return validateFiles(*opts); }; });
 }
 

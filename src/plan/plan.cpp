@@ -258,6 +258,13 @@ Result<Plan> makePlan(const ProfileSet& set) {
       if (auto r = planner.addPackage("", "", comp.subcomponents, comp.connections); !r) return r.error();
       return planner.finish(comp.name);
     }
+    case profile::RootKind::ServiceType:
+    case profile::RootKind::DataType:
+    case profile::RootKind::EngineConfig:
+      return fail(
+          fmt::format("{}: an OPRoS service type, data type or engine configuration, not components: "
+                      "nothing to run",
+                      set.root));
   }
   return fail("unknown profile kind");
 }

@@ -21,9 +21,10 @@ void readExportPort(Ctx& ctx, pugi::xml_node node, std::vector<ExportedPort>& ou
                {{"export_port_name", text(e.name)},
                 {"component_name", text(e.inner.component)},
                 {"port_name", text(e.inner.port)},
-                {"port_type", {}},
+                {"port_type", {}},  // derived from the inner port
                 {"port_dir", {}},
-                {"export_portview", {}}},
+                {"export_portview", {}},
+                {"bend_points", {}, true}},
                {"name", "component", "port"});
   const bool attributes = node.attribute("name") || node.attribute("component") || node.attribute("port");
   const bool children = node.child("export_port_name") || node.child("component_name") || node.child("port_name");
@@ -73,11 +74,15 @@ void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out)
                                 {{"export_port", [&](pugi::xml_node p) { readExportPort(ctx, p, out.exported_ports); },
                                   true}});
                  }},
+                {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
                 {"id", {}},
                 {"version", {}},
                 {"copyright", {}},
-                {"execution_environment", {}},
-                {"layout", {}}});
+                {"layout", {}},
+                {"port_layouts", {}},
+                {"app_domain", {}, false, kNoAppDomain},
+                {"execution_environment", {}, false, kNoAssemblyEnvironment}},
+               {"layout"});
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

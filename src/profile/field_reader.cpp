@@ -48,9 +48,19 @@ std::optional<bool> readBool(Ctx& ctx, pugi::xml_node at, std::string_view text,
 }
 
 const std::vector<std::pair<std::string_view, ExecutionType>>& executionTypes() {
-  static const std::vector<std::pair<std::string_view, ExecutionType>> t = {{"periodic", ExecutionType::Periodic},
-                                                                            {"aperiodic", ExecutionType::Aperiodic},
-                                                                            {"passive", ExecutionType::Passive}};
+  static const std::vector<std::pair<std::string_view, ExecutionType>> t = {
+      {"periodic", ExecutionType::Periodic},
+      {"aperiodic", ExecutionType::Aperiodic},
+      {"passive", ExecutionType::Passive},
+      {"periodic-shared", ExecutionType::Periodic},     // OPRoS
+      {"periodic-exclusive", ExecutionType::Periodic},  // OPRoS
+      {"non-periodic", ExecutionType::Aperiodic}};      // OPRoS, with a warning
+  return t;
+}
+
+const std::vector<std::pair<std::string_view, Sharing>>& executionSharing() {
+  static const std::vector<std::pair<std::string_view, Sharing>> t = {{"periodic-shared", Sharing::Shared},
+                                                                      {"periodic-exclusive", Sharing::Exclusive}};
   return t;
 }
 
@@ -140,6 +150,9 @@ std::string_view name(RootKind k) {
     case RootKind::Composite: return "composite_component_profile";
     case RootKind::Package: return "package_profile";
     case RootKind::System: return "system_profile";
+    case RootKind::ServiceType: return "service_port_type_profile";
+    case RootKind::DataType: return "data_type";
+    case RootKind::EngineConfig: return "system_config";
   }
   return "?";
 }

@@ -48,6 +48,8 @@ std::optional<E> readWord(Ctx& ctx, pugi::xml_node at, std::string_view text, st
 
 // The enum vocabularies of SPEC §3, first spelling of each value is the documented one.
 const std::vector<std::pair<std::string_view, ExecutionType>>& executionTypes();
+/// OPRoS's periodic types that say how the thread is shared (the others: Sharing::Default).
+const std::vector<std::pair<std::string_view, Sharing>>& executionSharing();
 const std::vector<std::pair<std::string_view, SchedPolicy>>& schedPolicies();
 const std::vector<std::pair<std::string_view, Usage>>& usages();
 const std::vector<std::pair<std::string_view, ServiceUsage>>& serviceUsages();

@@ -40,6 +40,9 @@ std::optional<RootKind> rootKindOf(std::string_view element) {
   if (element == "composite_component_profile") return RootKind::Composite;
   if (element == "package_profile" || element == "application_profile") return RootKind::Package;
   if (element == "system_profile") return RootKind::System;
+  if (element == "service_port_type_profile") return RootKind::ServiceType;
+  if (element == "data_type") return RootKind::DataType;
+  if (element == "system_config") return RootKind::EngineConfig;
   return std::nullopt;
 }
 
@@ -97,12 +100,22 @@ std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::stri
   std::string open_error;
   Diagnostic syntax;
   const auto file = XmlFile::read(abs, display, open_error, syntax);
+  if (!file && from != nullptr && from->optional) {  // OPRoS's engine never opened it either
+    const std::string why = open_error.empty() ? syntax.str() : open_error;
+    set_.warnings.push_back(
+        Diagnostic{from->where, fmt::format("{}: cannot read '{}' ({}): nothing is checked against it", from->who,
+                                            from->written, why)});
+    return std::nullopt;
+  }
   if (!file && !open_error.empty()) {
     if (from == nullptr) {
       diags_.push_back(Diagnostic{Where{display, 0}, "cannot open: " + open_error});
     } else {
-      diags_.push_back(
-          Diagnostic{from->where, fmt::format("{}: cannot open '{}': {}", from->who, from->written, open_error)});
+      std::string elsewhere;
+      for (const std::string& place : from->also_searched) elsewhere += (elsewhere.empty() ? "" : ", ") + place;
+      if (!elsewhere.empty()) elsewhere = fmt::format(" (nor in OPRoS's layouts: {})", elsewhere);
+      diags_.push_back(Diagnostic{from->where, fmt::format("{}: cannot open '{}': {}{}", from->who, from->written,
+                                                           open_error, elsewhere)});
     }
     return std::nullopt;
   }
@@ -111,8 +124,9 @@ std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::stri
     return std::nullopt;
   }
   file_order_.emplace(display, file_order_.size());
-  Ctx ctx(*file, diags_);
+  Ctx ctx(*file, diags_, set_.warnings);
   const auto kind = parseRoot(ctx, file->root(), abs);
+  ctx.finish();
   kinds_[abs] = kind;
   if (!kind) return std::nullopt;
   stack_.emplace_back(abs, display);
@@ -129,30 +143,24 @@ std::optional<RootKind> Loader::parseRoot(Ctx& ctx, pugi::xml_node root, const s
   }
   const auto kind = rootKindOf(root.name());
   if (!kind) {
-    ctx.error(root,
-              fmt::format("unknown root element {} (expected {})", tag(root),
-                          kindList({RootKind::Component, RootKind::Composite, RootKind::Package, RootKind::System})));
+    ctx.error(root, fmt::format("unknown root element {} (expected {})", tag(root),
+                                kindList({RootKind::Component, RootKind::Composite, RootKind::Package, RootKind::System,
+                                          RootKind::ServiceType, RootKind::DataType, RootKind::EngineConfig})));
     return std::nullopt;
   }
+  // The file's profile, keyed by its path, parsed by `parse`.
+  auto into = [&](auto& profiles, auto parse) {
+    auto& p = profiles[abs];
+    p.file = abs;
+    parse(ctx, root, p);
+  };
   switch (*kind) {
-    case RootKind::Component: {
-      auto& c = set_.components[abs];
-      c.file = abs;
-      parseComponentProfile(ctx, root, c);
-      break;
-    }
-    case RootKind::Composite: {
-      auto& c = set_.composites[abs];
-      c.file = abs;
-      parseCompositeProfile(ctx, root, c);
-      break;
-    }
-    case RootKind::Package: {
-      auto& p = set_.packages[abs];
-      p.file = abs;
-      parsePackageProfile(ctx, root, p);
-      break;
-    }
+    case RootKind::Component: into(set_.components, parseComponentProfile); break;
+    case RootKind::Composite: into(set_.composites, parseCompositeProfile); break;
+    case RootKind::Package: into(set_.packages, parsePackageProfile); break;
+    case RootKind::ServiceType: into(set_.service_types, parseServiceTypeProfile); break;
+    case RootKind::DataType: into(set_.data_types, parseDataTypeProfile); break;
+    case RootKind::EngineConfig: parseEngineConfig(ctx, root); break;
     case RootKind::System: {
       SystemProfile s;
       s.file = abs;
@@ -171,8 +179,10 @@ void Loader::follow(const Reference& ref) {
   if (!kind) return;
   const bool accepted = std::find(ref.accepted.begin(), ref.accepted.end(), *kind) != ref.accepted.end();
   if (!accepted) {
-    diags_.push_back(Diagnostic{ref.where, fmt::format("{}: '{}' is a <{}>, expected {}", ref.who, ref.written,
-                                                       name(*kind), kindList(ref.accepted))});
+    Diagnostic d{ref.where, fmt::format("{}: '{}' is a <{}>, expected {}", ref.who, ref.written, name(*kind),
+                                        kindList(ref.accepted))};
+    if (ref.optional) set_.warnings.push_back(std::move(d));
+    else diags_.push_back(std::move(d));
   } else if (in_progress) {
     cycle_ = true;
     diags_.push_back(Diagnostic{ref.where, fmt::format("{}: circular reference: {}", ref.who, cycleText(ref.path))});

@@ -26,7 +26,15 @@ struct Diagnostic {
 
 using Diagnostics = std::vector<Diagnostic>;
 
-enum class RootKind { Component, Composite, Package, System };
+enum class RootKind {
+  Component,
+  Composite,
+  Package,
+  System,
+  ServiceType,   // OPRoS <service_port_type_profile>
+  DataType,      // OPRoS <data_type>
+  EngineConfig,  // OPRoS <system_config>: an engine's configuration, not run
+};
 
 /// Everything reachable from one root profile, keyed by absolute file path.
 struct ProfileSet {
@@ -36,6 +44,8 @@ struct ProfileSet {
   std::map<std::string, CompositeProfile> composites;
   std::map<std::string, PackageProfile> packages;
   std::optional<SystemProfile> system;
+  std::map<std::string, ServiceTypeProfile> service_types;
+  std::map<std::string, DataTypeProfile> data_types;
   /// What loads but has no effect in this keel, each `file:line: message` (docs/profiles.md):
   /// the run goes on, and `keel run` and `keel validate` print them as warnings.
   Diagnostics warnings;

@@ -65,8 +65,16 @@ struct Property {
   Where where;
 };
 
+/// How a periodic component shares its thread (OPRoS's execution types; docs/opros.md).
+enum class Sharing {
+  Default,    // keel: its own executor unless a <task> names it; OPRoS `periodic` likewise
+  Shared,     // OPRoS `periodic-shared`: one executor per period and priority
+  Exclusive,  // OPRoS `periodic-exclusive`: an executor of its own, whatever the tasks say
+};
+
 struct Execution {
   ExecutionType type = ExecutionType::Periodic;
+  Sharing sharing = Sharing::Default;
   double period_ms = 100.0;  // periodic only; fractions allowed (sub-millisecond periods)
   int priority = 0;          // 0 = do not change; 1..99 for Fifo/RoundRobin
   SchedPolicy policy = SchedPolicy::Other;
@@ -88,6 +96,7 @@ struct DataPort {
   QueuePolicy queue_policy = QueuePolicy::Fifo;
   std::size_t queue_size = 10;
   std::optional<Validity> validity;
+  std::string reference;  // absolute path of an OPRoS data type profile (<reference>), or ""
   Where where;
 };
 
@@ -104,6 +113,37 @@ struct ServicePort {
   std::string type;  // the service (interface) name; both ends of a connection must agree
   ServiceUsage usage = ServiceUsage::Provided;
   double timeout_ms = 1000.0;  // required side: default call timeout
+  std::string reference;       // absolute path of its service type profile (<reference>), or ""
+  Where where;
+};
+
+/// One method of a service type (OPRoS <service_port_type_profile>).
+struct ServiceMethod {
+  std::string name;
+  std::string return_type;                                  // C++, as written (entities decoded)
+  bool blocking = true;                                     // call_type blocking | nonblocking
+  std::vector<std::pair<std::string, std::string>> params;  // (name, C++ type), in index order
+  Where where;
+};
+
+/// root <service_port_type_profile>: the methods of a service type, which OPRoS's code
+/// generator turns into XxxProvided.h / XxxRequired.h.
+struct ServiceTypeProfile {
+  std::string file;
+  std::string name;  // <type_name>: a service port's <type>
+  std::vector<ServiceMethod> methods;
+  Where where;
+};
+
+/// root <data_type>: user types carried by data and event ports (OPRoS).
+struct DataTypeProfile {
+  struct Struct {
+    std::string name;                                         // the C++ typeName()
+    std::vector<std::pair<std::string, std::string>> fields;  // (name, type)
+    Where where;
+  };
+  std::string file;
+  std::vector<Struct> structs;
   Where where;
 };
 
@@ -191,6 +231,12 @@ struct ExportedPort {
 };
 
 /// root <composite_component_profile>
+struct Depends {
+  std::string source;  // source depends on target
+  std::string target;
+  Where where;
+};
+
 struct CompositeProfile {
   std::string file;
   std::string name;
@@ -198,6 +244,7 @@ struct CompositeProfile {
   std::vector<Subcomponent> subcomponents;
   std::vector<Connection> connections;
   std::vector<ExportedPort> exported_ports;
+  std::vector<Depends> depends;  // <coordination>: read, not yet acted on (docs/opros.md)
   Where where;
 };
 
@@ -207,12 +254,6 @@ struct Task {
   int priority = 0;
   SchedPolicy policy = SchedPolicy::Other;
   std::vector<std::string> members;  // subcomponent names, in execution order
-  Where where;
-};
-
-struct Depends {
-  std::string source;  // source depends on target
-  std::string target;
   Where where;
 };
 

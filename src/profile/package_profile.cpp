@@ -58,6 +58,8 @@ std::vector<Task> parseTasks(Ctx& ctx, pugi::xml_node node) {
   return out;
 }
 
+}  // namespace
+
 std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node) {
   std::vector<Depends> out;
   readChildren(ctx, node,
@@ -72,8 +74,6 @@ std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node) {
   return out;
 }
 
-}  // namespace
-
 void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
   out.where = ctx.where(root);
   readChildren(ctx, root,
@@ -85,7 +85,10 @@ void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
                 {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
                 {"id", {}},
                 {"version", {}},
-                {"copyright", {}}});
+                {"copyright", {}},
+                {"topics", {}, false, "OPRoS reserved it for topic-based events, which it never delivered"},
+                {"app_domain", {}, false, kNoAppDomain},
+                {"execution_environment", {}, false, kNoAssemblyEnvironment}});
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

@@ -18,6 +18,10 @@ void parseComponentProfile(Ctx& ctx, pugi::xml_node root, ComponentProfile& out)
 void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out);
 void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out);
 void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out);
+// OPRoS's type profiles and engine configuration (type_profiles.cpp).
+void parseServiceTypeProfile(Ctx& ctx, pugi::xml_node root, ServiceTypeProfile& out);
+void parseDataTypeProfile(Ctx& ctx, pugi::xml_node root, DataTypeProfile& out);
+void parseEngineConfig(Ctx& ctx, pugi::xml_node root);
 
 // Pieces shared by several roots.
 /// <execution_semantics> (component_profile.cpp).
@@ -31,6 +35,12 @@ void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out);
 std::vector<Subcomponent> parseSubcomponents(Ctx& ctx, pugi::xml_node node);
 /// <port_connections> (subcomponents.cpp).
 std::vector<Connection> parseConnections(Ctx& ctx, pugi::xml_node node);
+/// <coordination> of a package or composite (package_profile.cpp).
+std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node);
+/// Why an application's or composite's <app_domain> and <execution_environment> are not used.
+inline constexpr std::string_view kNoAppDomain = "OPRoS's engine read it and did nothing with it";
+inline constexpr std::string_view kNoAssemblyEnvironment =
+    "each component profile's <execution_environment> names its library";
 /// <fault_policy> of subcomponent `owner` (fault_policy.cpp).
 FaultPolicy parseFaultPolicy(Ctx& ctx, pugi::xml_node node, const std::string& owner);
 

@@ -45,6 +45,19 @@ Validity readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
   return v;
 }
 
+/// A data or event port's <usage>: false when it is none of input and output, a port OPRoS's
+/// engine drops without a word (published profiles have `output1`); keel drops it and says so.
+bool readUsage(Ctx& ctx, pugi::xml_node n, const std::string& text, const std::string& owner, Usage& usage) {
+  if (auto v = parseWord(text, usages())) {
+    usage = *v;
+    return true;
+  }
+  ctx.warn(n, fmt::format("{} dropped: <usage> '{}' is neither input nor output (OPRoS's engine drops such ports "
+                          "too)",
+                          owner, text));
+  return false;
+}
+
 /// The port's name read ahead, so that messages about earlier children can name the port.
 std::string portName(pugi::xml_node node) { return std::string(trim(node.child("name").child_value())); }
 
@@ -53,40 +66,59 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   p.where = ctx.where(node);
   p.name = portName(node);
   const std::string owner = fmt::format("data port '{}'", p.name);
-  bool usage = false, policy = false;
+  bool usage = false, dropped = false;
+  pugi::xml_node policy, size;  // the first spelling of each, for "both" messages
   auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
   auto queue_policy = [&](pugi::xml_node n) {
     if (policy) {
-      ctx.error(n, fmt::format("both <queueing_policy> and <queuing_policy> in {}", owner));
+      ctx.error(n, fmt::format("{} and {} in {}: one queue policy (line {})", tag(policy), tag(n), owner,
+                               ctx.where(policy).line));
       return;
     }
-    policy = true;
+    policy = n;
     if (auto v = readWord(ctx, n, text(n), fmt::format("{} of {}", tag(n), owner), queuePolicies())) {
       p.queue_policy = *v;
     }
+  };
+  auto queue_size = [&](pugi::xml_node n, const std::string& value) {
+    if (size) {
+      ctx.error(n, fmt::format("{} and {} in {}: one queue size (line {})", tag(size), tag(n), owner,
+                               ctx.where(size).line));
+      return;
+    }
+    size = n;
+    if (auto v = readCount(ctx, n, value, fmt::format("{} of {}", tag(n), owner))) p.queue_size = *v;
   };
   readChildren(ctx, node,
                {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
                 {"usage",
                  [&](pugi::xml_node n) {
                    usage = true;
-                   if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
+                   dropped = !readUsage(ctx, n, text(n), owner, p.usage);
                  }},
                 {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
                 {"queueing_policy", queue_policy},
                 {"queuing_policy", queue_policy},
-                {"queue_size",
+                {"policy", queue_policy},  // OPRoS's older spelling (ETRI's helloworld)
+                {"queue_size", [&](pugi::xml_node n) { queue_size(n, text(n)); }},
+                {"policy_param",  // <policy_param name="size">10</policy_param>
                  [&](pugi::xml_node n) {
-                   if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
-                 }},
+                   const std::string value = leafText(ctx, n, {"name"});
+                   const std::string param = attribute(n, "name").value_or("");
+                   if (param == "size") return queue_size(n, value);
+                   ctx.error(n, fmt::format(R"(<policy_param name="{}"> of {}: the one parameter is name="size")",
+                                            param, owner));
+                 },
+                 true},
                 {"validity", [&](pugi::xml_node n) { p.validity = readValidity(ctx, n, owner); }},
+                {"reference",
+                 [&](pugi::xml_node n) { p.reference = ctx.optionalReference(n, text(n), owner, RootKind::DataType); }},
                 {"description", {}},
-                {"reference", {}},
                 {"layout", {}}});
   if (p.name.empty()) return reportMissing(ctx, node, "name");
   if (!usage) reportMissing(ctx, node, "usage", owner);
   if (p.data_type.empty()) reportMissing(ctx, node, "data_type", owner);
-  out.data_ports.push_back(std::move(p));
+  if (!dropped) out.data_ports.push_back(std::move(p));
 }
 
 void readEventPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
@@ -94,26 +126,27 @@ void readEventPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   p.where = ctx.where(node);
   p.name = portName(node);
   const std::string owner = fmt::format("event port '{}'", p.name);
-  bool usage = false;
+  bool usage = false, dropped = false;
   auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
   readChildren(ctx, node,
                {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
                 {"usage",
                  [&](pugi::xml_node n) {
                    usage = true;
-                   if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, usages())) p.usage = *v;
+                   dropped = !readUsage(ctx, n, text(n), owner, p.usage);
                  }},
                 {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
                 {"queue_size",
                  [&](pugi::xml_node n) {
                    if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
                  }},
+                {"queueing_policy", {}, false, "an event port queues every event (FIFO, <queue_size> of them)"},
+                {"reference", {}, false, "an event port's type is checked by its <data_type>"},
                 {"description", {}},
-                {"reference", {}},
                 {"layout", {}}});
   if (p.name.empty()) return reportMissing(ctx, node, "name");
   if (!usage) reportMissing(ctx, node, "usage", owner);
-  out.event_ports.push_back(std::move(p));
+  if (!dropped) out.event_ports.push_back(std::move(p));
 }
 
 void readServicePort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
@@ -135,8 +168,11 @@ void readServicePort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
                  [&](pugi::xml_node n) {
                    if (auto v = readPositive(ctx, n, text(n), "<timeout> of " + owner)) p.timeout_ms = *v;
                  }},
+                {"reference",
+                 [&](pugi::xml_node n) {
+                   p.reference = ctx.optionalReference(n, text(n), owner, RootKind::ServiceType);
+                 }},
                 {"description", {}},
-                {"reference", {}},
                 {"layout", {}}});
   if (p.name.empty()) return reportMissing(ctx, node, "name");
   if (!usage) reportMissing(ctx, node, "usage", owner);

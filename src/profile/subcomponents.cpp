@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <cctype>
+#include <filesystem>
 
 #include "profile/field_reader.hpp"
 #include "profile/parsers.hpp"
@@ -13,7 +14,8 @@ namespace {
 
 const std::vector<std::pair<std::string_view, RootKind>>& subcomponentTypes() {
   static const std::vector<std::pair<std::string_view, RootKind>> t = {{"atomic", RootKind::Component},
-                                                                       {"composite", RootKind::Composite}};
+                                                                       {"composite", RootKind::Composite},
+                                                                       {"original", RootKind::Component}};
   return t;
 }
 
@@ -78,6 +80,21 @@ std::optional<ProcessSpec> readProcess(Ctx& ctx, pugi::xml_node node, const std:
   return p;
 }
 
+/// Where OPRoS's engine and IDE put a subcomponent's profile, relative to the assembly's
+/// folder D, for an assembly D/app.xml: D/app/REF (the engine's default deployment),
+/// D/INSTANCE/REF (its other deployment), D/app/STEM/REF (a packed package), D/../STEM/profile/REF
+/// and D/../STEM/REF (an IDE workspace, atomic and composite). Only for a bare file name.
+std::vector<std::string> oprosPlaces(const Ctx& ctx, const std::string& written, const std::string& instance) {
+  const std::filesystem::path ref(written);
+  if (ref.has_parent_path() || ref.empty()) return {};
+  const std::string app = std::filesystem::path(ctx.file().display()).stem().string();
+  const std::string stem = ref.stem().string();
+  std::vector<std::string> places = {app + "/" + written, app + "/" + stem + "/" + written,
+                                     "../" + stem + "/profile/" + written, "../" + stem + "/" + written};
+  if (!instance.empty() && instance != app) places.insert(places.begin() + 1, instance + "/" + written);
+  return places;
+}
+
 void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& out) {
   Subcomponent s;
   s.where = ctx.where(node);
@@ -95,14 +112,23 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
                 {"properties", [&](pugi::xml_node n) { s.property_overrides = readOverrides(ctx, n, owner); }},
                 {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
                 {"process", [&](pugi::xml_node n) { s.process = readProcess(ctx, n, owner); }},
+                {"node_id",
+                 [&](pugi::xml_node n) {
+                   if (const std::string node_id = leafText(ctx, n); !node_id.empty())
+                     ctx.unused(n, "<node_id>",
+                                "OPRoS deploys such a subcomponent on another node's engine; keel runs it on this "
+                                "machine, in a process of its own with <process> (docs/isolation.md)");
+                 }},
                 {"id", {}},
                 {"version", {}},
-                {"node_id", {}},
-                {"layout", {}}});
+                {"layout", {}},
+                {"port_layouts", {}}},
+               {"read_only", "layout"});
   if (s.name.empty()) return reportMissing(ctx, node, "name");
   if (!reference) return reportMissing(ctx, node, "reference", owner);
-  s.reference = ctx.reference(reference, leafText(ctx, reference), owner, {RootKind::Component, RootKind::Composite},
-                              declared);
+  const std::string written = leafText(ctx, reference);
+  s.reference = ctx.reference(reference, written, owner, {RootKind::Component, RootKind::Composite}, declared,
+                              oprosPlaces(ctx, written, s.name));
   out.push_back(std::move(s));
 }
 
@@ -121,8 +147,9 @@ void readConnection(Ctx& ctx, pugi::xml_node node, std::vector<Connection>& out)
   readChildren(ctx, node,
                {{"source", [&](pugi::xml_node n) { source = readEndpoint(ctx, n); }},
                 {"target", [&](pugi::xml_node n) { target = readEndpoint(ctx, n); }},
-                {"bend_point", {}, true}},
-               {"port_type"});
+                {"bend_point", {}, true},
+                {"bend_points", {}, true}},
+               {"port_type", {"io_type", "OPRoS connects components of one engine directly"}});
   bool ok = true;
   if (auto type = attribute(node, "port_type")) {
     const auto t = readWord(ctx, node, *type, "port_type of <port_connection>", portTypes());

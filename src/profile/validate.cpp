@@ -27,18 +27,20 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkIneffectivePolicies(set, pkg.subcomponents);
   }
   if (set.system) checkSystem(set, *set.system, diags);
+  checkTypeReferences(set);
 }
 
 namespace {
 
 PortSig sigOf(const DataPort& p) {
-  return {p.name, PortType::Data, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type};
+  return {p.name, PortType::Data, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type, {}};
 }
 PortSig sigOf(const EventPort& p) {
-  return {p.name, PortType::Event, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type};
+  return {p.name, PortType::Event, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type, {}};
 }
 PortSig sigOf(const ServicePort& p) {
-  return {p.name, PortType::Service, p.usage == ServiceUsage::Required, std::string(name(p.usage)), p.type};
+  return {p.name, PortType::Service, p.usage == ServiceUsage::Required, std::string(name(p.usage)),
+          p.type, p.reference};
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "profile/loader.hpp"
@@ -47,7 +48,17 @@ struct PortSig {
   bool source_side = false;  // output or required service: may be a connection's source
   std::string usage;         // input, output, provided, required
   std::string type;          // data_type, or the service type
+  std::string type_profile;  // a service port's service type profile (absolute path), or ""
 };
+
+// validate_types.cpp: ports against the OPRoS type profiles they reference (warnings), and a
+// service connection's methods against both ends' service types (errors).
+void checkTypeReferences(ProfileSet& set);
+void checkServiceMethods(const ProfileSet& set, const Connection& c, const PortSig& src, const PortSig& dst,
+                         Diagnostics& diags);
+/// Whether two C++ type names written in profiles name one type: spaces and `std::` aside
+/// (OPRoS's profiles write `std::vector<X>` and `vector< X >` for one type).
+bool sameCppType(std::string_view a, std::string_view b);
 
 /// The ports offered by the profile at `path`: an atomic component's ports or a composite's
 /// exported ports; nullopt if `path` was not loaded as either.

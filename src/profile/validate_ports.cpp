@@ -21,7 +21,7 @@ std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcompo
   const Subcomponent* sub = findSubcomponent(subs, ep.component);
   if (sub == nullptr && ep.component == kFaultManager) {  // keel's system component (paper §3.2)
     if (ep.port == kFaultManagerPort)
-      return PortSig{std::string(kFaultManagerPort), PortType::Event, false, "input", "keel::FaultEvent"};
+      return PortSig{std::string(kFaultManagerPort), PortType::Event, false, "input", "keel::FaultEvent", {}};
     error(diags, where,
           fmt::format("{}: component '{}' has no port '{}' (ports: {})", what, ep.component, ep.port,
                       kFaultManagerPort));
@@ -80,7 +80,7 @@ void checkEnds(Connection& c, const PortSig& src, const PortSig& dst, Diagnostic
           fmt::format("port_connection: target '{}' is {}; a target must be {}", dotted(c.target), describe(dst),
                       service ? "a provided service port" : "an input port"));
   }
-  if (ok && src.type != dst.type) {
+  if (ok && !sameCppType(src.type, dst.type)) {
     error(diags, c.where,
           fmt::format("port_connection: {} differ: '{}' is '{}', '{}' is '{}'",
                       service ? "service types" : "data types", dotted(c.source), src.type, dotted(c.target),
@@ -118,7 +118,11 @@ void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& su
     Connection& c = connections[i];
     const auto src = resolve(set, subs, c.source, c.where, "port_connection", diags);
     const auto dst = resolve(set, subs, c.target, c.where, "port_connection", diags);
-    if (src && dst) checkEnds(c, *src, *dst, diags);
+    if (src && dst) {
+      const std::size_t before = diags.size();
+      checkEnds(c, *src, *dst, diags);
+      if (diags.size() == before && c.port_type == PortType::Service) checkServiceMethods(set, c, *src, *dst, diags);
+    }
     checkMultiplicity(connections, i, diags);
   }
 }

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -55,25 +56,45 @@ struct Reference {
   std::string who;      // "subcomponent 'sonar'", for messages
   std::vector<RootKind> accepted;
   std::optional<RootKind> declared;  // a subcomponent's <type>, when given
+  /// A file OPRoS's engine never opened (a port's type profile): missing or unreadable, it is
+  /// a warning, and nothing is checked against it.
+  bool optional = false;
+  /// Where else it was looked for, relative to the referencing file, when it is not at `path`
+  /// (OPRoS's deployment layouts): none of them existed either.
+  std::vector<std::string> also_searched;
 };
 
 /// Parse context of one file.
 class Ctx {
  public:
   /// References resolve against the directory of the file as it was named (display path),
-  /// like #include; the resulting paths are then made absolute and canonical.
-  Ctx(const XmlFile& file, Diagnostics& diags);
+  /// like #include; the resulting paths are then made absolute and canonical. Errors go to
+  /// `diags`, warnings to `warnings`.
+  Ctx(const XmlFile& file, Diagnostics& diags, Diagnostics& warnings);
 
   const XmlFile& file() const { return file_; }
   Where where(pugi::xml_node node) const { return file_.where(node); }
   void error(pugi::xml_node at, std::string message);
   void error(const Where& at, std::string message);
   std::size_t errorCount() const { return diags_.size(); }
+  void warn(pugi::xml_node at, std::string message);
+  void warn(const Where& at, std::string message);
+  /// An item (`<exports>`, `attribute 'layout' of <subcomponent>`) keel accepts and does not
+  /// act on: "ITEM accepted, not used: WHY", once per item and file, at its first line; finish()
+  /// adds how many more the file has.
+  void unused(pugi::xml_node at, const std::string& item, std::string_view why);
+  /// Completes the file's `unused` warnings; call once, after parsing.
+  void finish();
 
   /// Resolves `written` against this file's directory and records the reference.
   /// Returns the absolute path, or an empty string (after reporting) if `written` is empty.
+  /// `elsewhere`: other places to look, relative to this file's directory, in order, when the
+  /// file is not where `written` says (OPRoS's layouts); the first that exists is used.
   std::string reference(pugi::xml_node at, std::string_view written, std::string who, std::vector<RootKind> accepted,
-                        std::optional<RootKind> declared = std::nullopt);
+                        std::optional<RootKind> declared = std::nullopt, std::vector<std::string> elsewhere = {});
+  /// As reference(), for a file whose absence is a warning (Reference::optional); an empty
+  /// `written` is no reference.
+  std::string optionalReference(pugi::xml_node at, std::string_view written, std::string who, RootKind accepted);
   std::vector<Reference>& references() { return refs_; }
 
  private:
@@ -81,6 +102,12 @@ class Ctx {
   std::filesystem::path abs_dir_;
   std::filesystem::path display_dir_;
   Diagnostics& diags_;
+  Diagnostics& warnings_;
+  struct Unused {
+    std::size_t index;  // in warnings_
+    int more = 0;
+  };
+  std::map<std::string, Unused, std::less<>> unused_;
   std::vector<Reference> refs_;
   // written → canonical path: a package names one component profile for many subcomponents,
   // and each weakly_canonical costs a system call per path element.
@@ -90,21 +117,37 @@ class Ctx {
 /// How one child element of a container is read.
 struct Child {
   std::string_view name;
-  std::function<void(pugi::xml_node)> read;  // empty: accepted and ignored (OPRoS extras)
+  std::function<void(pugi::xml_node)> read;  // empty: accepted, not read (see `unused`)
   bool repeat = false;                       // may appear more than once
+  /// With no `read`: why keel does not act on it (an `unused` warning); empty: documentation
+  /// keel keeps nowhere and warns nothing of (the OPRoS IDE's identifiers and canvas).
+  std::string_view unused = {};
+};
+
+/// An element (any number of them) keel accepts and does not act on, and why.
+inline Child unusedChild(std::string_view name, std::string_view why) { return Child{name, {}, true, why}; }
+
+/// An attribute keel accepts: `unused` as for Child.
+struct Attribute {
+  std::string_view name;
+  std::string_view unused = {};
+  Attribute(const char* n) : name(n) {}  // NOLINT(google-explicit-constructor): a plain name is read
+  Attribute(std::string_view n, std::string_view why) : name(n), unused(why) {}
 };
 
 /// Reads the children of `parent` by `children`: unknown elements, repeated singletons, stray
-/// text and attributes of `parent` not in `attributes` are reported.
+/// attributes of `parent` not in `attributes` are reported. Text between child elements is a
+/// warning (OPRoS files have a `>` left after a comment: legal XML, meaning nothing); text in
+/// an element of attributes only is an error.
 void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> children,
-                  std::initializer_list<std::string_view> attributes = {});
+                  std::initializer_list<Attribute> attributes = {});
 
 /// Reports every attribute of `node` not in `allowed` (namespace declarations and prefixed
 /// attributes such as xsi:schemaLocation are always allowed).
-void checkAttributes(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::string_view> allowed);
+void checkAttributes(Ctx& ctx, pugi::xml_node node, std::initializer_list<Attribute> allowed);
 
 /// The text content of a leaf element, trimmed. Child elements and attributes are reported.
-std::string leafText(Ctx& ctx, pugi::xml_node node, std::initializer_list<std::string_view> allowed_attributes = {});
+std::string leafText(Ctx& ctx, pugi::xml_node node, std::initializer_list<Attribute> allowed_attributes = {});
 
 /// The attribute's value, or nullopt if absent.
 std::optional<std::string> attribute(pugi::xml_node node, const char* name);

@@ -260,6 +260,27 @@ TEST_F(Cli, ASettingWithoutEffectIsAWarningAtItsLineAndTheRunGoesOn) {
   EXPECT_NE(ran.out.find("1 warning (in the log)"), std::string::npos) << ran.out;
 }
 
+// --strict: a warning is a problem; validate exits 2 and run does not start.
+TEST_F(Cli, StrictMakesEveryWarningAnError) {
+  const std::string file = profile("passive_heartbeat.xml");
+  const std::string problem = file + ":12: <heartbeat> of subcomponent 'doubler' has no effect";
+  auto checked = test::runProcess({KEEL_CLI, "validate", "--strict", file});
+  EXPECT_EQ(checked.status, 2);
+  EXPECT_EQ(checked.err.rfind(problem, 0), 0u) << checked.err;
+  EXPECT_NE(checked.err.find("(--strict)\n"), std::string::npos) << checked.err;
+  EXPECT_EQ(checked.out, "");
+  auto ran = test::runProcess({KEEL_CLI, "run", "--strict", file, "--duration", "0.3", "--log", log_});
+  EXPECT_EQ(ran.status, 2);
+  EXPECT_EQ(ran.err.rfind(problem, 0), 0u) << ran.err;
+  EXPECT_FALSE(std::filesystem::exists(log_)) << "nothing ran";
+  // A real OPRoS profile: ok with warnings, refused with --strict.
+  const std::string opros = std::string(KEEL_OPROS_SAMPLES) +
+                            "/parasby/OPRoS/example/droneTest/FlightControl/profile/"
+                            "FlightControl.xml";
+  EXPECT_EQ(test::runProcess({KEEL_CLI, "validate", opros}).status, 0);
+  EXPECT_EQ(test::runProcess({KEEL_CLI, "validate", "--strict", opros}).status, 2);
+}
+
 TEST_F(Cli, ValidateChecksAFaultScenarioAndNamesItsProblemsLine) {
   const std::string dir = ::testing::TempDir();
   const std::string good = dir + "keel_validate_good_scenario.xml", bad = dir + "keel_validate_bad_scenario.xml";

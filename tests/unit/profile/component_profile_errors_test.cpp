@@ -74,10 +74,10 @@ TEST(ComponentProfileErrors, RejectsAnUnknownSchedulingPolicy) {
                           "or rr, got 'edf'"));
 }
 
-TEST(ComponentProfileErrors, RejectsAPriorityAbove99) {
-  EXPECT_THAT(problems("errors/component/priority_out_of_range.xml"),
-              ElementsAre("errors/component/priority_out_of_range.xml:5: <priority> of component 'Probe' must be an "
-                          "integer from 0 to 99, got '120'"));
+TEST(ComponentProfileErrors, ClampsAPriorityAbove99AsOPRoSDoes) {
+  EXPECT_THAT(warnings("errors/component/priority_out_of_range.xml"),
+              ElementsAre("errors/component/priority_out_of_range.xml:5: <priority> 120 of component 'Probe' clamped "
+                          "to 99, as OPRoS does (priorities are 0 to 99)"));
 }
 
 TEST(ComponentProfileErrors, RejectsPriorityZeroWithFifoPolicy) {
@@ -93,46 +93,57 @@ TEST(ComponentProfileErrors, RejectsRoundRobinPolicyWithoutPriority) {
           "errors/component/rr_without_priority.xml:4: policy rr of component 'Probe' needs a priority from 1 to 99"));
 }
 
-TEST(ComponentProfileErrors, RejectsAnUnknownPropertyType) {
-  EXPECT_THAT(problems("errors/component/property_unknown_type.xml"),
+TEST(ComponentProfileErrors, KeepsAsAStringAPropertyOfAnUnknownType) {
+  EXPECT_THAT(warnings("errors/component/property_unknown_type.xml"),
               ElementsAre("errors/component/property_unknown_type.xml:5: property 'pose' of component 'Probe' has "
-                          "unknown type 'quaternion' (types: bool, int, double, string, double[])"));
+                          "unknown type 'quaternion' (types: bool, int, double, string, double[]): kept as a string, "
+                          "as OPRoS does"));
 }
 
-TEST(ComponentProfileErrors, RejectsADoublePropertyThatIsNotANumber) {
-  EXPECT_THAT(problems("errors/component/property_bad_double.xml"),
+TEST(ComponentProfileErrors, KeepsAsAStringADoublePropertyThatIsNotANumber) {
+  EXPECT_THAT(warnings("errors/component/property_bad_double.xml"),
               ElementsAre("errors/component/property_bad_double.xml:5: property 'gain' of component 'Probe' must be a "
-                          "finite double, got 'abc'"));
+                          "finite double, got 'abc': kept as a string, as OPRoS does (it ignores a property's type); a "
+                          "component that reads it typed fails to start"));
 }
 
-TEST(ComponentProfileErrors, RejectsAnIntPropertyWithAFraction) {
-  EXPECT_THAT(
-      problems("errors/component/property_bad_int.xml"),
-      ElementsAre(
-          "errors/component/property_bad_int.xml:5: property 'count' of component 'Probe' must be an int, got '1.5'"));
+TEST(ComponentProfileErrors, KeepsAsAStringAnIntPropertyWithAFraction) {
+  EXPECT_THAT(warnings("errors/component/property_bad_int.xml"),
+              ElementsAre("errors/component/property_bad_int.xml:5: property 'count' of component 'Probe' must be an "
+                          "int, got '1.5': kept as a string, as OPRoS does (it ignores a property's type); a component "
+                          "that reads it typed fails to start"));
 }
 
-TEST(ComponentProfileErrors, RejectsABoolPropertyThatIsNotTrueOrFalse) {
-  EXPECT_THAT(problems("errors/component/property_bad_bool.xml"),
+TEST(ComponentProfileErrors, KeepsAsAStringABoolPropertyThatIsNotTrueOrFalse) {
+  EXPECT_THAT(warnings("errors/component/property_bad_bool.xml"),
               ElementsAre("errors/component/property_bad_bool.xml:5: property 'enabled' of component 'Probe' must be a "
-                          "bool (true, false, 1 or 0), got 'yes'"));
+                          "bool (true, false, 1 or 0), got 'yes': kept as a string, as OPRoS does (it ignores a "
+                          "property's type); a component that reads it typed fails to start"));
 }
 
-TEST(ComponentProfileErrors, RejectsADoubleArrayPropertyWithAWord) {
-  EXPECT_THAT(problems("errors/component/property_bad_list.xml"),
-              ElementsAre("errors/component/property_bad_list.xml:5: property 'weights' of component 'Probe' must be a "
-                          "double[] (finite numbers separated by spaces or commas), got '1, two, 3'"));
+TEST(ComponentProfileErrors, KeepsAsAStringADoubleArrayPropertyWithAWord) {
+  EXPECT_THAT(warnings("errors/component/property_bad_list.xml"),
+              ElementsAre(
+                  "errors/component/property_bad_list.xml:5: property 'weights' of component 'Probe' must be a "
+                  "double[] (finite numbers separated by spaces or commas), got '1, two, 3': kept as a string, as "
+                  "OPRoS does (it ignores a property's type); a component that reads it typed fails to start"));
 }
 
-TEST(ComponentProfileErrors, RejectsANegativeUnsignedProperty) {
-  EXPECT_THAT(problems("errors/component/property_negative_unsigned.xml"),
+TEST(ComponentProfileErrors, KeepsAsAStringANegativeUnsignedProperty) {
+  EXPECT_THAT(warnings("errors/component/property_negative_unsigned.xml"),
               ElementsAre("errors/component/property_negative_unsigned.xml:5: property 'samples' of component 'Probe' "
-                          "must be a non-negative unsigned int, got '-1'"));
+                          "must be a non-negative unsigned int, got '-1': kept as a string, as OPRoS does (it ignores "
+                          "a property's type); a component that reads it typed fails to start"));
 }
 
-TEST(ComponentProfileErrors, RejectsAPropertyWithoutType) {
-  EXPECT_THAT(problems("errors/component/property_missing_type.xml"),
-              ElementsAre("errors/component/property_missing_type.xml:5: missing attribute 'type' of <property>"));
+TEST(ComponentProfileErrors, ReadsAPropertyWithoutTypeAsAStringAsOPRoSDoes) {
+  const auto set = load(dataPath("errors/component/property_missing_type.xml"));
+  ASSERT_TRUE(set.ok()) << joined(set);
+  EXPECT_TRUE(set->warnings.empty());
+  const auto& props = set->components.at(keyOf("errors/component/property_missing_type.xml")).properties;
+  ASSERT_EQ(props.size(), 1U);
+  EXPECT_EQ(props[0].type, "string");
+  EXPECT_EQ(std::get<std::string>(props[0].value), "1");
 }
 
 TEST(ComponentProfileErrors, RejectsTwoPropertiesWithOneName) {
@@ -147,11 +158,13 @@ TEST(ComponentProfileErrors, RejectsANegativeQueueSize) {
                           "positive integer, got '-3'"));
 }
 
-TEST(ComponentProfileErrors, RejectsAnUnknownDataPortUsage) {
-  EXPECT_THAT(
-      problems("errors/component/bad_usage.xml"),
-      ElementsAre(
-          "errors/component/bad_usage.xml:7: <usage> of data port 'range' must be one of input or output, got 'in'"));
+TEST(ComponentProfileErrors, DropsADataPortOfAnUnknownUsageAsOPRoSDoes) {
+  EXPECT_THAT(warnings("errors/component/bad_usage.xml"),
+              ElementsAre("errors/component/bad_usage.xml:7: data port 'range' dropped: <usage> 'in' is neither input "
+                          "nor output (OPRoS's engine drops such ports too)"));
+  const auto set = load(dataPath("errors/component/bad_usage.xml"));
+  ASSERT_TRUE(set.ok());
+  EXPECT_TRUE(set->components.at(keyOf("errors/component/bad_usage.xml")).data_ports.empty());
 }
 
 TEST(ComponentProfileErrors, RejectsAnUnknownQueueingPolicy) {
@@ -162,8 +175,8 @@ TEST(ComponentProfileErrors, RejectsAnUnknownQueueingPolicy) {
 
 TEST(ComponentProfileErrors, RejectsBothQueueingPolicySpellingsOnOnePort) {
   EXPECT_THAT(problems("errors/component/both_queueing_spellings.xml"),
-              ElementsAre("errors/component/both_queueing_spellings.xml:10: both <queueing_policy> and "
-                          "<queuing_policy> in data port 'range'"));
+              ElementsAre("errors/component/both_queueing_spellings.xml:10: <queueing_policy> and "
+                          "<queuing_policy> in data port 'range': one queue policy (line 9)"));
 }
 
 TEST(ComponentProfileErrors, RejectsADataPortWithoutUsage) {
@@ -248,8 +261,6 @@ TEST(ComponentProfileErrors, ReportsEveryProblemOfTheFileNotJustTheFirst) {
           "errors/component/many_problems.xml:5: <type> of component 'Probe' must be one of periodic, aperiodic or "
           "passive, got 'cyclic'",
           "errors/component/many_problems.xml:6: <period> of component 'Probe' must be a positive number, got '-1'",
-          "errors/component/many_problems.xml:9: property 'gain' of component 'Probe' must be a finite double, got "
-          "'fast'",
           "errors/component/many_problems.xml:16: <queue_size> of data port 'range' must be a positive integer, got "
           "'0'",
           "errors/component/many_problems.xml:19: unknown element <extra> in <component_profile>"));

@@ -95,7 +95,8 @@ TEST(ProfileLoader, RejectsAnUnknownRootElement) {
   EXPECT_THAT(problems("errors/loader/unknown_root.xml"),
               ElementsAre(
                   "errors/loader/unknown_root.xml:2: unknown root element <robot> (expected <component_profile>, "
-                  "<composite_component_profile>, <package_profile> or <system_profile>)"));
+                  "<composite_component_profile>, <package_profile>, <system_profile>, <service_port_type_profile>, "
+                  "<data_type> or <system_config>)"));
 }
 
 TEST(ProfileLoader, RejectsASecondRootElement) {
@@ -132,7 +133,9 @@ TEST(ProfileLoader, ReportsAllProblemsAcrossFilesNotJustTheFirst) {
                   "errors/many/app.xml:10: timeout of <heartbeat> of fault_policy of subcomponent 'bad' must be a "
                   "positive number, got '-1'",
                   "errors/many/app.xml:17: property 'speed' of subcomponent 'nav' must be a finite double, got 'quick'",
-                  "errors/many/app.xml:22: subcomponent 'ghost': cannot open 'Ghost.xml': No such file or directory",
+                  "errors/many/app.xml:22: subcomponent 'ghost': cannot open 'Ghost.xml': No such file or directory "
+                  "(nor in OPRoS's layouts: app/Ghost.xml, ghost/Ghost.xml, app/Ghost/Ghost.xml, "
+                  "../Ghost/profile/Ghost.xml, ../Ghost/Ghost.xml)",
                   "errors/many/app.xml:26: port_connection: component 'nav' has no port 'rang' (ports: range, limit, "
                   "alarm, map)",
                   "errors/many/app.xml:32: period of task 'control' must be a positive number, got '0'",

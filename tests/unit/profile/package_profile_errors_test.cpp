@@ -13,7 +13,9 @@ using ::testing::ElementsAre;
 TEST(PackageProfileErrors, RejectsAMissingReferencedFileNamingTheSubcomponent) {
   EXPECT_THAT(problems("errors/package/missing_reference_file.xml"),
               ElementsAre("errors/package/missing_reference_file.xml:7: subcomponent 'sonar': cannot open 'Sonar.xml': "
-                          "No such file or directory"));
+                          "No such file or directory (nor in OPRoS's layouts: missing_reference_file/Sonar.xml, "
+                          "sonar/Sonar.xml, missing_reference_file/Sonar/Sonar.xml, ../Sonar/profile/Sonar.xml, "
+                          "../Sonar/Sonar.xml)"));
 }
 
 TEST(PackageProfileErrors, RejectsAReferenceToAPackageWhereAComponentIsExpected) {

@@ -38,6 +38,19 @@ inline std::vector<std::string> problems(const std::string& relative_path) {
   return out;
 }
 
+/// The warnings of loading fixture `relative_path` ("file:line: message"); the problems, each
+/// prefixed "error: ", when it does not load.
+inline std::vector<std::string> warnings(const std::string& relative_path) {
+  const auto result = load(dataPath(relative_path));
+  std::vector<std::string> out;
+  if (!result.ok()) {
+    for (const Diagnostic& d : result.error()) out.push_back("error: " + relative(d.str()));
+    return out;
+  }
+  for (const Diagnostic& d : result->warnings) out.push_back(relative(d.str()));
+  return out;
+}
+
 /// All diagnostics of a failed load, one per line, for assertion messages.
 inline std::string joined(const Result<ProfileSet, Diagnostics>& result) {
   std::string out;
