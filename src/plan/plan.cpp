@@ -44,6 +44,12 @@ class Planner {
         for (const auto& inst : membersOf(prefix + m)) {
           ex.members.push_back(inst);
           in_task_.insert(inst);
+          const PlannedInstance* planned = plan_.find(inst);
+          if (planned && planned->profile->execution.sharing == profile::Sharing::Exclusive)
+            plan_errors_ += fmt::format(
+                "{}:{}: task '{}' names '{}', whose component '{}' is periodic-exclusive (a thread of its own, as "
+                "OPRoS runs it): take it out of the task, or make it periodic\n",
+                t.where.file, t.where.line, ex.name, inst, planned->profile->name);
         }
       }
       plan_.executors.push_back(std::move(ex));
@@ -56,9 +62,22 @@ class Planner {
 
   Result<Plan> finish(std::string name) {
     addFaultManagerIfConnected();
+    std::map<std::tuple<double, int, std::string>, std::size_t> shared;  // (period, priority, process) -> executor
     for (const auto& inst : plan_.instances) {
       const auto& e = inst.profile->execution;
       if (in_task_.count(inst.name) || e.type == profile::ExecutionType::Passive) continue;
+      if (e.sharing == profile::Sharing::Shared && e.type == profile::ExecutionType::Periodic) {
+        // OPRoS's periodic-shared: one executor per period and priority, its members in load
+        // order, scheduled as its first member says (docs/opros.md#what-means-what).
+        const auto [it, fresh] = shared.try_emplace({e.period_ms, e.priority, inst.process}, plan_.executors.size());
+        if (fresh) {
+          std::string ex = fmt::format("periodic-shared-{:g}ms-p{}", e.period_ms, e.priority);
+          if (!inst.process.empty()) ex += "-" + inst.process;
+          plan_.executors.push_back({ex, true, e.period_ms, e.priority, e.policy, {}, inst.where});
+        }
+        plan_.executors[it->second].members.push_back(inst.name);
+        continue;
+      }
       plan_.executors.push_back({inst.name,
                                  e.type == profile::ExecutionType::Periodic,
                                  e.period_ms,
@@ -120,7 +139,7 @@ class Planner {
           at(c.where), c.source.component, c.source.port, c.target.component, c.target.port, c.source.component,
           where(a), c.target.component, where(b));
     }
-    errors += process_errors_;
+    errors += plan_errors_;
     if (!errors.empty()) {
       errors.pop_back();
       return fail(errors);
@@ -135,9 +154,9 @@ class Planner {
     q.name = prefix + spec.name;
     auto [it, inserted] = process_specs_.emplace(q.name, q);
     if (!inserted && it->second.standby != q.standby)
-      process_errors_ += fmt::format("{}:{}: process '{}' has standby=\"{}\" here but \"{}\" at {}:{}\n", q.where.file,
-                                     q.where.line, q.name, q.standby, it->second.standby, it->second.where.file,
-                                     it->second.where.line);
+      plan_errors_ += fmt::format("{}:{}: process '{}' has standby=\"{}\" here but \"{}\" at {}:{}\n", q.where.file,
+                                  q.where.line, q.name, q.standby, it->second.standby, it->second.where.file,
+                                  it->second.where.line);
     return q.name;
   }
 
@@ -207,7 +226,7 @@ class Planner {
   std::map<std::string, std::vector<std::string>> members_;
   std::set<std::string> in_task_;
   std::map<std::string, profile::ProcessSpec> process_specs_;  // by qualified name
-  std::string process_errors_;
+  std::string plan_errors_;
 };
 
 }  // namespace

@@ -1,0 +1,59 @@
+// OPRoS's execution types in the plan (docs/opros.md#what-means-what): periodic-shared
+// components of one period and priority share one executor, in load order; periodic and
+// periodic-exclusive ones have their own; a task may not take a periodic-exclusive one.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "plan/plan.hpp"
+#include "unit/profile/profile_test_support.hpp"
+
+namespace keel::plan {
+namespace {
+
+using profile::test::dataPath;
+using profile::test::relative;
+using ::testing::ElementsAre;
+
+const PlannedExecutor* executorOf(const Plan& plan, const std::string& instance) {
+  for (const auto& ex : plan.executors)
+    for (const auto& m : ex.members)
+      if (m == instance) return &ex;
+  return nullptr;
+}
+
+TEST(OprosExecution, PeriodicSharedComponentsOfOnePeriodAndPriorityShareAnExecutor) {
+  auto set = profile::load(dataPath("opros_dialect/shared/app.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  const PlannedExecutor* shared = executorOf(*plan, "a");
+  ASSERT_NE(shared, nullptr);
+  EXPECT_EQ(shared->name, "periodic-shared-50ms-p10");
+  EXPECT_THAT(shared->members, ElementsAre("b", "a", "a2")) << "in load order";
+  EXPECT_DOUBLE_EQ(shared->period_ms, 50);
+  EXPECT_EQ(shared->priority, 10);
+  const PlannedExecutor* other = executorOf(*plan, "c");
+  ASSERT_NE(other, nullptr);
+  EXPECT_EQ(other->name, "periodic-shared-20ms-p10") << "another period, another executor";
+  EXPECT_THAT(other->members, ElementsAre("c"));
+  for (const char* own : {"d", "e"}) {
+    const PlannedExecutor* ex = executorOf(*plan, own);
+    ASSERT_NE(ex, nullptr) << own;
+    EXPECT_THAT(ex->members, ElementsAre(own)) << "periodic and periodic-exclusive: a thread of its own";
+  }
+  EXPECT_EQ(plan->executors.size(), 4U);
+}
+
+TEST(OprosExecution, ATaskMayNotTakeAPeriodicExclusiveComponent) {
+  auto set = profile::load(dataPath("opros_dialect/shared/exclusive_in_task.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(relative(plan.error().message),
+            "opros_dialect/shared/exclusive_in_task.xml:9: task 'control' names 'd', whose component 'D' is "
+            "periodic-exclusive (a thread of its own, as OPRoS runs it): take it out of the task, or make it "
+            "periodic");
+}
+
+}  // namespace
+}  // namespace keel::plan
