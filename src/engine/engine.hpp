@@ -38,6 +38,7 @@
 #include "runtime/alarm.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/cpu_latency.hpp"
+#include "runtime/execution_gate.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/warning.hpp"
@@ -145,6 +146,8 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
 
  private:
   explicit Engine(EngineOptions options);
+  /// OPRoS's execution order (<depends>) as gates, before any instance is made.
+  void makeExecutionGates();
   Result<void> instantiate();
   Result<Instance> makeInstance(const plan::PlannedInstance& pi);  // created, named, ports checked
   void setUpHandling();  // rules and checkpoints per instance, the dependency graph
@@ -215,6 +218,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   std::deque<plan::PlannedInstance> alternative_plans_;   // the alternatives' plans (stable addresses)
   std::vector<std::unique_ptr<Component>> alternatives_;  // alternatives created: standing by or in service
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
+  std::map<std::string, std::unique_ptr<runtime::ExecutionGate>> gates_;  // by instance: OPRoS's depends
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
   std::vector<std::unique_ptr<runtime::Executor>> executors_;
   fault::FaultManager fault_manager_;

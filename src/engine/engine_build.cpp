@@ -57,7 +57,22 @@ detail::QueuePolicy queuePolicy(profile::QueuePolicy p) {
 
 }  // namespace
 
+void Engine::makeExecutionGates() {
+  // OPRoS's execution order: a gate per instance in it, shared by its primary and replacements.
+  auto gateOf = [this](const std::string& instance) -> runtime::ExecutionGate& {
+    auto& gate = gates_[instance];
+    if (!gate) gate = std::make_unique<runtime::ExecutionGate>();
+    return *gate;
+  };
+  for (const auto& d : planned_.plan.execution_order) {
+    runtime::ExecutionGate& source = gateOf(d.source);
+    gateOf(d.target).addFollower(source, source.addTarget());
+  }
+  for (auto& [name, gate] : gates_) gate->freeze();
+}
+
 Result<void> Engine::instantiate() {
+  makeExecutionGates();
   std::string errors;
   for (const auto& pi : planned_.plan.instances) {
     const profile::ComponentProfile& cp = *pi.profile;
@@ -132,6 +147,7 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   }
   for (const auto& [k, v] : pi.properties) core.properties[k] = v;
   if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
+  if (const auto gate = gates_.find(pi.name); gate != gates_.end()) core.gate = gate->second.get();
   if (auto r = checkPorts(inst); !r) return r.error();
   if (pi.policy && pi.policy->heartbeat_timeout_ms)
     core.watch.heartbeat_ns = static_cast<std::int64_t>(*pi.policy->heartbeat_timeout_ms * 1e6);

@@ -55,15 +55,15 @@ std::vector<DependencyGraph::Id> DependencyGraph::resolve(const std::string& nam
   return inner;
 }
 
-// coordination/depends: source depends on target, so target's stop stops source.
+// coordination/needs: source needs target, so target's stop stops source.
 Result<void> DependencyGraph::indexDepends(const plan::Plan& plan) {
   dependants_.assign(names_.size(), {});
   for (const auto& d : plan.depends) {
     const auto sources = resolve(d.source);
     const auto targets = resolve(d.target);
     if (sources.empty() || targets.empty())
-      return fail(fmt::format("{}depends: no component '{}' in '{}'", at(d.where),
-                              sources.empty() ? d.source : d.target, plan.name));
+      return fail(fmt::format("{}needs: no component '{}' in '{}'", at(d.where), sources.empty() ? d.source : d.target,
+                              plan.name));
     for (Id t : targets)
       for (Id s : sources)
         if (s != t) dependants_[t].push_back(s);

@@ -1,6 +1,6 @@
 // The dependency graph of a plan (paper §5.2, Fig. 7): which components each application needs
 // (for duplicates, at least `min_healthy` of a `requires` group), which applications depend on
-// which (`depends_on`), which components depend on which (`coordination/depends`), and each
+// which (`depends_on`), which components depend on which (`coordination/needs`), and each
 // component's executor. The fault manager asks it, at fault time, what a fault stops: the
 // containment scope (component, executor, system), every application that can no longer run,
 // and every component of those. `keel graph --fail` prints the same answer.
@@ -37,7 +37,7 @@ class DependencyGraph {
   /// Everything that stops when the components in `failed` stop: an application stops when a
   /// requirement group has fewer than `min_healthy` healthy entries, or when an application it
   /// depends on stops; the components of a stopped application stop; a component stops when
-  /// one it depends on (coordination/depends) stops. Names not in the graph are ignored.
+  /// one it depends on (coordination/needs) stops. Names not in the graph are ignored.
   Impact impactOf(const std::set<std::string>& failed) const;
 
   /// The containment scope of a fault stop of `component`: itself, every member of its

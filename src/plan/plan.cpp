@@ -56,8 +56,14 @@ class Planner {
     }
   }
 
-  void addDepends(const std::string& prefix, const std::vector<profile::Depends>& deps) {
-    for (const auto& d : deps) plan_.depends.push_back({prefix + d.source, prefix + d.target, d.where});
+  void addCoordination(const std::string& prefix, const profile::Coordination& c) {
+    for (const auto& d : c.needs) plan_.depends.push_back({prefix + d.source, prefix + d.target, d.where});
+    for (const auto& d : c.depends) {
+      // An edge to a composite orders against each of its members.
+      for (const auto& source : membersOf(prefix + d.source))
+        for (const auto& target : membersOf(prefix + d.target))
+          plan_.execution_order.push_back({source, target, d.where});
+    }
   }
 
   Result<Plan> finish(std::string name) {
@@ -139,6 +145,14 @@ class Planner {
           at(c.where), c.source.component, c.source.port, c.target.component, c.target.port, c.source.component,
           where(a), c.target.component, where(b));
     }
+    for (const auto& d : plan_.execution_order) {
+      const std::string a = processOf(d.source), b = processOf(d.target);
+      if (a.empty() && b.empty()) continue;
+      errors += fmt::format(
+          "{}: depends {} -> {}: OPRoS's execution order is kept within keel run's own process "
+          "('{}' runs in {}, '{}' in {})\n",
+          at(d.where), d.source, d.target, d.source, where(a), d.target, where(b));
+    }
     errors += plan_errors_;
     if (!errors.empty()) {
       errors.pop_back();
@@ -203,6 +217,7 @@ class Planner {
     }
     members_[name] = inner;
     for (const auto& e : comp.exported_ports) exports_[{name, e.name}] = resolve(name + ".", e.inner);
+    addCoordination(name + ".", comp.coordination);
     return {};
   }
 
@@ -253,7 +268,7 @@ Result<Plan> makePlan(const ProfileSet& set) {
       const auto& pkg = set.packages.at(set.root);
       if (auto r = planner.addPackage("", "", pkg.subcomponents, pkg.connections); !r) return r.error();
       planner.addTasks("", pkg.tasks);
-      planner.addDepends("", pkg.depends);
+      planner.addCoordination("", pkg.coordination);
       return planner.finish(pkg.name);
     }
     case profile::RootKind::System: {
@@ -262,7 +277,7 @@ Result<Plan> makePlan(const ProfileSet& set) {
         const std::string prefix = app.name + ".";
         if (auto r = planner.addPackage(prefix, app.name, pkg.subcomponents, pkg.connections); !r) return r.error();
         planner.addTasks(prefix, pkg.tasks);
-        planner.addDepends(prefix, pkg.depends);
+        planner.addCoordination(prefix, pkg.coordination);
       }
       planner.addConnections("", set.system->connections);  // "app.instance" already
       return planner.finish(set.system->name);

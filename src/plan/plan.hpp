@@ -60,8 +60,9 @@ struct Plan {
   std::vector<PlannedInstance> instances;
   std::vector<PlannedConnection> connections;
   std::vector<PlannedExecutor> executors;
-  std::vector<profile::Depends> depends;  // qualified names
-  std::vector<PlannedProcess> processes;  // in order of first mention
+  std::vector<profile::Depends> depends;          // <needs>: the stop dependency; qualified names
+  std::vector<profile::Depends> execution_order;  // <depends>: OPRoS's execution order; qualified
+  std::vector<PlannedProcess> processes;          // in order of first mention
 
   const PlannedInstance* find(std::string_view instance) const;
   /// The process `instance` runs in; empty for keel run's own (or an unknown instance).

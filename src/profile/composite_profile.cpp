@@ -74,7 +74,7 @@ void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out)
                                 {{"export_port", [&](pugi::xml_node p) { readExportPort(ctx, p, out.exported_ports); },
                                   true}});
                  }},
-                {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
+                {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
                 {"id", {}},
                 {"version", {}},
                 {"copyright", {}},

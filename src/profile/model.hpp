@@ -231,10 +231,20 @@ struct ExportedPort {
 };
 
 /// root <composite_component_profile>
+/// One edge of a <coordination>: `<depends>` or `<needs>` with a source and a target.
 struct Depends {
-  std::string source;  // source depends on target
+  std::string source;  // source depends on (needs) target
   std::string target;
   Where where;
+};
+
+/// <coordination> of a package or composite (docs/profiles.md#coordination).
+struct Coordination {
+  /// <depends>, OPRoS's execution order: source executes once after each execution of its
+  /// targets (docs/opros.md#what-means-what).
+  std::vector<Depends> depends;
+  /// <needs>, the paper's dependency: when target stops, so does source (fault stop).
+  std::vector<Depends> needs;
 };
 
 struct CompositeProfile {
@@ -244,7 +254,7 @@ struct CompositeProfile {
   std::vector<Subcomponent> subcomponents;
   std::vector<Connection> connections;
   std::vector<ExportedPort> exported_ports;
-  std::vector<Depends> depends;  // <coordination>: read, not yet acted on (docs/opros.md)
+  Coordination coordination;
   Where where;
 };
 
@@ -265,7 +275,7 @@ struct PackageProfile {
   std::vector<Subcomponent> subcomponents;
   std::vector<Connection> connections;
   std::vector<Task> tasks;
-  std::vector<Depends> depends;
+  Coordination coordination;
   Where where;
 };
 

@@ -60,17 +60,17 @@ std::vector<Task> parseTasks(Ctx& ctx, pugi::xml_node node) {
 
 }  // namespace
 
-std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node) {
-  std::vector<Depends> out;
-  readChildren(ctx, node,
-               {{"depends",
-                 [&](pugi::xml_node n) {
-                   readChildren(ctx, n, {}, {"source", "target"});
-                   const auto source = requiredAttribute(ctx, n, "source");
-                   const auto target = requiredAttribute(ctx, n, "target");
-                   if (source && target) out.push_back(Depends{*source, *target, ctx.where(n)});
-                 },
-                 true}});
+Coordination parseCoordination(Ctx& ctx, pugi::xml_node node) {
+  Coordination out;
+  auto edge = [&ctx](std::vector<Depends>& into) {
+    return [&ctx, &into](pugi::xml_node n) {
+      readChildren(ctx, n, {}, {"source", "target"});
+      const auto source = requiredAttribute(ctx, n, "source");
+      const auto target = requiredAttribute(ctx, n, "target");
+      if (source && target) into.push_back(Depends{*source, *target, ctx.where(n)});
+    };
+  };
+  readChildren(ctx, node, {{"depends", edge(out.depends), true}, {"needs", edge(out.needs), true}});
   return out;
 }
 
@@ -82,7 +82,7 @@ void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
                 {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
                 {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
                 {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
-                {"coordination", [&](pugi::xml_node n) { out.depends = parseCoordination(ctx, n); }},
+                {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
                 {"id", {}},
                 {"version", {}},
                 {"copyright", {}},

@@ -36,7 +36,7 @@ std::vector<Subcomponent> parseSubcomponents(Ctx& ctx, pugi::xml_node node);
 /// <port_connections> (subcomponents.cpp).
 std::vector<Connection> parseConnections(Ctx& ctx, pugi::xml_node node);
 /// <coordination> of a package or composite (package_profile.cpp).
-std::vector<Depends> parseCoordination(Ctx& ctx, pugi::xml_node node);
+Coordination parseCoordination(Ctx& ctx, pugi::xml_node node);
 /// Why an application's or composite's <app_domain> and <execution_environment> are not used.
 inline constexpr std::string_view kNoAppDomain = "OPRoS's engine read it and did nothing with it";
 inline constexpr std::string_view kNoAssemblyEnvironment =

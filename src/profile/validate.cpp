@@ -16,6 +16,7 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkConnections(set, composite.subcomponents, composite.connections, diags);
     checkExports(set, composite, diags);
     checkAlternatives(set, composite.subcomponents, diags);
+    checkCoordination(set, composite.subcomponents, composite.coordination, diags);
     checkIneffectivePolicies(set, composite.subcomponents);
   }
   for (auto& [path, pkg] : set.packages) {
@@ -23,7 +24,7 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkConnections(set, pkg.subcomponents, pkg.connections, diags);
     checkAlternatives(set, pkg.subcomponents, diags);
     checkTasks(set, pkg, diags);
-    checkDepends(pkg, diags);
+    checkCoordination(set, pkg.subcomponents, pkg.coordination, diags);
     checkIneffectivePolicies(set, pkg.subcomponents);
   }
   if (set.system) checkSystem(set, *set.system, diags);

@@ -22,7 +22,10 @@ void validate(ProfileSet& set, Diagnostics& diags);
 // validate_assembly.cpp: subcomponents, overrides, tasks, depends.
 void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagnostics& diags);
 void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& diags);
-void checkDepends(const PackageProfile& pkg, Diagnostics& diags);
+/// <coordination>'s depends and needs (names, duplicates, cycles); warnings for an execution
+/// order with a passive end.
+void checkCoordination(ProfileSet& set, const std::vector<Subcomponent>& subs, const Coordination& coordination,
+                       Diagnostics& diags);
 /// Warnings (set.warnings) for fault_policy settings that load but have no effect.
 void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs);
 

@@ -121,29 +121,33 @@ void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& d
   }
 }
 
-void checkDepends(const PackageProfile& pkg, Diagnostics& diags) {
+namespace {
+
+/// One list of a <coordination>: both ends are subcomponents, no self-edge, no duplicate, no
+/// cycle (an execution order in a cycle never runs; a stop dependency in one is meaningless).
+void checkEdges(const std::vector<Subcomponent>& subs, const std::vector<Depends>& list, std::string_view element,
+                Diagnostics& diags) {
   Graph graph;
-  for (const Subcomponent& s : pkg.subcomponents) graph.emplace_back(s.name, std::vector<Edge>{});
-  for (std::size_t i = 0; i < pkg.depends.size(); ++i) {
-    const Depends& d = pkg.depends[i];
+  for (const Subcomponent& s : subs) graph.emplace_back(s.name, std::vector<Edge>{});
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const Depends& d = list[i];
     bool ok = true;
     for (const std::string* end : {&d.source, &d.target}) {
-      if (findSubcomponent(pkg.subcomponents, *end) != nullptr) continue;
+      if (findSubcomponent(subs, *end) != nullptr) continue;
       ok = false;
       error(diags, d.where,
-            fmt::format("depends: no subcomponent '{}' (subcomponents: {})", *end,
-                        subcomponentNames(pkg.subcomponents)));
+            fmt::format("{}: no subcomponent '{}' (subcomponents: {})", element, *end, subcomponentNames(subs)));
     }
     if (ok && d.source == d.target) {
       ok = false;
-      error(diags, d.where, fmt::format("depends: subcomponent '{}' cannot depend on itself", d.source));
+      error(diags, d.where, fmt::format("{}: subcomponent '{}' cannot depend on itself", element, d.source));
     }
     for (std::size_t j = 0; ok && j < i; ++j) {
-      const Depends& e = pkg.depends[j];
+      const Depends& e = list[j];
       if (e.source == d.source && e.target == d.target) {
         ok = false;
         error(diags, d.where,
-              fmt::format("duplicate depends '{}' -> '{}' (first at line {})", d.source, d.target, e.where.line));
+              fmt::format("duplicate {} '{}' -> '{}' (first at line {})", element, d.source, d.target, e.where.line));
       }
     }
     if (!ok) continue;
@@ -152,6 +156,36 @@ void checkDepends(const PackageProfile& pkg, Diagnostics& diags) {
     }
   }
   reportCycles(graph, diags);
+}
+
+/// The execution type of subcomponent `name`'s component; nullopt for a composite.
+std::optional<ExecutionType> executionOf(const ProfileSet& set, const std::vector<Subcomponent>& subs,
+                                         const std::string& name) {
+  const Subcomponent* s = findSubcomponent(subs, name);
+  if (s == nullptr) return std::nullopt;
+  const auto c = set.components.find(s->reference);
+  if (c == set.components.end()) return std::nullopt;
+  return c->second.execution.type;
+}
+
+}  // namespace
+
+void checkCoordination(ProfileSet& set, const std::vector<Subcomponent>& subs, const Coordination& coordination,
+                       Diagnostics& diags) {
+  checkEdges(subs, coordination.depends, "depends", diags);
+  checkEdges(subs, coordination.needs, "needs", diags);
+  for (const Depends& d : coordination.depends) {  // OPRoS's execution order with a passive end
+    if (executionOf(set, subs, d.target) == ExecutionType::Passive)
+      set.warnings.push_back(
+          {d.where, fmt::format("depends: '{}' is passive and never executes, so '{}', which executes after it, "
+                                "never executes either (OPRoS's execution order; <needs> is keel's stop dependency)",
+                                d.target, d.source)});
+    else if (executionOf(set, subs, d.source) == ExecutionType::Passive)
+      set.warnings.push_back(
+          {d.where, fmt::format("depends has no effect: '{}' is passive, and OPRoS's execution order orders "
+                                "executions (<needs> is keel's stop dependency)",
+                                d.source)});
+  }
 }
 
 void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs) {

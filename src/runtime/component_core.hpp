@@ -19,6 +19,7 @@
 
 namespace keel::runtime {
 class Executor;
+class ExecutionGate;
 namespace ipc {
 struct CheckpointArea;
 }
@@ -123,6 +124,7 @@ class ComponentCore {
   std::int64_t deadline_ns = 0;                   // <deadline> of its fault policy; 0: none
   runtime::RunHooks* hooks = nullptr;             // null: not yet managed by a runtime
   runtime::FaultSink* fault_sink = nullptr;       // null: faults are not handled
+  runtime::ExecutionGate* gate = nullptr;         // OPRoS's execution order (depends); null: none
 
   // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).
   std::atomic<State> state{State::Created};

@@ -12,6 +12,7 @@
 
 #include "runtime/checkpoint.hpp"
 #include "runtime/component_core.hpp"
+#include "runtime/execution_gate.hpp"
 #include "runtime/fault_detail.hpp"
 #include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
@@ -225,8 +226,10 @@ void Executor::cycle() {
     if (c->state() != State::Active) continue;
     detail::ComponentCore& core = coreOf(*c);
     if (core.injection.stalled_until_ns.load(std::memory_order_relaxed) != 0 && stalled(core)) continue;
+    if (core.gate != nullptr && !core.gate->open()) continue;  // OPRoS's depends: a target has not run
     core.input_pending.store(false, std::memory_order_relaxed);
     const bool ok = execute(*c);
+    if (core.gate != nullptr) core.gate->ran();
     if (abandoned_.load(std::memory_order_acquire)) [[unlikely]]
       return;  // back from a hang, too late
     if (ok) continue;

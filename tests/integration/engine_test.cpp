@@ -38,6 +38,22 @@ class EngineTest : public ::testing::Test {
   void TearDown() override { std::filesystem::remove(log_path_); }
 };
 
+// OPRoS's execution order: a component that depends on another executes only after it has, at
+// most once per its executions; one that depends on a passive component never executes.
+TEST_F(EngineTest, DependsGatesEachExecutionOnTheTargetsAsOPRoSDoes) {
+  auto engine = create("execution_order.xml");
+  ASSERT_TRUE(engine);
+  ASSERT_TRUE(engine->start());
+  auto executions = [&](const char* name) { return runtime::coreOf(*engine->find(name)).executions.load(); };
+  ASSERT_TRUE(test::eventually([&] { return executions("slow") >= 6 && executions("gated") >= 3; }));
+  const auto gated = executions("gated");  // first: slow only grows meanwhile
+  const auto slow = executions("slow"), free = executions("free"), stuck = executions("stuck");
+  engine->shutdown();
+  EXPECT_LE(gated, slow) << "each execution of gated consumed one of slow's at least";
+  EXPECT_GT(free, 2 * slow) << "without the order it runs at its own period (5 ms against 50 ms)";
+  EXPECT_EQ(stuck, 0u) << "its target is passive and never executes";
+}
+
 TEST_F(EngineTest, RunsAPackageThroughTheWholeLifecycleInOrder) {
   auto engine = create("pipeline.xml");
   ASSERT_TRUE(engine);

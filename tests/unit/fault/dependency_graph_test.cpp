@@ -172,7 +172,7 @@ TEST(DependencyGraph, PolicyScopeIsTheFaultPolicysDependencyElseComponent) {
 }
 
 TEST(DependencyGraph, PackageDependsStopTheirSourcesTransitivelyButNotTheirTargets) {
-  // "app" needs only `needed`; sensor <- filter <- planner through coordination/depends.
+  // "app" needs only `needed`; sensor <- filter <- planner through coordination/needs.
   System s({{"app", {"sensor", "filter", "planner", "needed"}, {}, {{{"needed"}, 1}}}});
   s.plan.depends.push_back({"app.filter", "app.sensor", {}});
   s.plan.depends.push_back({"app.planner", "app.filter", {}});

@@ -44,6 +44,39 @@ TEST(OprosExecution, PeriodicSharedComponentsOfOnePeriodAndPriorityShareAnExecut
   EXPECT_EQ(plan->executors.size(), 4U);
 }
 
+TEST(OprosExecution, DependsIsTheExecutionOrderAndNeedsTheStopDependency) {
+  auto set = profile::load(dataPath("valid/app.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  ASSERT_EQ(plan->execution_order.size(), 1U);
+  EXPECT_EQ(plan->execution_order[0].source, "nav");
+  EXPECT_EQ(plan->execution_order[0].target, "sonar");
+  ASSERT_EQ(plan->depends.size(), 1U) << "the fault manager's dependency graph: <needs>";
+  EXPECT_EQ(plan->depends[0].source, "nav");
+  EXPECT_EQ(plan->depends[0].target, "map");
+}
+
+TEST(OprosExecution, AnExecutionOrderOnAPassiveComponentIsAWarning) {
+  const auto set = profile::load(std::string(KEEL_TEST_PROFILES) + "/execution_order.xml");
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  ASSERT_EQ(set->warnings.size(), 1U);
+  EXPECT_EQ(set->warnings[0].where.line, 17);
+  EXPECT_EQ(set->warnings[0].message,
+            "depends: 'server' is passive and never executes, so 'stuck', which executes after it, never executes "
+            "either (OPRoS's execution order; <needs> is keel's stop dependency)");
+}
+
+TEST(OprosExecution, AnExecutionOrderStaysInKeelRunsOwnProcess) {
+  auto set = profile::load(dataPath("opros_dialect/shared/order_across_processes.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(relative(plan.error().message),
+            "opros_dialect/shared/order_across_processes.xml:9: depends d -> e: OPRoS's execution order is kept "
+            "within keel run's own process ('d' runs in keel run's own process, 'e' in process 'drivers')");
+}
+
 TEST(OprosExecution, ATaskMayNotTakeAPeriodicExclusiveComponent) {
   auto set = profile::load(dataPath("opros_dialect/shared/exclusive_in_task.xml"));
   ASSERT_TRUE(set.ok()) << profile::test::joined(set);

@@ -82,15 +82,17 @@ TEST(PackageProfile, ReadsTasksWithMembersInOrder) {
   EXPECT_THAT(tasks[0].members, ElementsAre("sonar", "nav"));  // attribute and text forms
 }
 
-TEST(PackageProfile, ReadsCoordinationDependencies) {
+TEST(PackageProfile, ReadsTheExecutionOrderAndTheStopDependencies) {
   const auto result = load(dataPath("valid/app.xml"));
   ASSERT_TRUE(result.ok()) << joined(result);
-  const auto& deps = result->rootPackage()->depends;
+  const Coordination& c = result->rootPackage()->coordination;
 
-  ASSERT_EQ(deps.size(), 2u);
-  EXPECT_EQ(deps[0].source, "nav");
-  EXPECT_EQ(deps[0].target, "sonar");
-  EXPECT_EQ(deps[1].target, "map");
+  ASSERT_EQ(c.depends.size(), 1u);  // OPRoS's execution order
+  EXPECT_EQ(c.depends[0].source, "nav");
+  EXPECT_EQ(c.depends[0].target, "sonar");
+  ASSERT_EQ(c.needs.size(), 1u);  // keel's stop dependency
+  EXPECT_EQ(c.needs[0].source, "nav");
+  EXPECT_EQ(c.needs[0].target, "map");
 }
 
 TEST(PackageProfile, LoadsAFileReferencedSeveralTimesOnce) {
@@ -136,7 +138,8 @@ TEST(PackageProfile, KeepsDeclarationLinesForLaterStages) {
   EXPECT_EQ(relative(pkg.where.file), "valid/app.xml");
   EXPECT_EQ(pkg.where.line, 2);
   EXPECT_EQ(pkg.tasks[0].where.line, 55);
-  EXPECT_THAT(std::vector<int>({pkg.depends[0].where.line, pkg.depends[1].where.line}), ElementsAre(61, 62));
+  EXPECT_THAT(std::vector<int>({pkg.coordination.depends[0].where.line, pkg.coordination.needs[0].where.line}),
+              ElementsAre(61, 62));
   EXPECT_THAT(pkg.subcomponents[0].property_overrides,
               ::testing::Contains(
                   Pair("gain", ::testing::Field(&Property::where, ::testing::Field(&Where::line, 11)))));
