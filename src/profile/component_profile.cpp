@@ -70,7 +70,7 @@ Property readProperty(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
   }
   p.type = *type;
   auto value = parsePropertyValue(p.type, text);
-  const bool negative_unsigned = value && isUnsignedType(*written) && std::get<std::int64_t>(*value) < 0;
+  const bool negative_unsigned = value && written && isUnsignedType(*written) && std::get<std::int64_t>(*value) < 0;
   if (!value || negative_unsigned) {
     // Published OPRoS profiles do this (type="int" holding COM3), and OPRoS's engine ignores the
     // type: the text is kept as a string, and a component that reads it typed is told then.
