@@ -193,6 +193,9 @@ Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
   ProcessHost& host = *options_.host;
   auto died = host.takeRole();  // a standby sleeps here
   if (!died) return died.error();
+  // The active host left because keel run is gone (it ran the emergency stop): the run is over,
+  // and taking over would drive the actuators again. Ends this process.
+  if (host.runLost()) host.supervisorLost();
   if (host.stopRequested()) return RoleTaken{};
   RoleTaken taken{host.role().respawn ? "respawned" : *died ? "took_over" : "starting", 0};
   if (*died || host.role().respawn) {

@@ -148,6 +148,7 @@ void ProcessHost::setLog(fault::FaultLog* log) {
 void ProcessHost::supervisorLost() {
   // Both watchers may get here (the robust wake and PDEATHSIG): the first runs the emergency
   // stop, the other waits for it; then the process ends.
+  block().supervisor_lost.store(1, std::memory_order_release);  // before the role can pass on
   std::call_once(lost_once_, [this] {
     {
       // Any host, standby or loading too: a line of its own may follow keel run's in the file.

@@ -97,6 +97,11 @@ class ProcessHost {
   void releaseRole();
   bool holdsRole() const;
   bool stopRequested();
+  /// Whether a host of this process found keel run gone (it then stopped the actuators and
+  /// left); read after takeRole: a standby must not take over a run that is over.
+  bool runLost() { return block().supervisor_lost.load(std::memory_order_acquire) != 0; }
+  /// keel run died: the emergency stop once (by the active host), then _exit.
+  [[noreturn]] void supervisorLost();
   /// The components run: says Active.
   void becameActive();
   /// The first successful cycle after becoming active.
@@ -121,7 +126,6 @@ class ProcessHost {
   runtime::ipc::Session session_;
   HostRole role_;
   std::size_t index_;
-  [[noreturn]] void supervisorLost();  // keel run died: the emergency stop once, then _exit
   [[noreturn]] void exitLeavingLogWhole(int status);
 
   std::function<void()> supervisor_lost_;

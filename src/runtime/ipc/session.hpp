@@ -72,6 +72,9 @@ struct ProcessBlock {
   std::atomic<std::uint32_t> command{0};           // Command, written by keel run; a shared futex word
   std::atomic<std::uint32_t> changes{0};           // a shared futex word: bumped at every slot state change
   std::atomic<std::uint32_t> emergencies_done{0};  // bumped by the active host after its emergency stop
+  // Set by a host that found keel run gone, before its emergency stop and exit: a standby that
+  // wakes with the role afterwards leaves instead of taking over (the run is over).
+  std::atomic<std::uint32_t> supervisor_lost{0};
   HostSlot slots[kHostSlots];
 };
 
