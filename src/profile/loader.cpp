@@ -124,9 +124,19 @@ std::optional<RootKind> Loader::loadFile(const std::string& abs, const std::stri
     return std::nullopt;
   }
   file_order_.emplace(display, file_order_.size());
-  Ctx ctx(*file, diags_, set_.warnings);
+  // A type profile's problems do not stop a run: OPRoS's engine never read those files. Each
+  // is a warning, and nothing is checked against a type profile that has one.
+  const bool optional = from != nullptr && from->optional;
+  Diagnostics type_problems;
+  Ctx ctx(*file, optional ? type_problems : diags_, set_.warnings);
   const auto kind = parseRoot(ctx, file->root(), abs);
   ctx.finish();
+  if (!type_problems.empty()) {
+    for (Diagnostic& d : type_problems)
+      set_.warnings.push_back({d.where, d.message + " (nothing is checked against this file)"});
+    set_.service_types.erase(abs);
+    set_.data_types.erase(abs);
+  }
   kinds_[abs] = kind;
   if (!kind) return std::nullopt;
   stack_.emplace_back(abs, display);

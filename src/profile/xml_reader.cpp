@@ -120,7 +120,7 @@ std::optional<Text> toUtf8(std::string_view raw, std::string& why, std::size_t& 
       at = 0;
       return std::nullopt;
     }
-    std::string out(data.size() * 3 + 16, '\0');  // UTF-8 takes at most 3 bytes per 2-byte character
+    std::string out(data.size() * 4 + 16, '\0');  // no input byte becomes more than 4 of UTF-8
     char* in_p = data.data();
     std::size_t in_left = data.size();
     char* out_p = out.data();

@@ -146,6 +146,16 @@ TEST(OprosTypes, RejectsAServiceTypeWhoseParametersSkipAnIndex) {
                           "2"));
 }
 
+TEST(OprosTypes, ABrokenTypeProfileAPortReferencesIsAWarningAndUnused) {
+  const auto set = load(dataPath(at("types/UsesGap.xml")));
+  ASSERT_TRUE(set.ok()) << joined(set);
+  ASSERT_EQ(set->warnings.size(), 1U);
+  EXPECT_EQ(relative(set->warnings[0].str()),
+            "opros_dialect/types/Gap.xml:2: the <param>s of method 'f' of service type 'Gap' skip index 2 (nothing is "
+            "checked against this file)");
+  EXPECT_TRUE(set->service_types.empty());
+}
+
 TEST(OprosTypes, SaysWhatAnEngineConfigurationIs) {
   const auto set = load(dataPath(at("types/engine_config.xml")));
   ASSERT_TRUE(set.ok()) << joined(set);
