@@ -290,6 +290,7 @@ Result<Plan> makePlan(const ProfileSet& set) {
     case profile::RootKind::Composite: {
       const auto& comp = set.composites.at(set.root);
       if (auto r = planner.addPackage("", "", comp.subcomponents, comp.connections); !r) return r.error();
+      planner.addCoordination("", comp.coordination);
       return planner.finish(comp.name);
     }
     case profile::RootKind::ServiceType:

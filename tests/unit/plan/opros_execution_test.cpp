@@ -57,6 +57,25 @@ TEST(OprosExecution, DependsIsTheExecutionOrderAndNeedsTheStopDependency) {
   EXPECT_EQ(plan->depends[0].target, "map");
 }
 
+TEST(OprosExecution, ACompositesCoordinationIsPlannedAndAnEdgeToItReachesEachMember) {
+  for (const char* root : {"opros_dialect/shared/composite.xml", "opros_dialect/shared/with_composite.xml"}) {
+    auto set = profile::load(dataPath(root));
+    ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+    auto plan = makePlan(*set);
+    ASSERT_TRUE(plan.ok()) << plan.error().message;
+    const std::string pair = std::string(root).ends_with("with_composite.xml") ? "pair." : "";
+    std::vector<std::string> order, needs;
+    for (const auto& d : plan->execution_order) order.push_back(d.source + "->" + d.target);
+    for (const auto& d : plan->depends) needs.push_back(d.source + "->" + d.target);
+    if (pair.empty()) {
+      EXPECT_THAT(order, ElementsAre("d->e")) << root;
+    } else {
+      EXPECT_THAT(order, ElementsAre("pair.d->pair.e", "a->pair.e", "a->pair.d")) << root;
+    }
+    EXPECT_THAT(needs, ElementsAre(pair + "e->" + pair + "d")) << root;
+  }
+}
+
 TEST(OprosExecution, AnExecutionOrderOnAPassiveComponentIsAWarning) {
   const auto set = profile::load(std::string(KEEL_TEST_PROFILES) + "/execution_order.xml");
   ASSERT_TRUE(set.ok()) << profile::test::joined(set);
