@@ -23,6 +23,8 @@ KINDS = {
     "package_profile": "profile_package",
     "application_profile": "profile_package",
     "system_profile": "profile_system",
+    "service_port_type_profile": "profile_types",
+    "data_type": "profile_types",
     "fault_scenario": "scenario",
 }
 
@@ -114,7 +116,7 @@ def main():
     os.chdir(ROOT)
     elements, attributes, values = set(), set(), set()
     by_target = {}
-    for base in ["tests", "robot", "examples", "components", "bench"]:
+    for base in ["tests", "robot", "examples", "components", "bench", "third_party"]:
         for path in sorted(glob.glob(base + "/**/*.xml", recursive=True)):
             try:
                 root = ET.parse(path).getroot()

@@ -1,6 +1,7 @@
 // libFuzzer target for the profile reader (src/profile): the input bytes become the root profile
 // keel::profile::load() reads, as `keel run` and `keel validate` read the file they are given.
-// Built four times (fuzz/CMakeLists.txt), once per root kind KEEL_FUZZ_ROOT names: an input
+// Built five times (fuzz/CMakeLists.txt), once per root kind KEEL_FUZZ_ROOT names (`types`: OPRoS's
+// service type and data type profiles, docs/opros.md#type-profiles): an input
 // whose root element is another kind is rejected (kept out of the corpus), so that each target
 // digs into its own parser. The root file is written beside a copy of the tests' valid profiles
 // (KEEL_FUZZ_CONTEXT: valid/ and system/), so that references resolve and the cross-file
@@ -22,7 +23,7 @@
 #include "profile/loader.hpp"
 
 #ifndef KEEL_FUZZ_ROOT
-#error "KEEL_FUZZ_ROOT must name the root kind: component, composite, package or system"
+#error "KEEL_FUZZ_ROOT must name the root kind: component, composite, package, system or types"
 #endif
 
 namespace {
@@ -58,6 +59,9 @@ bool isKind(keel::profile::RootKind k) {
     case RootKind::Composite: return kKind == "composite";
     case RootKind::Package: return kKind == "package";
     case RootKind::System: return kKind == "system";
+    case RootKind::ServiceType:
+    case RootKind::DataType: return kKind == "types";
+    case RootKind::EngineConfig: return false;
   }
   return false;
 }
@@ -68,6 +72,7 @@ bool rootIsMine(const std::string& path) {
   if (kKind == "component") return root == "component_profile";
   if (kKind == "composite") return root == "composite_component_profile";
   if (kKind == "package") return root == "package_profile" || root == "application_profile";
+  if (kKind == "types") return root == "service_port_type_profile" || root == "data_type";
   return root == "system_profile";
 }
 

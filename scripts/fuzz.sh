@@ -18,8 +18,8 @@ set -euo pipefail
 usage() { sed -n '2,14s/^# \{0,1\}//p' "$0"; }
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-targets=(profile_component profile_composite profile_package profile_system scenario motion_board monitor_client
-  mcap_reader)
+targets=(profile_component profile_composite profile_package profile_system profile_types scenario motion_board
+  monitor_client mcap_reader)
 
 case "${1:-}" in
   --list) printf '%s\n' "${targets[@]}"; exit 0 ;;
