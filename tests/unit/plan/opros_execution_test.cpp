@@ -14,6 +14,14 @@ using profile::test::dataPath;
 using profile::test::relative;
 using ::testing::ElementsAre;
 
+/// The plan of fixture `path` with the profiles it points into; one that does not load fails
+/// with its diagnostics.
+Result<PlannedProfiles> planOf(const std::string& path) {
+  auto set = profile::load(dataPath(path));
+  if (!set.ok()) return fail("does not load:\n" + profile::test::joined(set));
+  return planProfiles(std::move(*set));
+}
+
 const PlannedExecutor* executorOf(const Plan& plan, const std::string& instance) {
   for (const auto& ex : plan.executors)
     for (const auto& m : ex.members)
@@ -22,10 +30,9 @@ const PlannedExecutor* executorOf(const Plan& plan, const std::string& instance)
 }
 
 TEST(OprosExecution, PeriodicSharedComponentsOfOnePeriodAndPriorityShareAnExecutor) {
-  auto set = profile::load(dataPath("opros_dialect/shared/app.xml"));
-  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
-  auto plan = makePlan(*set);
-  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  auto planned = planOf("opros_dialect/shared/app.xml");
+  ASSERT_TRUE(planned.ok()) << planned.error().message;
+  const Plan* plan = &planned->plan;
   const PlannedExecutor* shared = executorOf(*plan, "a");
   ASSERT_NE(shared, nullptr);
   EXPECT_EQ(shared->name, "periodic-shared-50ms-p10");
@@ -45,10 +52,9 @@ TEST(OprosExecution, PeriodicSharedComponentsOfOnePeriodAndPriorityShareAnExecut
 }
 
 TEST(OprosExecution, DependsIsTheExecutionOrderAndNeedsTheStopDependency) {
-  auto set = profile::load(dataPath("valid/app.xml"));
-  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
-  auto plan = makePlan(*set);
-  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  auto planned = planOf("valid/app.xml");
+  ASSERT_TRUE(planned.ok()) << planned.error().message;
+  const Plan* plan = &planned->plan;
   ASSERT_EQ(plan->execution_order.size(), 1U);
   EXPECT_EQ(plan->execution_order[0].source, "nav");
   EXPECT_EQ(plan->execution_order[0].target, "sonar");
@@ -59,10 +65,9 @@ TEST(OprosExecution, DependsIsTheExecutionOrderAndNeedsTheStopDependency) {
 
 TEST(OprosExecution, ACompositesCoordinationIsPlannedAndAnEdgeToItReachesEachMember) {
   for (const char* root : {"opros_dialect/shared/composite.xml", "opros_dialect/shared/with_composite.xml"}) {
-    auto set = profile::load(dataPath(root));
-    ASSERT_TRUE(set.ok()) << profile::test::joined(set);
-    auto plan = makePlan(*set);
-    ASSERT_TRUE(plan.ok()) << plan.error().message;
+    auto planned = planOf(root);
+    ASSERT_TRUE(planned.ok()) << planned.error().message;
+    const Plan* plan = &planned->plan;
     const std::string pair = std::string(root).ends_with("with_composite.xml") ? "pair." : "";
     std::vector<std::string> order, needs;
     for (const auto& d : plan->execution_order) order.push_back(d.source + "->" + d.target);
@@ -87,21 +92,17 @@ TEST(OprosExecution, AnExecutionOrderOnAPassiveComponentIsAWarning) {
 }
 
 TEST(OprosExecution, AnExecutionOrderStaysInKeelRunsOwnProcess) {
-  auto set = profile::load(dataPath("opros_dialect/shared/order_across_processes.xml"));
-  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
-  auto plan = makePlan(*set);
-  ASSERT_FALSE(plan.ok());
-  EXPECT_EQ(relative(plan.error().message),
+  auto planned = planOf("opros_dialect/shared/order_across_processes.xml");
+  ASSERT_FALSE(planned.ok());
+  EXPECT_EQ(relative(planned.error().message),
             "opros_dialect/shared/order_across_processes.xml:9: depends d -> e: OPRoS's execution order is kept "
             "within keel run's own process ('d' runs in keel run's own process, 'e' in process 'drivers')");
 }
 
 TEST(OprosExecution, ATaskMayNotTakeAPeriodicExclusiveComponent) {
-  auto set = profile::load(dataPath("opros_dialect/shared/exclusive_in_task.xml"));
-  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
-  auto plan = makePlan(*set);
-  ASSERT_FALSE(plan.ok());
-  EXPECT_EQ(relative(plan.error().message),
+  auto planned = planOf("opros_dialect/shared/exclusive_in_task.xml");
+  ASSERT_FALSE(planned.ok());
+  EXPECT_EQ(relative(planned.error().message),
             "opros_dialect/shared/exclusive_in_task.xml:9: task 'control' names 'd', whose component 'D' is "
             "periodic-exclusive (a thread of its own, as OPRoS runs it): take it out of the task, or make it "
             "periodic");
