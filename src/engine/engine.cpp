@@ -217,9 +217,15 @@ void Engine::runComponents(runtime::Executor* self) {
   }
   std::lock_guard lock(executors_mutex_);  // a hang may already abandon one (engine_recovery.cpp)
   for (auto& ex : executors_) {
-    if (self) ex->release();  // the takeover's thread does not wait for the others' onStart
-    else ex->start();
+    if (self) {
+      ex->release();  // the takeover's thread does not wait for the others' onStart
+    } else {
+      ex->holdFirstCycle(&first_cycle_);  // every member started before any cycle runs
+      ex->start();
+    }
   }
+  first_cycle_.store(1, std::memory_order_release);
+  first_cycle_.notify_all();
 }
 
 runtime::Executor* Engine::roleExecutor() const {

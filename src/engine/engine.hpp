@@ -220,6 +220,8 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   std::map<std::string, std::unique_ptr<runtime::ExecutionGate>> gates_;  // by instance: OPRoS's depends
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
+  // Opened once every executor has started its members: no first cycle before that (runComponents).
+  std::atomic<std::uint32_t> first_cycle_{0};
   std::vector<std::unique_ptr<runtime::Executor>> executors_;
   fault::FaultManager fault_manager_;
   std::unique_ptr<fault::Watchdog> watchdog_;

@@ -188,6 +188,8 @@ void Executor::run() {
     if (!coreOf(*c).critical.empty()) takeCheckpoint(coreOf(*c), steadyNs());  // the state to return to
   }
   started_.store(true, std::memory_order_release);
+  if (go_)
+    while (go_->load(std::memory_order_acquire) == 0) go_->wait(0, std::memory_order_acquire);
   if (config_.kind == ExecutorKind::Periodic) runPeriodic();
   else runAperiodic();
   if (abandoned_.load(std::memory_order_acquire)) return;  // came back after all: the members are not ours

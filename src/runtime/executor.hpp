@@ -89,6 +89,11 @@ class Executor {
   void release();
   /// Returns once the members have started (or the thread has exited).
   void waitStarted() const;
+  /// Before start(): once its members have started, the executor waits for `*go` to be nonzero
+  /// (notified) before its first cycle. The engine starts every executor so and then lets them
+  /// all go: no component's first onExecute finds another not yet started (a service it calls
+  /// in its first cycle, OPRoS's helloworld does, is Active). `go` outlives the executor.
+  void holdFirstCycle(std::atomic<std::uint32_t>* go) { go_ = go; }
   /// Starts the thread ahead, set up (name, policy, stack) and parked before its members start:
   /// start() then only lets it go on (a standby host's takeover creates no thread). A parked
   /// thread asked to stop exits without starting or stopping its members.
@@ -157,7 +162,8 @@ class Executor {
   bool prepared_ = false;              // set before the thread exists
   std::function<void()> before_park_;  // prepare()'s, likewise
   std::function<void()> at_exit_;
-  std::atomic<std::uint32_t> gate_{1};  // 0 while a prepared thread is parked
+  std::atomic<std::uint32_t> gate_{1};        // 0 while a prepared thread is parked
+  std::atomic<std::uint32_t>* go_ = nullptr;  // holdFirstCycle's; null: no wait
   std::mutex mail_mutex_;
   std::vector<std::function<void()>> mail_;
   std::atomic<bool> has_mail_{false};
