@@ -1,0 +1,8 @@
+// ObjectPositionData.h — keel's own OPRoS-compatible name for a device record that ApiTypes.h defines
+// (OprosDeviceData.h); kept for the code that includes it by this name. Header-only.
+#ifndef KEEL_OPROS_DEVICE_OBJECT_POSITION_DATA_H
+#define KEEL_OPROS_DEVICE_OBJECT_POSITION_DATA_H
+
+#include "ApiTypes.h"
+
+#endif
