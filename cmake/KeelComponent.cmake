@@ -92,3 +92,41 @@ function(_keel_is_stock_component out install no_install)
   endif()
   set(${out} ${stock} PARENT_SCOPE)
 endfunction()
+
+# keel_add_opros_component(<target> SOURCES <src>...
+#                          [OUTPUT_DIRECTORY <dir>] [INSTALL [DESTINATION <dir>]] [NO_INSTALL])
+#
+# Builds a component written for OPRoS, from its sources unchanged, into a loadable library
+# `lib<target>.so` (docs/opros.md). The sources see keel's OPRoS headers by the names they
+# include (<Component.h>, <OPRoSInclude.h>, "device/ApiTypes.h", "ApiTypes.h"), with
+# MAKE_COMPONENT_DLL and _OPROS_LINUX_ defined as OPRoS's build files had them, and the library
+# links keel::opros, through which keel hosts the object its getComponent() makes. Name the
+# library in the component profile's library_name as for OPRoS ("<target>", "lib<target>.so"
+# or OPRoS's "<target>.dll"). The options are keel_add_component's. keel's warnings flags are
+# not added: such sources were written for compilers of their day.
+function(keel_add_opros_component target)
+  cmake_parse_arguments(PARSE_ARGV 1 ARG "INSTALL;NO_INSTALL" "OUTPUT_DIRECTORY;DESTINATION" "SOURCES")
+  if(ARG_UNPARSED_ARGUMENTS)
+    message(FATAL_ERROR "keel_add_opros_component(${target}): unknown arguments: "
+                        "${ARG_UNPARSED_ARGUMENTS} (expected SOURCES, OUTPUT_DIRECTORY, "
+                        "INSTALL, DESTINATION, NO_INSTALL)")
+  endif()
+  if(NOT TARGET keel::opros)
+    message(FATAL_ERROR "keel_add_opros_component(${target}): target keel::opros is not defined; "
+                        "call find_package(keel CONFIG REQUIRED) first")
+  endif()
+  set(forward SOURCES ${ARG_SOURCES})
+  foreach(flag INSTALL NO_INSTALL)
+    if(ARG_${flag})
+      list(APPEND forward ${flag})
+    endif()
+  endforeach()
+  foreach(value OUTPUT_DIRECTORY DESTINATION)
+    if(ARG_${value})
+      list(APPEND forward ${value} "${ARG_${value}}")
+    endif()
+  endforeach()
+  keel_add_component(${target} ${forward})
+  target_link_libraries(${target} PRIVATE keel::opros)
+  target_compile_definitions(${target} PRIVATE MAKE_COMPONENT_DLL _OPROS_LINUX_)
+endfunction()

@@ -1,6 +1,7 @@
 # Install rules: `cmake --install build --prefix P` gives a relocatable tree
 #   P/bin/keel                    the CLI; RPATH $ORIGIN/../lib finds libkeel
 #   P/lib/libkeel.so*             the framework (with its soname links)
+#   P/lib/libkeel_opros.so*       keel's OPRoS layer, linked by OPRoS component sources
 #   P/lib/keel/*.so               keel's stock component libraries (found next to libkeel), the
 #                                 test robot's among them
 #   P/bin/keel-host               a component process of keel run (found next to bin/keel)
@@ -9,7 +10,8 @@
 #   P/share/keel/robot/           the robot's profiles and scenarios (robot/CMakeLists.txt)
 #   P/include/keel/**             the public headers
 #   P/lib/cmake/keel/             the CMake package: find_package(keel CONFIG) gives keel::keel,
-#                                 keel::cli and keel_add_component()
+#                                 keel::opros, keel::cli, keel_add_component() and
+#                                 keel_add_opros_component()
 # "lib" above is ${CMAKE_INSTALL_LIBDIR}. Included at the end of the root CMakeLists, after every
 # target is defined. No absolute path of the build or source tree ends up in the install.
 include_guard(GLOBAL)
@@ -28,7 +30,9 @@ set_target_properties(keel_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_
                                           EXPORT_NAME cli)
 set_target_properties(keel_host PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_lib}" EXPORT_NAME host)
 
-install(TARGETS keel keel_cli keel_host
+set_target_properties(keel_opros PROPERTIES INSTALL_RPATH "$ORIGIN")
+
+install(TARGETS keel keel_opros keel_cli keel_host
   EXPORT keelTargets
   RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT keel_runtime
   LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT keel_runtime

@@ -259,8 +259,8 @@ void header(const Options& o, const std::string& what, const char* trials = "fau
 
 int recovery(Options o, const Paths& paths) {
   if (o.which.empty())
-    o.which = {"reset",        "replace_cold", "replace_preloaded", "peer_erlang",
-               "peer_respawn", "floor_wake",   "floor_timer"};
+    o.which = {"reset",       "replace_cold", "replace_preloaded", "reset_opros", "replace_preloaded_opros",
+               "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer"};
   const auto low = lowLatency(o.low_latency);
   header(o, "recovery");
   const std::string log = fmt::format("/tmp/keel-bench-recovery.{}.log", ::getpid());
@@ -420,7 +420,8 @@ int main(int argc, char** argv) {
   Options o;
   auto* rec = app.add_subcommand("recovery", "recovery latency per mechanism, keel beside its peers (Table 3)");
   commonOptions(*rec, o,
-                "mechanisms: reset,replace_cold,replace_preloaded,reset_hang (not by default),peer_erlang,peer_respawn,"
+                "mechanisms: reset,replace_cold,replace_preloaded,reset_opros,replace_preloaded_opros (the same with a "
+                "victim written against the OPRoS API),reset_hang (not by default),peer_erlang,peer_respawn,"
                 "floor_wake,floor_timer; reset_monitored (not by default): reset with keel run --monitor's monitor "
                 "and a client of it subscribed to everything");
   auto* det = app.add_subcommand("detection", "detection latency per detector");
@@ -446,9 +447,9 @@ int main(int argc, char** argv) {
   if (o.quick) o.n = 20;
   const Paths paths = findPaths();
   try {
-    const std::vector<std::string> mechanisms{"reset",      "replace_cold", "replace_preloaded",
-                                              "reset_hang", "peer_erlang",  "peer_respawn",
-                                              "floor_wake", "floor_timer",  "reset_monitored"};
+    const std::vector<std::string> mechanisms{
+        "reset",       "replace_cold", "replace_preloaded", "reset_opros", "replace_preloaded_opros", "reset_hang",
+        "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer", "reset_monitored"};
     const std::vector<std::string> cells{"port_process", "port_thread", "port_dds", "takeover",
                                          "floor_robust", "respawn",     "standby"};
     if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // the issue's two: idle, and 80 % loaded

@@ -159,7 +159,9 @@ RecoveryCell measureRecovery(const Paths& paths, const std::string& mechanism, b
   // `<mechanism>_monitored`: the same, watched by a live monitor and a client of it.
   const bool monitored = mechanism.ends_with("_monitored");
   const std::string measured = monitored ? mechanism.substr(0, mechanism.size() - 10) : mechanism;
-  const bool per_engine = measured == "replace_preloaded" || measured == "replace_cold";
+  // `<mechanism>_opros`: the same with a victim written against the OPRoS API.
+  const std::string base = measured.ends_with("_opros") ? measured.substr(0, measured.size() - 6) : measured;
+  const bool per_engine = base == "replace_preloaded" || base == "replace_cold";
   const bool hang = measured == "reset_hang";
   const std::string package = hang ? "recovery_hang" : "recovery_" + measured;
   const std::string expected = per_engine ? "replace" : "reset";
@@ -181,7 +183,7 @@ RecoveryCell measureRecovery(const Paths& paths, const std::string& mechanism, b
       }
       std::this_thread::sleep_for(10ms);  // about 10 normal cycles before the first fault
     }
-    if (measured == "replace_cold" && libraryMapped(cold_library)) ++cell.already_mapped;
+    if (base == "replace_cold" && libraryMapped(cold_library)) ++cell.already_mapped;
     auto h = trial(*engine.engine, kind, bound);
     if (!h) {
       ++cell.failed;

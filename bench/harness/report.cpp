@@ -169,6 +169,24 @@ void printTable3(const std::vector<Row>& rows, std::ostream& out) {
       for (const auto& w : whats) out << ' ' << cell(find(rows, load, policy, w)) << " |";
       out << ' ' << paperCell(load) << " |\n";
     }
+    std::vector<std::pair<std::string, std::string>> opros;  // (OPRoS victim, the same with a keel one)
+    for (const auto& w : keel)
+      if (w.ends_with("_opros") && std::find(keel.begin(), keel.end(), w.substr(0, w.size() - 6)) != keel.end())
+        opros.emplace_back(w, w.substr(0, w.size() - 6));
+    if (!opros.empty()) {
+      out << "\nA victim written against the OPRoS API ÷ the same written against keel's, p50 / p99 (1: the same)"
+             "\n\n| load |";
+      for (const auto& [o, k] : opros) out << ' ' << o << " ÷ " << k << " |";
+      out << "\n|---|";
+      for (std::size_t i = 0; i < opros.size(); ++i) out << "---|";
+      out << '\n';
+      for (int load : loads) {
+        out << fmt::format("| ~{}% |", load);
+        for (const auto& [o, k] : opros)
+          out << ' ' << ratio(find(rows, load, policy, o), find(rows, load, policy, k)) << " |";
+        out << '\n';
+      }
+    }
     if (peers.empty() || keel.empty()) continue;
     out << "\nkeel ÷ peer, p50 / p99 (below 1: keel recovers faster)\n\n| load |";
     for (const auto& k : keel)

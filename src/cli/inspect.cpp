@@ -68,8 +68,18 @@ int inspect(const InspectOptions& o) {
   }
   std::vector<std::string> dirs = o.profile_dirs;
   if (dirs.empty()) dirs = {lib.parent_path().string()};
-  fmt::print("{}: {} component(s)\n", lib.string(), (*loaded)->components.size());
-  for (const auto& name : (*loaded)->components) {
+  std::vector<std::string> names = (*loaded)->components;
+  if ((*loaded)->opros_get) {
+    // OPRoS's convention: one component per library, made by its getComponent(); listed under
+    // the library's own name, which is how OPRoS's profiles name both.
+    std::string stem = lib.stem().string();
+    if (stem.rfind("lib", 0) == 0) stem.erase(0, 3);
+    names.push_back(stem);
+    fmt::print("{}: an OPRoS component library (getComponent)\n", lib.string());
+  } else {
+    fmt::print("{}: {} component(s)\n", lib.string(), names.size());
+  }
+  for (const auto& name : names) {
     auto c = loader.create(name, lib.string());
     fmt::print("\n{}\n", name);
     if (!c) {

@@ -154,8 +154,10 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   Result<void> preloadAlternatives();
   /// Re-points the input connections and provided services of `failed` to `alternative`.
   void redirectInputs(Component& failed, Component& alternative);
-  Result<void> checkPorts(const Instance& inst) const;
-  Result<void> configurePorts(Instance& inst);  // queues, validity rules, call timeouts
+  Result<void> checkPorts(const Instance& inst);  // an OPRoS component's differences: warnings
+  Result<void> configurePorts(Instance& inst);    // queues, validity rules, call timeouts
+  /// An input data port's queue: the profile's, or the one an OPRoS component's code fixed.
+  void configureQueue(const Instance& inst, const profile::DataPort& d, detail::InputPortBase& port);
   Result<void> connect();
   void buildExecutors();
   void startDetectors();

@@ -55,6 +55,16 @@ detail::QueuePolicy queuePolicy(profile::QueuePolicy p) {
   return detail::QueuePolicy::Fifo;
 }
 
+std::string_view policyName(detail::QueuePolicy p) {
+  switch (p) {
+    case detail::QueuePolicy::Fifo: return "fifo";
+    case detail::QueuePolicy::UFifo: return "ufifo";
+    case detail::QueuePolicy::Lifo: return "lifo";
+    case detail::QueuePolicy::Last: return "last";
+  }
+  return "fifo";
+}
+
 }  // namespace
 
 void Engine::makeExecutionGates() {
@@ -140,6 +150,7 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   core.class_name = cp.name;
   core.hooks = this;
   core.fault_sink = &fault_manager_;
+  core.profile_file = cp.file;
   if (ProcessHost* host = options_.host) {
     if (!host_sink_) host_sink_ = std::make_unique<HostFaultSink>(fault_manager_, *host);
     core.fault_sink = host_sink_.get();
@@ -163,8 +174,8 @@ Result<void> Engine::configurePorts(Instance& inst) {
   std::string errors;
   for (const auto& d : cp.data_ports) {
     detail::PortBase* port = core.findPort(d.name);
-    if (d.usage == profile::Usage::Input)
-      static_cast<detail::InputPortBase*>(port)->configureQueue(queuePolicy(d.queue_policy), d.queue_size);
+    if (!port) continue;  // an OPRoS component without it: checkPorts warned
+    if (d.usage == profile::Usage::Input) configureQueue(inst, d, *static_cast<detail::InputPortBase*>(port));
     if (!d.validity) continue;
     if (!port->numeric()) {
       errors += fmt::format(
@@ -178,18 +189,38 @@ Result<void> Engine::configurePorts(Instance& inst) {
   }
   for (const auto& e : cp.event_ports) {
     if (e.usage != profile::Usage::Input) continue;
-    static_cast<detail::InputPortBase*>(core.findPort(e.name))->configureQueue(detail::QueuePolicy::Fifo, e.queue_size);
+    if (auto* port = static_cast<detail::InputPortBase*>(core.findPort(e.name)))
+      port->configureQueue(detail::QueuePolicy::Fifo, e.queue_size);
   }
   for (const auto& sp : cp.service_ports) {
     if (sp.usage != profile::ServiceUsage::Required) continue;
-    static_cast<detail::ServicePortBase*>(core.findPort(sp.name))
-        ->setTimeout(std::chrono::nanoseconds(static_cast<std::int64_t>(sp.timeout_ms * 1e6)));
+    if (auto* port = static_cast<detail::ServicePortBase*>(core.findPort(sp.name)))
+      port->setTimeout(std::chrono::nanoseconds(static_cast<std::int64_t>(sp.timeout_ms * 1e6)));
   }
   if (!errors.empty()) return fail(errors);
   return {};
 }
 
-Result<void> Engine::checkPorts(const Instance& inst) const {
+void Engine::configureQueue(const Instance& inst, const profile::DataPort& d, detail::InputPortBase& port) {
+  const detail::ComponentCore& core = runtime::coreOf(*inst.component);
+  const auto code = core.code_queues.find(d.name);
+  if (code == core.code_queues.end()) {
+    port.configureQueue(queuePolicy(d.queue_policy), d.queue_size);
+    return;
+  }
+  // An OPRoS component's code fixed this queue in the port's constructor: OPRoS's engine used
+  // the code's and never the profile's, and the component was written against it.
+  const auto [policy, size] = code->second;
+  if (policy != queuePolicy(d.queue_policy) || size != d.queue_size)
+    warn(
+        fmt::format("{}: component '{}': port '{}': the profile asks for {} of {}, the code constructs {} of {}; "
+                    "as in OPRoS, the code's queue is used",
+                    at(d.where), inst.plan->name, d.name, policyName(queuePolicy(d.queue_policy)), d.queue_size,
+                    policyName(policy), size));
+  port.configureQueue(policy, size);
+}
+
+Result<void> Engine::checkPorts(const Instance& inst) {
   const profile::ComponentProfile& cp = *inst.plan->profile;
   const detail::ComponentCore& core = runtime::coreOf(*inst.component);
   std::string errors;
@@ -216,8 +247,21 @@ Result<void> Engine::checkPorts(const Instance& inst) const {
                             at(cp.where), inst.plan->name, cp.name, describe(p->kind(), p->direction()), p->name(),
                             p->typeName());
   }
-  if (!errors.empty()) return fail(errors);
-  return {};
+  if (errors.empty()) return {};
+  if (core.opros) {
+    // OPRoS's engine never compared a component's code with its profile; a connection to a
+    // port the code lacks is still an error (connect()).
+    errors.pop_back();
+    for (std::size_t start = 0; start <= errors.size();) {
+      std::size_t end = std::min(errors.find('\n', start), errors.size());
+      std::string line = errors.substr(start, end - start);
+      if (auto colon = line.find(": component"); colon != std::string::npos) line.insert(colon + 2, "warning: ");
+      warn(line + " (an OPRoS component: it loads)");
+      start = end + 1;
+    }
+    return {};
+  }
+  return fail(errors);
 }
 
 Result<void> Engine::connect() {

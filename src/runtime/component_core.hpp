@@ -12,6 +12,7 @@
 #include <map>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "keel/component.hpp"
@@ -125,6 +126,12 @@ class ComponentCore {
   runtime::RunHooks* hooks = nullptr;             // null: not yet managed by a runtime
   runtime::FaultSink* fault_sink = nullptr;       // null: faults are not handled
   runtime::ExecutionGate* gate = nullptr;         // OPRoS's execution order (depends); null: none
+  std::string profile_file;                       // the component profile it was made from
+  // A component written for OPRoS (src/opros): its ports are checked as OPRoS's engine did (a
+  // port the profile and the code disagree on is a warning, not an error), and the queues its
+  // code fixed in a port's constructor (policy, size) win over the profile's.
+  bool opros = false;
+  std::map<std::string, std::pair<QueuePolicy, std::size_t>, std::less<>> code_queues;
 
   // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).
   std::atomic<State> state{State::Created};

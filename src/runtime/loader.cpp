@@ -106,6 +106,13 @@ Result<const Library*> Loader::load(const std::string& path) {
   lib->path = path;
   lib->handle = handle;
   for (const auto& r : registry.fromLibrary(path)) lib->components.push_back(r.name);
+  if (lib->components.empty()) {
+    lib->opros_get = dlsym(handle, "getComponent");
+    lib->opros_release = dlsym(handle, "releaseComponent");
+    // dlsym on the library's handle also searches what it depends on: libkeel_opros.
+    if (lib->opros_get)
+      lib->opros_host = reinterpret_cast<Component* (*)(void*, void*)>(dlsym(handle, "keel_opros_host"));
+  }
   libraries_.push_back(std::move(lib));
   return libraries_.back().get();
 }
@@ -114,6 +121,18 @@ Result<std::unique_ptr<Component>> Loader::create(const std::string& class_name,
   auto lib = load(library_path);
   if (!lib) return lib.error();
   const Registration* r = Registry::instance().find(class_name, library_path);
+  if ((*lib)->opros_get) {
+    if (!(*lib)->opros_host)
+      return fail(
+          fmt::format("library '{}' is an OPRoS component library (it exports getComponent) built without keel's OPRoS "
+                      "layer; build its sources with keel_add_opros_component",
+                      library_path));
+    try {
+      return std::unique_ptr<Component>((*lib)->opros_host((*lib)->opros_get, (*lib)->opros_release));
+    } catch (const std::exception& e) {
+      return fail(fmt::format("constructing OPRoS component '{}' failed: {}", class_name, e.what()));
+    }
+  }
   if (!r) {
     std::string have;
     for (const auto& n : (*lib)->components) have += (have.empty() ? "" : ", ") + n;

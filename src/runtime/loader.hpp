@@ -20,6 +20,13 @@ struct Library {
   std::string path;  // absolute
   void* handle = nullptr;
   std::vector<std::string> components;  // class names it registered
+  // An OPRoS component library (docs/opros.md): it registered nothing and exports OPRoS's
+  // getComponent()/releaseComponent(); one component type, whatever the profile calls it.
+  void* opros_get = nullptr;      // getComponent; null: not an OPRoS library
+  void* opros_release = nullptr;  // releaseComponent; null: the object is deleted
+  // keel_opros_host from libkeel_opros (a dependency of the library when it was built with
+  // keel_add_opros_component); null: built against OPRoS's own headers, keel cannot host it.
+  Component* (*opros_host)(void*, void*) = nullptr;
 };
 
 class Loader {
@@ -41,7 +48,8 @@ class Loader {
   /// Loads the library at `path` (absolute) if not loaded yet.
   Result<const Library*> load(const std::string& path);
 
-  /// A new instance of `class_name` from the library at `library_path` (loaded on demand).
+  /// A new instance of `class_name` from the library at `library_path` (loaded on demand); from
+  /// an OPRoS component library, its one component whatever the name.
   Result<std::unique_ptr<Component>> create(const std::string& class_name, const std::string& library_path);
 
  private:

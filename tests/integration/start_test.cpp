@@ -19,8 +19,8 @@ TEST(Start, AFirstCycleFindsEveryOtherComponentStarted) {
   // Several runs: without the hold, the caller's executor (started first) runs its first cycle
   // while the server's is still being started, and its call fails.
   for (int run = 0; run < 5; ++run) {
-    auto r = test::runProcess({KEEL_CLI, "run", std::string(KEEL_TEST_PROFILES) + "/first_cycle.xml", "--duration",
-                               "0.1", "--log", log});
+    auto r = test::runProcess(
+        {KEEL_CLI, "run", std::string(KEEL_TEST_PROFILES) + "/first_cycle.xml", "--duration", "0.1", "--log", log});
     ASSERT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_TRUE(test::eventsOf(test::readLog(log), fault::schema::event::kDetected).empty()) << "run " << run << r.out;
   }

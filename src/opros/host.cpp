@@ -1,0 +1,126 @@
+#include "opros/host.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <type_traits>
+#include <variant>
+
+#include "runtime/component_core.hpp"
+
+namespace keel::opros {
+namespace {
+
+detail::QueuePolicy queuePolicy(DataPortPolicy p) {
+  switch (p) {
+    case OPROS_FIFO: return detail::QueuePolicy::Fifo;
+    case OPROS_LIFO: return detail::QueuePolicy::Lifo;
+    case OPROS_UFIFO: return detail::QueuePolicy::UFifo;
+    case OPROS_LAST: return detail::QueuePolicy::Last;
+  }
+  return detail::QueuePolicy::Fifo;
+}
+
+/// A property as OPRoS had it: text. keel's typed value written back ("0.5", "true", "1,2,3").
+std::string text(const PropertyValue& v) {
+  return std::visit(
+      [](const auto& x) -> std::string {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          return x ? "true" : "false";
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          return x;
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          return fmt::format("{}", fmt::join(x, ","));
+        } else {
+          return fmt::format("{}", x);
+        }
+      },
+      v);
+}
+
+}  // namespace
+
+Host::Host(::Component* object, Release release) : object_(object), release_(release) {
+  detail::ComponentCore& core = runtime::coreOf(*this);
+  core.opros = true;
+  for (const auto& [name, port] : object_->keelPorts()) {
+    detail::PortBase& bound = port->keelBind(*this);
+    if (port->getType() == OPROS_EVENT && bound.direction() == detail::PortDirection::Input)
+      event_inputs_.emplace_back(&bound, port);
+    DataPortPolicy policy{};
+    unsigned int limit = 0;
+    if (port->keelCodeQueue(policy, limit)) core.code_queues[name] = {queuePolicy(policy), limit};
+  }
+}
+
+Host::~Host() {
+  if (release_) release_(object_);
+  else delete object_;
+}
+
+ReturnCode Host::after(ReturnType r, LifecycleState on_success) {
+  if (r == OPROS_SUCCESS || r == OPROS_SUCCESS_SYNC) {
+    object_->keelSetStatus(on_success);
+    return ReturnCode::Ok;
+  }
+  object_->error_info_ = r;
+  return static_cast<ReturnCode>(static_cast<int>(r));
+}
+
+ReturnCode Host::onInitialize() {
+  const detail::ComponentCore& core = runtime::coreOf(*this);
+  object_->setId(instanceName());
+  for (const auto& [name, value] : core.properties) object_->setProperty(name, text(value));
+  if (!core.profile_file.empty())
+    object_->keelSetResourcePath((std::filesystem::path(core.profile_file).parent_path() / "res").string() + "/");
+  ReturnCode rc = after(object_->onInitialize(), OPROS_CS_READY);
+  for (const auto& [addr, len] : object_->keelCritical()) critical(addr, len);
+  return rc;
+}
+
+ReturnCode Host::onStart() { return after(object_->onStart(), OPROS_CS_ACTIVE); }
+ReturnCode Host::onStop() { return after(object_->onStop(), OPROS_CS_INACTIVE); }
+ReturnCode Host::onDestroy() { return after(object_->onDestroy(), OPROS_CS_DESTROYED); }
+// Every cycle: the common case returns at once (the status is Active already).
+ReturnCode Host::onExecute() {
+  const ReturnType r = object_->onExecute();
+  if (r == OPROS_SUCCESS) [[likely]]
+    return ReturnCode::Ok;
+  return after(r, OPROS_CS_ACTIVE);
+}
+ReturnCode Host::onUpdated() {
+  const ReturnType r = object_->onUpdated();
+  if (r == OPROS_SUCCESS) [[likely]]
+    return ReturnCode::Ok;
+  return after(r, OPROS_CS_ACTIVE);
+}
+ReturnCode Host::onError() { return after(object_->onError(), OPROS_CS_ERROR); }
+ReturnCode Host::onReset() { return after(object_->onReset(), OPROS_CS_ERROR); }
+// keel's reset ends with the component running again (decision 0012): Active, not OPRoS's Ready.
+ReturnCode Host::onRecover() { return after(object_->onRecover(), OPROS_CS_ACTIVE); }
+
+ReturnCode Host::onEvent(InputEventPortBase& port) {
+  for (const auto& [bound, oport] : event_inputs_)
+    if (bound == &port) return after(oport->keelDeliver(*object_), OPROS_CS_ACTIVE);
+  return ReturnCode::Ok;
+}
+
+}  // namespace keel::opros
+
+/// The entry point keel's loader looks up in an OPRoS component library (through the library's
+/// dependency on libkeel_opros): a host of the object the library's getComponent() makes.
+extern "C" keel::Component* keel_opros_host(void* get_component, void* release_component) {
+  auto get = reinterpret_cast<::Component* (*)()>(get_component);
+  auto release = reinterpret_cast<keel::opros::Release>(release_component);
+  ::Component* object = get();
+  if (!object) throw std::runtime_error("getComponent() returned NULL");
+  try {
+    return new keel::opros::Host(object, release);
+  } catch (...) {
+    if (release) release(object);
+    else delete object;
+    throw;
+  }
+}
