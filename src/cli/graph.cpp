@@ -1,4 +1,4 @@
-// keel graph PROFILE.xml [--fail COMPONENT]... [--scope component|executor|system]: the structure
+// keel graph PROFILE.xml [--fail COMPONENT]... [--scope component|executor|composite|system]: the structure
 // of a package or system profile as Graphviz DOT — applications as clusters (with what each
 // needs and the applications it depends on), executors (tasks) inside them, data/event/service
 // connections and coordination dependencies. With --fail, the blast radius of a fault stop of
@@ -51,7 +51,8 @@ std::string quote(const std::string& s) { return "\"" + escape(s) + "\""; }
 std::string list(const std::vector<std::string>& names) { return fmt::format("[{}]", fmt::join(names, ", ")); }
 
 std::optional<profile::Scope> parseScope(const std::string& s) {
-  for (auto scope : {profile::Scope::Component, profile::Scope::Executor, profile::Scope::System})
+  for (auto scope :
+       {profile::Scope::Component, profile::Scope::Executor, profile::Scope::Composite, profile::Scope::System})
     if (s == profile::toString(scope)) return scope;
   return std::nullopt;
 }
@@ -222,7 +223,7 @@ void addGraphCommand(CLI::App& app, std::function<int()>& run) {
                                "Show what a fault stop of this component stops (the blast radius); repeatable")
                    ->allow_extra_args(false);
   cmd->add_option("--scope", o->scope, "Containment scope of the fault (default: the component's fault policy)")
-      ->check(CLI::IsMember({"component", "executor", "system"}))
+      ->check(CLI::IsMember({"component", "executor", "composite", "system"}))
       ->needs(fail);
   cmd->callback([o, &run] { run = [o] { return graph(*o); }; });
 }

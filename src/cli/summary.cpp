@@ -106,6 +106,7 @@ class Reader {
       if (str(r, fd::kTo) == "stopped") s_.stopped_applications.push_back(str(r, fd::kApplication));
       return;
     }
+    if (r.contains(fd::kComposite)) return;  // derived from its members, which the table shows
     component(str(r, fd::kComponent)).state = str(r, fd::kTo);
   }
   void counts(const nlohmann::json& r) {

@@ -515,6 +515,35 @@ void Engine::stateChanged(Component& c, State from, State to) {
     }
   }
   log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
+  compositeStates(c.instanceName());
+}
+
+// A composite's state, derived from its members': Error as soon as one is in Error, otherwise
+// the state they all share; while they are between states (one started, the next not yet), the
+// last one holds. Logged by keel run only (a component process sees part of its members).
+void Engine::compositeStates(std::string_view instance) {
+  if (options_.host) return;
+  const auto of = composites_of_.find(instance);
+  if (of == composites_of_.end()) return;
+  std::lock_guard lock(composite_mutex_);
+  for (std::size_t i : of->second) {
+    const plan::PlannedComposite& comp = planned_.plan.composites[i];
+    std::optional<State> shared;
+    bool error = false, agree = true;
+    for (const auto& m : comp.members) {
+      const Component* member = find(m);
+      if (!member) continue;
+      const State s = member->state();
+      error |= s == State::Error;
+      if (!shared) shared = s;
+      agree &= *shared == s;
+    }
+    if (!shared) continue;
+    const State derived = error ? State::Error : agree ? *shared : composite_states_[i];
+    if (derived == composite_states_[i]) continue;
+    log_.write(fault::schema::compositeState(comp.name, toString(composite_states_[i]), toString(derived), log_.now()));
+    composite_states_[i] = derived;
+  }
 }
 
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {

@@ -244,7 +244,13 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
     std::int64_t t;
   };
   std::vector<HeldState> held_;  // written once the components run
-  RunEndLatch run_end_;          // RunControl::endRun, from any component's thread
+  // Composites (plan().composites): OPRoS gives them no state; keel run logs one derived from
+  // their members' (compositeStates). Guarded by composite_mutex_ (any component's thread).
+  std::mutex composite_mutex_;
+  std::vector<State> composite_states_;                                         // as last logged, per composite
+  std::map<std::string, std::vector<std::size_t>, std::less<>> composites_of_;  // instance → composites
+  void compositeStates(std::string_view instance);
+  RunEndLatch run_end_;  // RunControl::endRun, from any component's thread
 };
 
 }  // namespace keel::engine

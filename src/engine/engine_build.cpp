@@ -123,6 +123,10 @@ Result<void> Engine::instantiate() {
     instances_.push_back(std::move(*inst));
   }
   for (const auto& inst : instances_) by_name_.emplace(inst.plan->name, &inst);
+  const auto& composites = planned_.plan.composites;
+  composite_states_.assign(composites.size(), State::Created);
+  for (std::size_t i = 0; i < composites.size(); ++i)
+    for (const auto& m : composites[i].members) composites_of_[m].push_back(i);
   if (!errors.empty()) {
     errors.pop_back();
     return fail(errors);

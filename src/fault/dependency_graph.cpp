@@ -42,6 +42,16 @@ Result<void> DependencyGraph::indexComponents(const plan::Plan& plan) {
       executor_of_[it->second] = executors_.size() - 1;
     }
   }
+  composite_of_.assign(names_.size(), kNone);
+  for (const auto& comp : plan.composites) {  // outer first: an inner one overwrites
+    auto& members = composites_.emplace_back();
+    for (const auto& m : comp.members) {
+      auto it = index_.find(m);
+      if (it == index_.end()) continue;  // the plan's own instances: always found
+      members.push_back(it->second);
+      composite_of_[it->second] = composites_.size() - 1;
+    }
+  }
   return {};
 }
 
@@ -200,6 +210,10 @@ std::vector<DependencyGraph::Id> DependencyGraph::scopeIds(const std::string& co
     std::vector<Id> all(names_.size());
     for (Id c = 0; c < all.size(); ++c) all[c] = c;
     return all;
+  }
+  if (scope == Scope::Composite) {
+    const Id composite = composite_of_[it->second];
+    return composite == kNone ? std::vector<Id>{it->second} : composites_[composite];
   }
   if (scope == Scope::Component || executor == kNone) return {it->second};
   return executors_[executor];

@@ -2,7 +2,7 @@
 // (for duplicates, at least `min_healthy` of a `requires` group), which applications depend on
 // which (`depends_on`), which components depend on which (`coordination/needs`), and each
 // component's executor. The fault manager asks it, at fault time, what a fault stops: the
-// containment scope (component, executor, system), every application that can no longer run,
+// containment scope (component, executor, composite, system), every application that can no longer run,
 // and every component of those. `keel graph --fail` prints the same answer.
 // Thread-safety: immutable once built; every const member may be called from any thread.
 #pragma once
@@ -90,6 +90,8 @@ class DependencyGraph {
   std::vector<profile::Scope> policy_scope_;  // per component
   std::vector<Id> executor_of_;               // per component; kNone: passive, no executor
   std::vector<std::vector<Id>> executors_;    // members of each executor
+  std::vector<Id> composite_of_;              // per component: its innermost composite; kNone: none
+  std::vector<std::vector<Id>> composites_;   // members of each composite (nested ones' included)
   std::vector<std::vector<Id>> dependants_;   // per component: who depends on it
   std::vector<std::vector<Use>> uses_;        // per component: the entries it counts in
   std::vector<Group> groups_;

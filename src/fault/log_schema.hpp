@@ -38,6 +38,7 @@ inline constexpr char kTime[] = "t_ns";  // ns since the engine started (steady 
 inline constexpr char kFaultId[] = "fault_id";
 inline constexpr char kComponent[] = "component";
 inline constexpr char kApplication[] = "application";
+inline constexpr char kComposite[] = "composite";  // `state`: a composite's derived state
 inline constexpr char kKind[] = "kind";
 inline constexpr char kDetail[] = "detail";
 inline constexpr char kDetector[] = "detector";
@@ -142,6 +143,16 @@ inline nlohmann::json applicationState(std::string_view application, std::string
   return {{field::kEvent, event::kState}, {field::kApplication, application},
           {field::kFrom, from},           {field::kTo, to},
           {field::kFaultId, id},          {field::kTime, t}};
+}
+
+/// A composite's state, derived from its members' (OPRoS's composites have none of their own).
+inline nlohmann::json compositeState(std::string_view composite, std::string_view from, std::string_view to,
+                                     std::int64_t t) {
+  return {{field::kEvent, event::kState},
+          {field::kComposite, composite},
+          {field::kFrom, from},
+          {field::kTo, to},
+          {field::kTime, t}};
 }
 
 /// The emergency latch: `phase` latched or cleared.

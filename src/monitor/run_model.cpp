@@ -37,7 +37,9 @@ bool RunModel::apply(const json& record) {
   if (auto t = record.find(field::kTime); t != record.end() && t->is_number_integer())
     last_t_ns_ = std::max(last_t_ns_, t->get<std::int64_t>());
   const std::string ev = text(record, field::kEvent);
-  const std::string name = text(record, field::kComponent);
+  const std::string name = ev == event::kState && record.contains(field::kComposite)
+                               ? text(record, field::kComposite)  // a composite: a row of its own
+                               : text(record, field::kComponent);
   if (ev == event::kState && !name.empty()) {
     auto& c = component(name);
     c.state = text(record, field::kTo);

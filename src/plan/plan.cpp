@@ -207,6 +207,8 @@ class Planner {
                               sub.where.line, sub.name, sub.reference));
     const profile::CompositeProfile& comp = cit->second;
     std::size_t first = plan_.instances.size();
+    const std::size_t composite = plan_.composites.size();
+    plan_.composites.push_back({name, {}, sub.where});  // before its inner ones
     if (auto r = addPackage(name + ".", app, comp.subcomponents, comp.connections); !r) return r;
     std::vector<std::string> inner;
     const std::string process = sub.process ? noteProcess(prefix, *sub.process) : std::string();
@@ -215,6 +217,7 @@ class Planner {
       if (plan_.instances[i].process.empty()) plan_.instances[i].process = process;
       inner.push_back(plan_.instances[i].name);
     }
+    plan_.composites[composite].members = inner;
     members_[name] = inner;
     for (const auto& e : comp.exported_ports) exports_[{name, e.name}] = resolve(name + ".", e.inner);
     addCoordination(name + ".", comp.coordination);

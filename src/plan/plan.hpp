@@ -38,6 +38,15 @@ struct PlannedProcess {
   profile::Where where;  // the first <process> naming it
 };
 
+/// A composite, flattened: its qualified name and every atomic instance inside it, nested
+/// composites' included. OPRoS gives a composite no state of its own; keel derives one from
+/// its members (the engine logs it) and can stop it whole (`<dependency>composite`).
+struct PlannedComposite {
+  std::string name;                  // qualified: "pair", "nav.arm" in a system, "a.b" nested
+  std::vector<std::string> members;  // qualified instance names, plan order
+  profile::Where where;              // its <subcomponent>
+};
+
 struct PlannedConnection {
   profile::PortType type = profile::PortType::Data;
   profile::Endpoint source;  // qualified instance names
@@ -63,6 +72,7 @@ struct Plan {
   std::vector<profile::Depends> depends;          // <needs>: the stop dependency; qualified names
   std::vector<profile::Depends> execution_order;  // <depends>: OPRoS's execution order; qualified
   std::vector<PlannedProcess> processes;          // in order of first mention
+  std::vector<PlannedComposite> composites;       // outer before inner
 
   const PlannedInstance* find(std::string_view instance) const;
   /// The process `instance` runs in; empty for keel run's own (or an unknown instance).

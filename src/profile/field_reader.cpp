@@ -110,6 +110,7 @@ const std::vector<std::pair<std::string_view, Severity>>& severities() {
 const std::vector<std::pair<std::string_view, Scope>>& scopes() {
   static const std::vector<std::pair<std::string_view, Scope>> t = {{"component", Scope::Component},
                                                                     {"executor", Scope::Executor},
+                                                                    {"composite", Scope::Composite},
                                                                     {"system", Scope::System}};
   return t;
 }

@@ -32,8 +32,9 @@ enum class PortType { Data, Event, Service };  // port_connection@port_type
 
 /// Severity of a fault policy (paper §5.2).
 enum class Severity { Ignore, Reset, Stop, Emergency };
-/// Containment scope of a fault (paper §5.2 <dependency>).
-enum class Scope { Component, Executor, System };
+/// Containment scope of a fault (paper §5.2 <dependency>); `composite`: every component of the
+/// innermost composite the component belongs to (keel's addition for OPRoS's composites).
+enum class Scope { Component, Executor, System, Composite };
 
 /// The profile's spelling of a severity and a scope (the log and the CLI use it too).
 constexpr std::string_view toString(Severity s) {
@@ -50,6 +51,7 @@ constexpr std::string_view toString(Scope s) {
     case Scope::Component: return "component";
     case Scope::Executor: return "executor";
     case Scope::System: return "system";
+    case Scope::Composite: return "composite";
   }
   return "?";
 }

@@ -59,6 +59,20 @@ TEST(GraphCli, AnExplicitExecutorScopeStopsTheWholeTaskAndSoApplicationAAndD) {
             "stops applications [A, D]; keeps running [B, C]\n");
 }
 
+// The composite scope: the failed component's composite, whole, and nothing outside it; it is
+// also what the policy of composite_stop.xml says.
+TEST(GraphCli, ACompositeScopeStopsTheWholeCompositeAndNothingElse) {
+  const std::string profile = std::string(KEEL_TEST_PROFILES) + "/composite_stop.xml";
+  for (const auto& args : {std::vector<std::string>{profile, "--fail", "pair.crasher", "--scope", "composite"},
+                           std::vector<std::string>{profile, "--fail", "pair.crasher"}}) {
+    auto r = graph(args);
+    ASSERT_EQ(r.status, 0) << r.err;
+    EXPECT_EQ(r.err,
+              "fault at pair.crasher (scope composite): stops components [pair.crasher, pair.counter]; "
+              "stops applications []; keeps running [composite_stop]\n");
+  }
+}
+
 TEST(GraphCli, TheFailedComponentIsRedAndWhatItStopsIsFilled) {
   auto r = graph({fig7(), "--fail", "B.b1"});
 

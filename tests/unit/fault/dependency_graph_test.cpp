@@ -152,6 +152,19 @@ TEST(DependencyGraph, ExecutorScopeOfAComponentOnItsOwnExecutorOrNoneIsTheCompon
   EXPECT_THAT(graph.scopeOf("C.a1", Scope::Executor), ElementsAre("C.a1"));
 }
 
+TEST(DependencyGraph, CompositeScopeIsTheInnermostCompositesMembersOrTheComponentAlone) {
+  System s = figureSeven();
+  // As makePlan records them: an outer composite "A.arm" holding "A.b1" and a nested "A.arm.hand"
+  // (here "A.b2", "A.b3"), outer first.
+  s.plan.composites.push_back({"A.arm", {"A.b1", "A.b2", "A.b3"}, {}});
+  s.plan.composites.push_back({"A.arm.hand", {"A.b2", "A.b3"}, {}});
+  const auto graph = s.graph();
+
+  EXPECT_THAT(graph.scopeOf("A.b2", Scope::Composite), ElementsAre("A.b2", "A.b3"));
+  EXPECT_THAT(graph.scopeOf("A.b1", Scope::Composite), ElementsAre("A.b1", "A.b2", "A.b3"));
+  EXPECT_THAT(graph.scopeOf("A.a1", Scope::Composite), ElementsAre("A.a1"));
+}
+
 TEST(DependencyGraph, SystemScopeStopsEveryComponentAndEveryApplication) {
   const auto graph = figureSeven().graph();
 

@@ -55,6 +55,7 @@ const Constant kFields[] = {
     {"kFaultId", fd::kFaultId},
     {"kComponent", fd::kComponent},
     {"kApplication", fd::kApplication},
+    {"kComposite", fd::kComposite},
     {"kKind", fd::kKind},
     {"kDetail", fd::kDetail},
     {"kDetector", fd::kDetector},

@@ -30,5 +30,19 @@ TEST(CompositePlan, AFaultPolicyOnACompositeCoversItsSubcomponents) {
   }
 }
 
+// The plan keeps each composite and its members: what the engine derives its state from and a
+// `composite` scope stops.
+TEST(CompositePlan, EachCompositeIsKeptWithItsMembers) {
+  auto set = profile::load(dataPath("plan/composite_policy.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  ASSERT_EQ(plan->composites.size(), 2u);
+  EXPECT_EQ(plan->composites[0].name, "front");
+  EXPECT_EQ(plan->composites[0].members, (std::vector<std::string>{"front.s1", "front.s2", "front.s3", "front.voter"}));
+  EXPECT_EQ(plan->composites[1].name, "rear");
+  EXPECT_EQ(plan->composites[1].members.size(), 4u);
+}
+
 }  // namespace
 }  // namespace keel::plan

@@ -105,7 +105,7 @@ TEST(FaultPolicyErrors, RejectsTwoSeveritiesForOneKindIgnoringCase) {
 TEST(FaultPolicyErrors, RejectsAnUnknownDependencyScope) {
   EXPECT_THAT(problems("errors/fault/bad_dependency.xml"),
               ElementsAre("errors/fault/bad_dependency.xml:9: <dependency> of fault_policy of subcomponent 'sonar' "
-                          "must be one of component, executor or system, got 'task'"));
+                          "must be one of component, executor, composite or system, got 'task'"));
 }
 
 TEST(FaultPolicyErrors, RejectsTwoDependencies) {
