@@ -246,10 +246,13 @@ Result<void> Engine::checkPorts(const Instance& inst) {
   for (const detail::PortBase* p : core.ports) {
     bool declared = false;
     for (const auto& e : expected) declared |= e.name == p->name();
+    // An OPRoS service port's keel type is the one every OPRoS method travels as: not worth naming.
+    const std::string type = core.opros && p->kind() == PortKind::Service ? std::string()
+                                                                          : fmt::format(" ({})", p->typeName());
     if (!declared)
-      errors += fmt::format("{}: component '{}': class '{}' has {} '{}' ({}) that the profile does not declare\n",
+      errors += fmt::format("{}: component '{}': class '{}' has {} '{}'{} that the profile does not declare\n",
                             at(cp.where), inst.plan->name, cp.name, describe(p->kind(), p->direction()), p->name(),
-                            p->typeName());
+                            type);
   }
   if (errors.empty()) return {};
   if (core.opros) {

@@ -5,7 +5,8 @@
 #include <SymbolService.h>
 
 Component::Component() = default;
-Component::Component(const std::string& compid) : id_(compid) {}
+// OPRoS's signature, which generated constructors call: not by value.
+Component::Component(const std::string& compid) : id_(compid) {}  // NOLINT(modernize-pass-by-value)
 
 Component::~Component() {
   // The generated portSetup() allocates service ports with new and never deletes them: OPRoS's

@@ -22,6 +22,42 @@ detail::QueuePolicy queuePolicy(DataPortPolicy p) {
   return detail::QueuePolicy::Fifo;
 }
 
+/// OPRoS's name of a code a callback returned, for the fault's detail.
+const char* codeName(int code) {
+  switch (static_cast<ReturnType>(code)) {
+    case OPROS_CALLER_ERROR: return "OPROS_CALLER_ERROR";
+    case OPROS_BAD_INPUT_PARAMETER: return "OPROS_BAD_INPUT_PARAMETER";
+    case OPROS_INPUT_OUT_OF_RANGE: return "OPROS_INPUT_OUT_OF_RANGE";
+    case OPROS_INPUT_NULL: return "OPROS_INPUT_NULL";
+    case OPROS_UNAUTHORIZED: return "OPROS_UNAUTHORIZED";
+    case OPROS_PRECONDITION_NOT_MET: return "OPROS_PRECONDITION_NOT_MET";
+    case OPROS_OUT_OF_RESOURCES: return "OPROS_OUT_OF_RESOURCES";
+    case OPROS_CALLEE_ERROR: return "OPROS_CALLEE_ERROR";
+    case OPROS_UNSUPPORTED_METHOD: return "OPROS_UNSUPPORTED_METHOD";
+    case OPROS_INTERNAL_FAULT: return "OPROS_INTERNAL_FAULT";
+    case OPROS_VERSION_MISMATCH: return "OPROS_VERSION_MISMATCH";
+    case OPROS_DESTORY_ERROR: return "OPROS_DESTORY_ERROR";
+    case OPROS_FIND_DLL_ERROR: return "OPROS_FIND_DLL_ERROR";
+    case OPROS_LOAD_DLL_ERROR: return "OPROS_LOAD_DLL_ERROR";
+    case OPROS_FIND_PROPERTY_ERROR: return "OPROS_FIND_PROPERTY_ERROR";
+    case OPROS_SET_PROPERTY_ERROR: return "OPROS_SET_PROPERTY_ERROR";
+    case OPROS_INITIALIZE_API_ERROR: return "OPROS_INITIALIZE_API_ERROR";
+    case OPROS_FINALIZE_API_ERROR: return "OPROS_FINALIZE_API_ERROR";
+    case OPROS_RESET_API_ERROR: return "OPROS_RESET_API_ERROR";
+    case OPROS_RECOVER_API_ERROR: return "OPROS_RECOVER_API_ERROR";
+    case OPROS_RECOVER_ERROR: return "OPROS_RECOVER_ERROR";
+    case OPROS_ENABLE_API_ERROR: return "OPROS_ENABLE_API_ERROR";
+    case OPROS_DISABLE_API_ERROR: return "OPROS_DISABLE_API_ERROR";
+    case OPROS_CALL_API_ERROR: return "OPROS_CALL_API_ERROR";
+    case OPROS_API_NOT_SUPPORTED_ERROR: return "OPROS_API_NOT_SUPPORTED_ERROR";
+    case OPROS_API_EXECUTING: return "OPROS_API_EXECUTING";
+    case OPROS_VALID_DATA: return "OPROS_VALID_DATA";
+    case OPROS_INVALID_DATA: return "OPROS_INVALID_DATA";
+    case OPROS_ERROR: return "OPROS_ERROR";
+    default: return "a code OPRoS does not name";
+  }
+}
+
 /// A property as OPRoS had it: text. keel's typed value written back ("0.5", "true", "1,2,3").
 std::string text(const PropertyValue& v) {
   return std::visit(
@@ -45,6 +81,7 @@ std::string text(const PropertyValue& v) {
 Host::Host(::Component* object, Release release) : object_(object), release_(release) {
   detail::ComponentCore& core = runtime::coreOf(*this);
   core.opros = true;
+  core.code_name = &codeName;
   for (const auto& [name, port] : object_->keelPorts()) {
     detail::PortBase& bound = port->keelBind(*this);
     if (port->getType() == OPROS_EVENT && bound.direction() == detail::PortDirection::Input)

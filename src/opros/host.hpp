@@ -27,6 +27,8 @@ class Host final : public keel::Component {
   /// Takes ownership of `object`, released with `release` (or deleted when null).
   Host(::Component* object, Release release);
   ~Host() override;
+  Host(const Host&) = delete;
+  Host& operator=(const Host&) = delete;
 
   ::Component& object() { return *object_; }
 

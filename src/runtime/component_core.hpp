@@ -131,6 +131,9 @@ class ComponentCore {
   // port the profile and the code disagree on is a warning, not an error), and the queues its
   // code fixed in a port's constructor (policy, size) win over the profile's.
   bool opros = false;
+  // Names the codes its callbacks return, when they are not keel's (OPRoS's OPROS_...); null:
+  // keel's own (keel::toString(ReturnCode)).
+  const char* (*code_name)(int) = nullptr;
   std::map<std::string, std::pair<QueuePolicy, std::size_t>, std::less<>> code_queues;
 
   // Lifecycle: written only by runtime/invoke (transition, setState, setStateQuiet).

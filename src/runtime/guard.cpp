@@ -101,7 +101,7 @@ FaultKind GuardOutcome::faultKind() const {
   }
 }
 
-void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
+void GuardOutcome::describe(FaultEvent& fault, const char* callback, const char* (*code_name)(int)) const {
   fault.kind = faultKind();
   switch (kind) {
     case Kind::Signal:
@@ -121,7 +121,8 @@ void GuardOutcome::describe(FaultEvent& fault, const char* callback) const {
       break;
     case Kind::Exception: formatDetail(fault, "exception in {}: {}", callback, what.data()); break;
     case Kind::ErrorCode:
-      formatDetail(fault, "{} returned {} ({})", callback, static_cast<int>(rc), toString(rc));
+      formatDetail(fault, "{} returned {} ({})", callback, static_cast<int>(rc),
+                   code_name ? code_name(static_cast<int>(rc)) : toString(rc));
       break;
     case Kind::Ok: formatDetail(fault, "{} ok", callback); break;
   }

@@ -44,7 +44,8 @@ struct GuardOutcome {
   bool ok() const { return kind == Kind::Ok; }
   FaultKind faultKind() const;
   /// Fills `fault` (kind and detail) from this outcome; `callback` names where it happened.
-  void describe(FaultEvent& fault, const char* callback) const;
+  /// `code_name` names a returned code, when the component has names of its own for them.
+  void describe(FaultEvent& fault, const char* callback, const char* (*code_name)(int) = nullptr) const;
 };
 
 namespace guard_detail {

@@ -81,7 +81,7 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
   FaultEvent ev;
   ev.t_ns = out.t_ns ? out.t_ns : steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
-  out.describe(ev, callbackName(cb));
+  out.describe(ev, callbackName(cb), core.code_name);
   // A failed lifecycle callback leaves the component in Error (no rule recovers it); a fault
   // of a running callback is the fault manager's to handle by the component's rules.
   if (isLifecycle(cb)) {

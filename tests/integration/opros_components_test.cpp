@@ -69,6 +69,55 @@ TEST_F(OprosComponents, TheHelloworldPairCallsSendsAndSignalsWithItsRealProfiles
   EXPECT_TRUE(test::eventsOf(log, ev::kDetected).empty()) << r.out;
 }
 
+// GazeboSimpleArm's OneComp and TwoComp with their own application profile (OPRoSApp1): a user
+// data type (PersonData, with opros::archive save/load and its own typeName) on a data port, an
+// event to a SET_EVENT_CALLBACK callback, a service call, a property read every cycle.
+TEST_F(OprosComponents, OneCompAndTwoCompExchangeAUserDataTypeWithTheirRealProfiles) {
+  auto r = test::runProcess(
+      {KEEL_CLI, "run", sample("opros-wiki/OPRoS_v2_Applications/GazeboSimpleArm/workspace/OPRoSApp1/OPRoSApp1.xml"),
+       "--duration", "1", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("TwoComp::PrintStr opros"), std::string::npos) << r.out;     // the call, with OneComp's Msg
+  EXPECT_NE(r.out.find("strEventInCallback : opros"), std::string::npos) << r.out;  // the event's callback
+  EXPECT_NE(r.out.find("Person Name : opros"), std::string::npos) << r.out;         // PersonData arrived
+  EXPECT_NE(r.out.find("Two Component : 3"), std::string::npos) << r.out;           // the int port
+  EXPECT_TRUE(test::eventsOf(test::readLog(log_), ev::kDetected).empty()) << r.out;
+}
+
+// The other samples with their own component profiles, each alone: FlightControl (two
+// translation units) and the two KITECH components (2012's device types) run; the topological
+// planner's code has a port its profile lacks: a warning naming it, and it loads.
+// LaserScannerTestComp calls a laser scanner it is not connected to, as OPRoS would have
+// thrown: an exception fault saying so.
+TEST_F(OprosComponents, TheOtherSamplesRunAloneWithTheirRealProfiles) {
+  const std::string kitech = "opros-wiki/OPRoS_v1.1_Components/Component/";
+  for (const std::string& path :
+       std::vector<std::string>{"parasby/OPRoS/example/droneTest/FlightControl/profile/FlightControl.xml",
+                                kitech +
+                                    "KITECH_TopologicalPathPlanningComp/profile/KITECH_TopologicalPathPlanningComp.xml",
+                                kitech + "KitechLinearTrajectoryGenerationComp_V1.0_20120731/profile/"
+                                         "KitechLinearTrajectoryGenerationComp.xml"}) {
+    auto r = test::runProcess({KEEL_CLI, "run", sample(path), "--duration", "0.3", "--log", log_});
+    ASSERT_EQ(r.status, 0) << path << r.out << r.err;
+    EXPECT_TRUE(test::eventsOf(test::readLog(log_), ev::kDetected).empty()) << path << r.out;
+    if (path.find("Topological") != std::string::npos) {
+      EXPECT_NE(r.err.find("class 'KITECH_TopologicalPathPlanningComp' has required service port 'GlobalMapService' "
+                           "that the profile does not declare (an OPRoS component: it loads)"),
+                std::string::npos)
+          << r.err;
+    }
+  }
+  auto r = test::runProcess({KEEL_CLI, "run",
+                             sample("idwn1203/OPRoS_SLAM/LaserScannerTestComp/profile/LaserScannerTestComp.xml"),
+                             "--duration", "0.3", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.out << r.err;
+  auto detected = test::eventsOf(test::readLog(log_), ev::kDetected);
+  ASSERT_EQ(detected.size(), 1u) << r.out;
+  EXPECT_EQ(detected[0].value(fd::kDetail, ""),
+            "exception in onExecute: calling 'LaserScannerService.GetSensorValue': service port "
+            "'LaserScannerService' is not connected");
+}
+
 // Data, event and service connections between two OPRoS components, each observed on the
 // other side: `a` gets back what b.add returned (the call), b counted a's ticks (the event) and
 // received more than a's calls of add(1) gave it (the data: a's counts).
@@ -114,7 +163,7 @@ TEST_F(OprosComponents, AnExceptionAndAnErrorCodeAreFaultsOfTheirKinds) {
     ASSERT_EQ(detected.size(), 1u) << fault << r.out;
     EXPECT_EQ(detected[0].value(fd::kKind, ""), kind);
     if (fault == "error") {
-      EXPECT_NE(detected[0].value(fd::kDetail, "").find("502"), std::string::npos) << detected[0];
+      EXPECT_EQ(detected[0].value(fd::kDetail, ""), "onExecute returned 502 (OPROS_INTERNAL_FAULT)");
     }
   }
 }
@@ -167,6 +216,56 @@ TEST_F(OprosComponents, TheExampleRecoversItsOprosComponentFromInjectedFaults) {
     EXPECT_GT(cycle, 10) << r.out.substr(at, 60);
   }
   EXPECT_EQ(recovered, 2u) << r.out;
+}
+
+// The rest of keel's handling, applied to OPRoS components by their integrator's rules: a hang
+// found by the heartbeat and reset; a crash replaced by a preloaded alternative (the same OPRoS
+// library); a failing return code, named as OPRoS names it, stopping what needs the component;
+// an exception calling for the emergency stop, which every component gets.
+TEST_F(OprosComponents, HeartbeatReplacementFaultStopAndEmergencyStopApply) {
+  auto run = [&](const std::string& package) {
+    auto r = test::runProcess({KEEL_CLI, "run", profile(package), "--duration", "0.5", "--log", log_});
+    EXPECT_EQ(r.status, 0) << r.out << r.err;
+    return test::readLog(log_);
+  };
+  auto action = [](const std::vector<nlohmann::json>& log, const std::string& name) {
+    for (const auto& a : test::eventsOf(log, ev::kAction))
+      if (a.value(fd::kAction, "") == name) return a;
+    return nlohmann::json();
+  };
+  {
+    auto log = run("hang.xml");
+    auto detected = test::eventsOf(log, ev::kDetected);
+    ASSERT_EQ(detected.size(), 1u);
+    EXPECT_EQ(detected[0].value(fd::kKind, ""), "heartbeat");
+    EXPECT_EQ(test::eventsOf(log, ev::kRecovered).size(), 1u);
+  }
+  {
+    auto log = run("replace.xml");
+    const auto replaced = action(log, "replace");
+    ASSERT_FALSE(replaced.is_null());
+    EXPECT_EQ(replaced.value(fd::kOutcome, ""), "ok");
+    EXPECT_NE(replaced.value(fd::kDetail, "").find("preloaded"), std::string::npos) << replaced;
+    EXPECT_FALSE(test::eventsOf(log, ev::kRecovered).empty());
+  }
+  {
+    auto log = run("stop.xml");
+    auto detected = test::eventsOf(log, ev::kDetected);
+    ASSERT_EQ(detected.size(), 1u);
+    EXPECT_EQ(detected[0].value(fd::kDetail, ""), "onExecute returned 502 (OPROS_INTERNAL_FAULT)");
+    const auto stopped = action(log, "stop");
+    ASSERT_FALSE(stopped.is_null());
+    EXPECT_EQ(stopped[fd::kComponents].get<std::vector<std::string>>(),
+              (std::vector<std::string>{"counter", "reader"}));
+  }
+  {
+    auto log = run("emergency.xml");
+    const auto latched = test::eventsOf(log, ev::kEmergency);
+    ASSERT_FALSE(latched.empty());
+    const auto stop = action(log, "emergency_stop");
+    ASSERT_FALSE(stop.is_null());
+    EXPECT_EQ(stop[fd::kComponents].get<std::vector<std::string>>(), (std::vector<std::string>{"counter", "other"}));
+  }
 }
 
 // A library exporting OPRoS's getComponent() but built against OPRoS's own headers cannot be
