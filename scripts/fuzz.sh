@@ -19,7 +19,7 @@ usage() { sed -n '2,14s/^# \{0,1\}//p' "$0"; }
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 targets=(profile_component profile_composite profile_package profile_system profile_types scenario motion_board
-  monitor_client mcap_reader)
+  monitor_client mcap_reader opros_archive)
 
 case "${1:-}" in
   --list) printf '%s\n' "${targets[@]}"; exit 0 ;;
@@ -48,7 +48,7 @@ run() {
   mkdir -p "$work" "$findings"
   local dict=()
   case $target in
-    motion_board | mcap_reader) ;;
+    motion_board | mcap_reader | opros_archive) ;;
     monitor_client) dict=(-dict=fuzz/monitor_client.dict) ;;
     *) dict=(-dict=fuzz/xml.dict) ;;
   esac
