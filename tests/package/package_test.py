@@ -8,7 +8,9 @@
    CMAKE_PREFIX_PATH=<prefix>: find_package(keel) and keel_add_component().
 3. `<prefix>/bin/keel inspect libgreeters.so` lists both components and their ports.
 4. `<prefix>/bin/keel run app.xml --duration 1 --log run.jsonl` in the project's build dir;
-   the log shows both instances reaching Active and then Destroyed, and no fault.
+   the log shows both instances reaching Active and then Destroyed, and no fault. The project's
+   OPRoS component (keel_add_opros_component, libShouter.so) is an OPRoS library to `keel
+   inspect`, and in app_opros.xml hears the Greeter.
 5. `cmake --install` of the project puts libgreeters.so into <prefix>/lib/keel; the same
    application run from the installed profiles finds it there, through libkeel's location.
 6. The installed robot: `<prefix>/bin/keel run <prefix>/share/keel/robot/navigation.xml` with
@@ -171,9 +173,9 @@ def check_shipped(keel, prefix, libdir):
         run("keel validate the installed profiles", [keel, "validate", *profiles], timeout=60)
 
 
-def check_log(log):
+def check_log(log, instances=INSTANCES):
     expect(log.exists(), f"keel run: no log written at {log}")
-    states = {name: [] for name in INSTANCES}
+    states = {name: [] for name in instances}
     faults = []
     for number, line in enumerate(log.read_text().splitlines(), 1):
         if not line.strip():
@@ -199,6 +201,20 @@ def check_run(keel, profile, cwd, log):
     run(f"keel run {profile}", [keel, "run", profile, "--duration", "1", "--log", log],
         cwd=cwd, timeout=120)
     check_log(cwd / log)  # `log` may be relative to cwd or absolute
+
+
+def check_opros(keel, build):
+    """The OPRoS component: keel_add_opros_component built libShouter.so against the installed
+    OPRoS headers and libkeel_opros; keel inspect knows it, and it hears the Greeter."""
+    lib = build / "libShouter.so"
+    expect(lib.exists(), f"keel_add_opros_component: no libShouter.so in {build}")
+    out = run("keel inspect libShouter.so", [keel, "inspect", lib], timeout=60)
+    expect("an OPRoS component library" in out and "greetings" in out,
+           f"keel inspect libShouter.so: not shown as an OPRoS library with its port:\n{out}")
+    out = run("keel run app_opros.xml", [keel, "run", "app_opros.xml", "--duration", "1", "--log", "opros.jsonl"],
+              cwd=build, timeout=120)
+    expect("shouter heard " in out, f"keel run app_opros.xml: the OPRoS component heard nothing:\n{out}")
+    check_log(build / "opros.jsonl", ["greeter", "shouter"])
 
 
 def check_installed_run(args, work, prefix, libdir, build):
@@ -272,6 +288,7 @@ def main():
         build, lib = build_project(args, work, prefix, cmakedir)
         check_inspect(keel, lib)
         check_run(keel, "app.xml", lib.parent, "run.jsonl")
+        check_opros(keel, lib.parent)
         check_installed_run(args, work, prefix, libdir, build)
         check_installed_robot(work, prefix)
     except Failure as e:
