@@ -6,7 +6,6 @@
 // sanitizer report or an allocation beyond the input's size is a finding.
 #include <ApiTypes.h>
 #include <Property.h>
-#include <archive/opros_access.h>
 #include <archive/opros_binary_iarchive.h>
 #include <archive/opros_raw_iarchive.h>
 #include <archive/opros_string_iarchive.h>
@@ -19,25 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "opros_person.hpp"
+
 namespace {
-
-// A user data type as OPRoS's generator writes one (OneComp's PersonData).
-class Person {
- public:
-  void save(opros::archive::oarchive& ar, const unsigned int) {
-    ar << age_;
-    ar << name_;
-  }
-  void load(opros::archive::iarchive& ar, const unsigned int) {
-    ar >> age_;
-    ar >> name_;
-  }
-
- private:
-  friend class opros::archive::access;
-  int age_ = 0;
-  std::string name_;
-};
 
 void readAll(opros::archive::iarchive& ar) {
   for (int i = 0; i < 16; ++i) {

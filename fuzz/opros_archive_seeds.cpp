@@ -4,31 +4,18 @@
 //   build-fuzz/fuzz/opros_archive_seeds fuzz/corpus/opros_archive
 #include <ApiTypes.h>
 #include <Property.h>
-#include <archive/opros_access.h>
 #include <archive/opros_binary_oarchive.h>
 #include <archive/opros_raw_oarchive.h>
 #include <archive/opros_string_oarchive.h>
+
 #include <cstdio>
 #include <fstream>
 #include <list>
 #include <map>
 #include <sstream>
-class Person {
- public:
-  void save(opros::archive::oarchive& ar, const unsigned int) {
-    ar << age_;
-    ar << name_;
-  }
-  void load(opros::archive::iarchive& ar, const unsigned int) {
-    ar >> age_;
-    ar >> name_;
-  }
 
- private:
-  friend class opros::archive::access;
-  int age_ = 42;
-  std::string name_ = "Hong Gildong";
-};
+#include "opros_person.hpp"
+
 void write(opros::archive::oarchive& ar) {
   int n = 7;
   double d = 2.5;
@@ -36,7 +23,7 @@ void write(opros::archive::oarchive& ar) {
   std::vector<double> v{1, 2, 3};
   std::map<std::string, int> m{{"a", 1}, {"b", 2}};
   std::list<std::string> l{"x", "y"};
-  Person p;
+  Person p(42, "Hong Gildong");
   OPRoS::Property property;
   property.SetValue("port", "COM1");
   OPRoS::Float64Array array;
