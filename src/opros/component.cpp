@@ -10,9 +10,9 @@ Component::Component(const std::string& compid) : id_(compid) {}  // NOLINT(mode
 
 Component::~Component() {
   // The generated portSetup() allocates service ports with new and never deletes them: OPRoS's
-  // base class owned them. Data and event ports are members of the derived class (gone by now).
-  for (auto& [name, port] : ports_)
-    if (port->getType() == OPROS_SERVICE) delete port;
+  // base class owned them. (Data and event ports are members of the derived class, destroyed by
+  // now: nothing here may touch them, not even to ask their type.)
+  for (Port* port : service_ports_) delete port;
 }
 
 void Component::setId(std::string id) { id_ = std::move(id); }
@@ -36,6 +36,7 @@ ReturnType Component::addPort(const std::string& name, Port* port) {
     if (n == name) return OPROS_PRECONDITION_NOT_MET;
   port->setName(name);
   ports_.emplace_back(name, port);
+  if (port->getType() == OPROS_SERVICE) service_ports_.push_back(port);
   return OPROS_SUCCESS;
 }
 

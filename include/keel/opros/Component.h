@@ -104,6 +104,7 @@ class Component : public PropertyInterface, public LifecycleInterface, public Po
   std::string missing_;  // what getProperty returns for a property the component does not have
   std::string resource_path_;
   std::vector<std::pair<std::string, Port*>> ports_;
+  std::vector<Port*> service_ports_;  // owned: generated code makes them with new
   std::vector<std::pair<void*, std::size_t>> critical_;
   std::map<std::string, std::unique_ptr<SymbolObject>> symbols_;
   LifecycleState status_ = OPROS_CS_CREATED;
