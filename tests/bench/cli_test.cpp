@@ -62,15 +62,16 @@ TEST(BenchCli, QuickRecoveryMeasuresEveryMechanismAndPeerAtEveryLoadAndPolicy) {
   const auto r = quick({"recovery"});
   ASSERT_EQ(r.ran.status, 0) << r.ran.err;
   ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
-  EXPECT_EQ(r.cells.size(), 4u * 7u * 2u);  // loads 10/40/60/80 × 5 mechanisms and 2 floors × other/fifo
+  EXPECT_EQ(r.cells.size(), 4u * 9u * 2u);  // loads 10/40/60/80 × 7 mechanisms and 2 floors × other/fifo
   std::set<std::string> mechanisms;
   std::set<int> loads;
   for (const auto& c : r.cells) {
     mechanisms.insert(c["mechanism"].get<std::string>());
     loads.insert(c["load"].get<int>());
   }
-  EXPECT_EQ(mechanisms, (std::set<std::string>{"reset", "replace_cold", "replace_preloaded", "peer_erlang",
-                                               "peer_respawn", "floor_wake", "floor_timer"}));
+  EXPECT_EQ(mechanisms, (std::set<std::string>{"reset", "replace_cold", "replace_preloaded", "reset_opros",
+                                               "replace_preloaded_opros", "peer_erlang", "peer_respawn", "floor_wake",
+                                               "floor_timer"}));
   EXPECT_EQ(loads, (std::set<int>{10, 40, 60, 80}));
   expectCellsSound(r.cells, "mechanism");
   // keel's own mechanisms and the floors always run (SCHED_OTHER needs no privilege); keel
@@ -81,6 +82,10 @@ TEST(BenchCli, QuickRecoveryMeasuresEveryMechanismAndPeerAtEveryLoadAndPolicy) {
       EXPECT_EQ(c["failed"], 0) << c.dump();
     }
   EXPECT_NE(r.ran.out.find("paper, Linux-Pentium4"), std::string::npos) << r.ran.out;
+  // The OPRoS victim beside keel's: each *_opros cell ÷ its keel twin.
+  EXPECT_NE(r.ran.out.find("| load | reset_opros ÷ reset | replace_preloaded_opros ÷ replace_preloaded |"),
+            std::string::npos)
+      << r.ran.out;
   EXPECT_TRUE(r.plotted) << r.ran.out;
 }
 
