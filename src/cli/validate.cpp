@@ -3,7 +3,8 @@
 // a problem, `file:line: message (--strict)`).
 // Profiles, and fault scenarios (checked as `keel run --inject` reads them, before a run).
 // With --load, libraries are also loaded and every port of code checked against its profile
-// (nothing is initialized or run).
+// (nothing is initialized or run); what loading warns of (an OPRoS component's code that
+// disagrees with its profile) is printed as `keel run` prints it, and is a problem with --strict.
 #include <iostream>
 
 #include "cli/commands.hpp"
@@ -48,18 +49,28 @@ int validateFiles(const ValidateOptions& o) {
       continue;
     }
     for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
-    bool runnable = set->root_kind == profile::RootKind::Package || set->root_kind == profile::RootKind::System;
+    std::size_t load_warnings_seen = 0;
+    bool runnable = set->root_kind == profile::RootKind::Package || set->root_kind == profile::RootKind::System ||
+                    set->root_kind == profile::RootKind::Component;
     if (o.load && runnable) {
+      // What loading finds and goes on without (an OPRoS component's code disagreeing with its
+      // profile, a queue its code fixes): warnings, errors with --strict.
+      std::vector<std::string> load_warnings;
       engine::EngineOptions eo;
+      eo.warn = [&load_warnings](const std::string& m) { load_warnings.push_back(m); };
       auto engine = engine::Engine::create(std::move(*set), eo);
+      for (const auto& w : load_warnings) std::cerr << (o.strict ? w + " (--strict)" : "keel: warning: " + w) << '\n';
+      if (o.strict) problems += static_cast<int>(load_warnings.size());
       if (!engine) {
         std::cerr << engine.error().message << '\n';
         ++problems;
         continue;
       }
+      if (o.strict && !load_warnings.empty()) continue;
+      load_warnings_seen = load_warnings.size();
     }
-    if (warnings == 0) std::cout << f << ": ok\n";
-    else std::cout << f << ": ok, with " << warnings << " warning(s)\n";
+    if (warnings + load_warnings_seen == 0) std::cout << f << ": ok\n";
+    else std::cout << f << ": ok, with " << warnings + load_warnings_seen << " warning(s)\n";
   }
   return problems == 0 ? 0 : 2;
 }

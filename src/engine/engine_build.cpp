@@ -260,10 +260,8 @@ Result<void> Engine::checkPorts(const Instance& inst) {
     // port the code lacks is still an error (connect()).
     errors.pop_back();
     for (std::size_t start = 0; start <= errors.size();) {
-      std::size_t end = std::min(errors.find('\n', start), errors.size());
-      std::string line = errors.substr(start, end - start);
-      if (auto colon = line.find(": component"); colon != std::string::npos) line.insert(colon + 2, "warning: ");
-      warn(line + " (an OPRoS component: it loads)");
+      const std::size_t end = std::min(errors.find('\n', start), errors.size());
+      warn(errors.substr(start, end - start) + " (an OPRoS component: it loads)");
       start = end + 1;
     }
     return {};

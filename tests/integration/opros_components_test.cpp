@@ -268,6 +268,25 @@ TEST_F(OprosComponents, HeartbeatReplacementFaultStopAndEmergencyStopApply) {
   }
 }
 
+// keel validate --load finds what only the code can tell: a port of the code the profile lacks,
+// a queue the code fixes otherwise. Warnings, as keel run prints them; problems with --strict.
+TEST_F(OprosComponents, ValidateLoadWarnsOfCodeThatDisagreesWithItsProfileAndStrictRefusesIt) {
+  auto r = test::runProcess({KEEL_CLI, "validate", "--load", profile("stale.xml")});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.out.find("stale.xml: ok, with 2 warning(s)"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("OprosCounterStale.xml:4: component 'counter': class 'OprosCounter' has input event port "
+                       "'ticks' (string) that the profile does not declare (an OPRoS component: it loads)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("OprosCounterStale.xml:26: component 'counter': port 'in': the profile asks for fifo of 4, "
+                       "the code constructs last of 1"),
+            std::string::npos)
+      << r.err;
+  auto strict = test::runProcess({KEEL_CLI, "validate", "--load", "--strict", profile("stale.xml")});
+  EXPECT_EQ(strict.status, 2) << strict.err;
+  EXPECT_NE(strict.err.find("(an OPRoS component: it loads) (--strict)"), std::string::npos) << strict.err;
+}
+
 // A library exporting OPRoS's getComponent() but built against OPRoS's own headers cannot be
 // hosted: the error says so and what to do.
 TEST_F(OprosComponents, ALibraryBuiltWithoutKeelsOprosLayerIsAClearError) {
