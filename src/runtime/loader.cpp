@@ -120,7 +120,6 @@ Result<const Library*> Loader::load(const std::string& path) {
 Result<std::unique_ptr<Component>> Loader::create(const std::string& class_name, const std::string& library_path) {
   auto lib = load(library_path);
   if (!lib) return lib.error();
-  const Registration* r = Registry::instance().find(class_name, library_path);
   if ((*lib)->opros_get) {
     if (!(*lib)->opros_host)
       return fail(
@@ -133,6 +132,7 @@ Result<std::unique_ptr<Component>> Loader::create(const std::string& class_name,
       return fail(fmt::format("constructing OPRoS component '{}' failed: {}", class_name, e.what()));
     }
   }
+  const Registration* r = Registry::instance().find(class_name, library_path);
   if (!r) {
     std::string have;
     for (const auto& n : (*lib)->components) have += (have.empty() ? "" : ", ") + n;

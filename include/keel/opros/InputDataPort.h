@@ -52,7 +52,6 @@ class InputDataPort : public InputDataPortInterface {
     keel_ = std::make_unique<keel::InputDataPort<T>>(&host, getName());
     return *keel_;
   }
-  keel::detail::PortBase* keelPort() override { return keel_.get(); }
   bool keelCodeQueue(DataPortPolicy& policy, unsigned int& limit) const override {
     if (!code_queue_) return false;
     policy = policy_;

@@ -81,7 +81,6 @@ class InputEventPort<T, EVENT_OPROS> : public Port {
     keel_ = std::make_unique<keel::InputEventPort<EventData<T>>>(&host, getName());
     return *keel_;
   }
-  keel::detail::PortBase* keelPort() override { return keel_.get(); }
   ReturnType keelDeliver(Component& owner) override {
     (void)owner;
     EventData<T> e = keel_->current();  // the callback may keep or change its copy

@@ -6,6 +6,7 @@
 
 #include <any>
 #include <string>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 
@@ -57,6 +58,18 @@ std::string returnTypeName() {
   } else {
     return keel::typeName<std::decay_t<R>>();
   }
+}
+
+template <class R>
+R resultAs(std::any& r, const std::string& method);
+
+/// Calls `m` with the call site's arguments (packed as a std::tuple of their decayed types):
+/// what ProvidedMethod<R> and RequiredMethod<R> do when generated code calls them.
+template <class R, class... A>
+R invokePacked(Method& m, A&&... args) {
+  std::any packed = std::tuple<std::decay_t<A>...>(std::forward<A>(args)...);
+  std::any r = m.keelInvoke(packed);
+  return resultAs<R>(r, m.getName());
 }
 
 /// The result a method call gave, as R. A void method called through a ProvidedMethod<R>* of

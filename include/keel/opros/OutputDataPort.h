@@ -34,7 +34,6 @@ class OutputDataPort : public OutputDataPortInterface {
     keel_ = std::make_unique<keel::OutputDataPort<T>>(&host, getName());
     return *keel_;
   }
-  keel::detail::PortBase* keelPort() override { return keel_.get(); }
 
  private:
   std::unique_ptr<keel::OutputDataPort<T>> keel_;

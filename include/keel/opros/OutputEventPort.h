@@ -49,7 +49,6 @@ class OutputEventPort<T, EVENT_OPROS> : public Port {
     keel_ = std::make_unique<keel::OutputEventPort<EventData<T>>>(&host, getName());
     return *keel_;
   }
-  keel::detail::PortBase* keelPort() override { return keel_.get(); }
 
  private:
   ReturnType send(EventData<T>& e) {

@@ -35,8 +35,6 @@ class Port {
   // ---- keel's side (not OPRoS API): called by keel's host of the component ----
   /// Creates this port's keel port, owned by `host`, named getName().
   virtual keel::detail::PortBase& keelBind(keel::Component& host) = 0;
-  /// The keel port made by keelBind, or null before.
-  virtual keel::detail::PortBase* keelPort() = 0;
   /// An input event port: keel delivered an event to it; runs the callback or onEvent.
   virtual ReturnType keelDeliver(::Component& owner) {
     (void)owner;

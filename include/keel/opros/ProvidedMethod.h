@@ -20,9 +20,7 @@ class ProvidedMethod : public Method {
   /// Calls the method directly, with the arguments given.
   template <class... A>
   R operator()(A&&... args) {
-    std::any packed = std::tuple<std::decay_t<A>...>(std::forward<A>(args)...);
-    std::any r = keelInvoke(packed);
-    return keel::opros::resultAs<R>(r, getName());
+    return keel::opros::invokePacked<R>(*this, std::forward<A>(args)...);
   }
 };
 

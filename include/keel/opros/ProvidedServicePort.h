@@ -26,7 +26,6 @@ class ProvidedServicePort : public ServicePortInterface {
         });
     return *keel_;
   }
-  keel::detail::PortBase* keelPort() override { return keel_.get(); }
 
  private:
   std::unique_ptr<keel::ProvidedServicePort<keel::opros::Reply(keel::opros::Call)>> keel_;

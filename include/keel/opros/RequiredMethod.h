@@ -23,16 +23,13 @@ class RequiredMethod : public Method {
 
   template <class... A>
   R operator()(A&&... args) {
-    auto* port = dynamic_cast<RequiredServicePort*>(keelPort());
-    if (!port) throw MethodInvokeException("method '" + getName() + "' belongs to no required service port");
-    std::any r = port->keelCall(getName(), std::tuple<std::decay_t<A>...>(std::forward<A>(args)...));
-    return keel::opros::resultAs<R>(r, getName());
+    return keel::opros::invokePacked<R>(*this, std::forward<A>(args)...);
   }
 
+  /// Forwards the call to the connected provider, through the port it was added to.
   std::any keelInvoke(std::any& args) override {
-    auto* port = dynamic_cast<RequiredServicePort*>(keelPort());
-    if (!port) throw MethodInvokeException("method '" + getName() + "' belongs to no required service port");
-    return port->keelCall(getName(), args);
+    if (!keelPort()) throw MethodInvokeException("method '" + getName() + "' belongs to no service port");
+    return keelPort()->keelCall(getName(), std::move(args));
   }
 };
 

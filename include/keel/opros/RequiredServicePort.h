@@ -25,10 +25,9 @@ class RequiredServicePort : public ServicePortInterface {
     keel_ = std::make_unique<keel::RequiredServicePort<keel::opros::Reply(keel::opros::Call)>>(&host, getName());
     return *keel_;
   }
-  keel::detail::PortBase* keelPort() override { return keel_.get(); }
 
   /// Calls `method` of the connected provider with `args`; its result (empty for void).
-  std::any keelCall(const std::string& method, std::any args) {
+  std::any keelCall(const std::string& method, std::any args) override {
     if (!keel_) throw MethodInvokeException("service port '" + getName() + "' is not loaded by keel");
     auto r = keel_->call(keel::opros::Call{method, std::move(args)});
     if (!r) throw MethodInvokeException("calling '" + getName() + "." + method + "': " + r.error().message);

@@ -2,6 +2,7 @@
 // owns the methods added to it.
 #pragma once
 
+#include <any>
 #include <map>
 #include <memory>
 #include <string>
@@ -32,6 +33,13 @@ class ServicePortInterface : public Port {
     return it == methods_.end() ? nullptr : it->second.get();
   }
   void reset() override {}
+
+  /// A required port: calls `method` of the connected provider with `args` and gives its result
+  /// (RequiredServicePort). A provided port calls nobody.
+  virtual std::any keelCall(const std::string& method, std::any args) {
+    (void)args;
+    throw MethodInvokeException("service port '" + getName() + "' provides '" + method + "': it calls nobody");
+  }
 
   /// The methods by name (keel: checked against the service type profile).
   const std::map<std::string, std::unique_ptr<Method>>& keelMethods() const { return methods_; }
