@@ -3,7 +3,8 @@
 #
 #   scripts/fuzz.sh --list             the targets, a line each
 #   scripts/fuzz.sh TARGET SECONDS     runs one for SECONDS
-#   scripts/fuzz.sh --all SECONDS      runs each in turn for SECONDS (what CI does)
+#   scripts/fuzz.sh --all SECONDS      runs each for SECONDS, as many at once as there are
+#                                      cores ($KEEL_FUZZ_PARALLEL to choose; what CI does)
 #
 # The targets are built by the `fuzz` preset (clang 14, ASan+UBSan, in build-fuzz/); the
 # packages they need (clang-14, libclang-rt-14-dev, libfuzzer-14-dev) are installed by
@@ -15,7 +16,7 @@
 # Jobs for the build: $KEEL_JOBS, else the number of cores.
 set -euo pipefail
 
-usage() { sed -n '2,14s/^# \{0,1\}//p' "$0"; }
+usage() { sed -n '2,15s/^# \{0,1\}//p' "$0"; }
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 targets=(profile_component profile_composite profile_package profile_system profile_types scenario motion_board
@@ -64,7 +65,29 @@ run() {
 }
 
 if [[ $1 == --all ]]; then
-  for t in "${targets[@]}"; do run "$t"; done
+  # Each target is one single-threaded process: one per core, each printing when it is done.
+  parallel=${KEEL_FUZZ_PARALLEL:-$(nproc)}
+  failed=()
+  declare -A running=()
+  reap() {
+    local pid status=0
+    wait -n -p pid || status=$?
+    local t=${running[$pid]}
+    unset "running[$pid]"
+    ((status == 0)) || failed+=("$t")
+    cat "build-fuzz/findings/$t/summary"
+  }
+  for t in "${targets[@]}"; do
+    while ((${#running[@]} >= parallel)); do reap; done
+    mkdir -p "build-fuzz/findings/$t"
+    run "$t" >"build-fuzz/findings/$t/summary" 2>&1 &
+    running[$!]=$t
+  done
+  while ((${#running[@]} > 0)); do reap; done
+  if ((${#failed[@]} > 0)); then
+    echo "fuzz.sh: failed: ${failed[*]}" >&2
+    exit 1
+  fi
 else
   run "$1"
 fi
