@@ -14,7 +14,8 @@ packages=(
   python3 python3-matplotlib
   stress-ng
   erlang-base
-  cyclonedds-tools
+  cyclonedds-tools  # ddsperf (keel bench isolation) and idlc (message types)
+  cyclonedds-dev  # CycloneDDS C API: DDS ports visible to ROS 2 (src/dds, decision 0018)
   graphviz  # dot, for the docs' `keel graph` examples (tests/docs/examples_test.py)
 )
 packages+=("$@")  # a script's own (scripts/fuzz.sh: clang and libFuzzer)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs the independent implementations keel's tests talk to (docs/testing.md, "Real
-# peers"): PyPI's `mcap` reader in a venv (tests/peers/venv), Foxglove's WebSocket client and
+# peers"): PyPI's `mcap` reader and ROS 2's rclpy with its message packages in a venv
+# (tests/peers/venv), Foxglove's WebSocket client and
 # puppeteer-core from npm (tests/peers/node_modules, from the lockfile), and Debian's headless
 # Chromium for the monitor's page. Quiet and offline when all is installed already, so
 # scripts/test.sh calls it every time; otherwise one line, with the installers' output in a log
@@ -20,7 +21,7 @@ have_py=$(cat "$stamp_py" 2>/dev/null || true)
 have_js=$(cat "$stamp_js" 2>/dev/null || true)
 [[ "$have_py" == "$want_py" && "$have_js" == "$want_js" ]] && exit 0
 
-echo "peers.sh: installing the test peers (PyPI: mcap; npm: @foxglove/ws-protocol, ws, puppeteer-core); output: $log"
+echo "peers.sh: installing the test peers (PyPI: mcap, rclpy; npm: @foxglove/ws-protocol, ws, puppeteer-core); output: $log"
 : >"$log"
 fail() {
   echo "peers.sh: $1 failed; the end of $log:" >&2

@@ -407,6 +407,7 @@ void Engine::startDetectors() {
 void Engine::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
+  if (dds_) dds_->close();  // no sample in, no remote fault, from here on
   if (injector_) injector_->stop();
   if (watchdog_) watchdog_->stop();
   fault_manager_.stop();           // handles and logs what is queued; adds no executor after this
@@ -516,6 +517,7 @@ void Engine::stateChanged(Component& c, State from, State to) {
   }
   log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
   compositeStates(c.instanceName());
+  if (dds_) dds_->pokeDiagnostics();
 }
 
 // A composite's state, derived from its members': Error as soon as one is in Error, otherwise

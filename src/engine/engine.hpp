@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "dds/dds_ports.hpp"
 #include "engine/crossing.hpp"
 #include "engine/process_host.hpp"
 #include "engine/process_supervisor.hpp"
@@ -89,7 +90,7 @@ struct Wire {
   detail::PortBase* target = nullptr;            // input port, or provided service port
 };
 
-class Engine final : public runtime::RunHooks, public fault::HandlingHost {
+class Engine final : public runtime::RunHooks, public fault::HandlingHost, public dds::PeerWatch {
  public:
   /// Plans `set` with options.property_settings applied, then as below.
   static Result<std::unique_ptr<Engine>> create(profile::ProfileSet set, EngineOptions options);
@@ -143,6 +144,14 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   Result<Component*> createAlternative(fault::ComponentHandling& h, Component& failed) override;
   void switchTo(Component& failed, Component& alternative) override;
   Result<std::string> abandonExecutor(Component& hung, Component* alternative) override;
+
+  // dds::PeerWatch: a subscription's writers lost (a `remote` fault), and back.
+  std::uint64_t peerLost(const std::string& instance, const FaultEvent& fault) override;
+  void peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) override;
+  /// Each component's health as /diagnostics reports it (engine_recovery.cpp).
+  std::vector<dds::Health> health() const;
+  /// How long a handled fault keeps a running component's /diagnostics level at WARN.
+  static constexpr std::chrono::nanoseconds kRecentFault{std::chrono::seconds(5)};
 
  private:
   explicit Engine(EngineOptions options);
@@ -213,6 +222,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost {
   std::unique_ptr<ProcessSupervisor> supervisor_;
   std::unique_ptr<HostFaultSink> host_sink_;
   Crossings crossings_;
+  std::unique_ptr<dds::DdsPorts> dds_;  // this process's <publish>/<subscribe>; null: none
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;
   std::mutex create_mutex_;                               // one alternative created at a time (any thread)

@@ -5,6 +5,8 @@
 // executor slot taken, lookups by name answering the alternative.
 #include <fmt/format.h>
 
+#include <set>
+
 #include <algorithm>
 
 #include "engine/engine.hpp"
@@ -154,6 +156,62 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
   std::lock_guard lock(executors_mutex_);
   executors_.push_back(std::move(fresh));
   return name;
+}
+
+std::uint64_t Engine::peerLost(const std::string& instance, const FaultEvent& fault) {
+  Component* c = find(instance);
+  return c ? fault_manager_.onFault(*c, fault, "dds") : 0;
+}
+
+void Engine::peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) {
+  if (Component* c = find(instance)) fault_manager_.peerBack(*c, id, t_ns);
+}
+
+// OK: running, no fault within kRecentFault. WARN: running, with a remote fault whose writer
+// has not come back, or a fault within kRecentFault. ERROR: in Error, or stopped by fault
+// handling. STALE: not running (not started yet, stopped, destroyed).
+std::vector<dds::Health> Engine::health() const {
+  std::vector<dds::Health> out;
+  const std::vector<fault::Handling> handlings = fault_manager_.handlings();
+  const std::set<std::string> stopped = fault_manager_.stoppedComponents();
+  for (const Instance& inst : instances_) {
+    const Component* c = inst.active();
+    if (c == nullptr) continue;
+    dds::Health h;
+    const plan::PlannedInstance& pi = *inst.plan;
+    const std::string app = pi.application.empty() ? planned_.plan.name : pi.application;
+    const std::string name = pi.application.empty() ? pi.name : pi.name.substr(pi.application.size() + 1);
+    h.name = fmt::format("keel/{}/{}", app, name);
+    const State state = c->state();
+    h.state = std::string(toString(state));
+    const fault::Handling* last = nullptr;
+    for (const fault::Handling& x : handlings)
+      if (x.component == pi.name) {
+        ++h.faults;
+        last = &x;
+      }
+    if (last)
+      h.last_fault = fmt::format("{} (fault {}): {}{}", toString(last->kind), last->fault_id, last->actions,
+                                 last->recovered_ns ? ", recovered" : "");
+    if (state == State::Error || stopped.count(pi.name)) {
+      h.level = dds::Health::Error;
+      h.message = state == State::Error ? "in Error after a fault" : "stopped by fault handling";
+    } else if (state != State::Active) {
+      h.level = dds::Health::Stale;
+      h.message = fmt::format("not running ({})", h.state);
+    } else if (last && last->recovered_ns == 0 && last->kind == FaultKind::Remote) {
+      h.level = dds::Health::Warn;
+      h.message = "running; the writer of a topic it subscribes to is lost";
+    } else if (last && runtime::steadyNs() - last->detected_ns < kRecentFault.count()) {
+      h.level = dds::Health::Warn;
+      h.message = fmt::format("running; a {} fault within the last {} s ({})", toString(last->kind),
+                              kRecentFault.count() / 1'000'000'000, last->recovered_ns ? "recovered" : "handled");
+    } else {
+      h.message = last ? "running; its faults recovered" : "running";
+    }
+    out.push_back(std::move(h));
+  }
+  return out;
 }
 
 }  // namespace keel::engine

@@ -40,7 +40,8 @@ void FaultManager::drain() { queue_.drain(); }
 
 // ---- detection: any thread --------------------------------------------------------------
 
-void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::string_view detector, bool recoverable) {
+std::uint64_t FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::string_view detector,
+                                    bool recoverable) {
   FaultReport r = diagnose(reporter, fault, detector, find_, ids_, recoverable);
   Component* accused = r.accused;
   if (r.first != Step::Ignore && r.first != Step::Done && allowed(accused->state(), Transition::Fault)) {
@@ -55,7 +56,9 @@ void FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::st
   if (runtime::Executor* ex = coreOf(*accused).executor.load(std::memory_order_acquire);
       ex && ex->onThisThread() && runtime::runningComponent() != accused)
     where |= kLocal;
+  const std::uint64_t id = r.id;
   advance(r, where);
+  return id;
 }
 
 // ---- the handling state machine: the parts act, escalation decides -----------------------
@@ -242,6 +245,17 @@ void FaultManager::recovered(Component& c, std::int64_t t_ns) {
   queue_.enqueue(HandlingItem::Type::Recovered, r, true);
 }
 
+void FaultManager::peerBack(Component& c, std::uint64_t id, std::int64_t t_ns) {
+  // Its recovering_id, if a reset set one, is not ours to clear: the component's next cycle
+  // would log the same fault's recovery; the manager's thread logs the first of the two.
+  FaultReport r;
+  r.id = id;
+  r.accused = &c;
+  r.event.t_ns = t_ns;
+  FaultEvent::copyInto(r.event.component, c.instanceName());
+  queue_.enqueue(HandlingItem::Type::Recovered, r, true);
+}
+
 // ---- the manager's thread ----------------------------------------------------------------
 
 void FaultManager::checkInterrupted(const FaultReport& handed) {
@@ -263,6 +277,7 @@ void FaultManager::checkInterrupted(const FaultReport& handed) {
 void FaultManager::process(HandlingItem& item) {
   switch (item.type) {
     case HandlingItem::Type::Recovered:
+      if (const auto h = records_.handling(item.report.id); h && h->recovered_ns != 0) return;  // logged already
       records_.logRecovered(item.report.id, item.report.event.componentName(), item.report.event.t_ns);
       return;
     case HandlingItem::Type::CheckInterrupted: checkInterrupted(item.report); return;

@@ -55,6 +55,8 @@ class FaultManager final : public runtime::FaultSink {
 
   /// Connects the manager to the runtime and the plan's dependency graph (may be null).
   void attach(HandlingHost* host, const DependencyGraph* graph);
+  /// `changed` is called after each fault report or recovery is logged (FaultRecords::onChange).
+  void onChange(std::function<void()> changed) { records_.onChange(std::move(changed)); }
   /// Starts the manager's thread. Without it, reports are handled on the reporting thread.
   void start();
   /// Handles what is queued, then ends the thread.
@@ -70,7 +72,9 @@ class FaultManager final : public runtime::FaultSink {
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
   /// reporter itself). `detector` names who found it in the log (default: the reporter).
   /// Not `recoverable` (a failed lifecycle transition): logged and diagnosed, never handled.
-  void onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {}, bool recoverable = true);
+  /// Returns the fault's id.
+  std::uint64_t onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {},
+                        bool recoverable = true);
 
   // runtime::FaultSink: what the runtime reports, straight from the thread that noticed it.
   void faultDetected(Component& c, const FaultEvent& fault) override { onFault(c, fault); }
@@ -79,6 +83,9 @@ class FaultManager final : public runtime::FaultSink {
   void runPending(Component& c) override;
   /// `c` executed normally after a recovery.
   void recovered(Component& c, std::int64_t t_ns) override;
+  /// What fault `id` of `c` lost came back (a DDS writer: src/dds): its `recovered`, unless the
+  /// fault's handling logged one already (a reset component that ran again first).
+  void peerBack(Component& c, std::uint64_t id, std::int64_t t_ns);
 
   /// Emergency stop (§5.3.3, fault/containment.hpp): latches the emergency and runs every
   /// component's onEmergencyStop. Returns the components whose onEmergencyStop ran. `by` is logged.

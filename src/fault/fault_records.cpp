@@ -66,6 +66,7 @@ void FaultRecords::logReport(FaultReport& r) {
     hd->failed = failed;
   }
   r.logged_actions = r.n_actions;
+  if (changed_) changed_();
 }
 
 void FaultRecords::logRecovered(std::uint64_t id, std::string_view component, std::int64_t t_ns) {
@@ -78,6 +79,7 @@ void FaultRecords::logRecovered(std::uint64_t id, std::string_view component, st
   }
   log_.write(std::move(rec));
   recovered_count_.fetch_add(1, std::memory_order_release);
+  if (changed_) changed_();
 }
 
 void FaultRecords::logUndetected(std::uint64_t id, std::string_view component, std::int64_t injected_ns) {

@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -52,6 +53,9 @@ class FaultRecords {
   explicit FaultRecords(FaultLog& log) : log_(log) {}
 
   FaultLog& log() { return log_; }
+  /// Called after each report or recovery is logged (on the thread that logged it): the
+  /// run's health changed (keel's /diagnostics). Set before the run starts.
+  void onChange(std::function<void()> changed) { changed_ = std::move(changed); }
 
   /// Writes what is new in `r` since the last call for it: its detection (once) and the
   /// actions added since; marks them written in `r`.
@@ -74,6 +78,7 @@ class FaultRecords {
   void writeChanges(const FaultReport& r, std::uint8_t action);
 
   FaultLog& log_;
+  std::function<void()> changed_;
   mutable std::mutex mutex_;  // guards the records below
   std::vector<FaultCount> counts_;
   std::vector<Detection> detections_;

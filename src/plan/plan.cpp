@@ -37,6 +37,19 @@ class Planner {
     }
   }
 
+  void addDds(const std::string& prefix, const std::optional<profile::DdsSpec>& dds) {
+    if (!dds) return;
+    for (const auto& b : dds->bindings) {
+      PlannedDds d{b, dds->domain.value_or(0), std::nullopt};
+      d.binding.endpoint = resolve(prefix, b.endpoint);
+      plan_.dds.push_back(std::move(d));
+    }
+  }
+
+  void addDiagnostics(const std::optional<profile::DdsSpec>& dds) {
+    if (dds && dds->diagnostics) plan_.diagnostics_domain = dds->domain.value_or(0);
+  }
+
   void addTasks(const std::string& prefix, const std::vector<profile::Task>& tasks) {
     for (const auto& t : tasks) {
       PlannedExecutor ex{prefix + t.name, true, t.period_ms, t.priority, t.policy, {}, t.where};
@@ -196,6 +209,7 @@ class Planner {
       inst.policy = sub.fault_policy;
       inst.application = app;
       if (sub.process) inst.process = noteProcess(prefix, *sub.process);
+      inst.redundancy = sub.redundancy;
       inst.where = sub.where;
       plan_.instances.push_back(std::move(inst));
       members_[name] = {name};
@@ -272,6 +286,8 @@ Result<Plan> makePlan(const ProfileSet& set) {
       if (auto r = planner.addPackage("", "", pkg.subcomponents, pkg.connections); !r) return r.error();
       planner.addTasks("", pkg.tasks);
       planner.addCoordination("", pkg.coordination);
+      planner.addDds("", pkg.dds);
+      planner.addDiagnostics(pkg.dds);
       return planner.finish(pkg.name);
     }
     case profile::RootKind::System: {
@@ -281,8 +297,11 @@ Result<Plan> makePlan(const ProfileSet& set) {
         if (auto r = planner.addPackage(prefix, app.name, pkg.subcomponents, pkg.connections); !r) return r.error();
         planner.addTasks(prefix, pkg.tasks);
         planner.addCoordination(prefix, pkg.coordination);
+        planner.addDds(prefix, pkg.dds);
       }
       planner.addConnections("", set.system->connections);  // "app.instance" already
+      planner.addDds("", set.system->dds);
+      planner.addDiagnostics(set.system->dds);
       return planner.finish(set.system->name);
     }
     case profile::RootKind::Component: {

@@ -25,9 +25,10 @@ struct PlannedInstance {
   const profile::ComponentProfile* profile = nullptr;
   std::map<std::string, PropertyValue, std::less<>> properties;  // defaults + overrides
   std::optional<profile::FaultPolicy> policy;
-  std::string application;  // system profiles: the application it belongs to
-  std::string process;      // qualified name of its <process>; empty: keel run's own process
-  profile::Where where;     // its <subcomponent>
+  std::string application;                        // system profiles: the application it belongs to
+  std::string process;                            // qualified name of its <process>; empty: keel run's own process
+  std::optional<profile::Redundancy> redundancy;  // its <redundancy>: its DDS writers are exclusive
+  profile::Where where;                           // its <subcomponent>
 };
 
 /// A component process (<process name standby>): the instances it hosts, in plan order.
@@ -54,6 +55,15 @@ struct PlannedConnection {
   profile::Where where;
 };
 
+/// A <publish>/<subscribe> of a <dds>, its endpoint qualified and resolved as a connection's
+/// (an exported port stands for the inner one), with the domain of its <dds>.
+struct PlannedDds {
+  profile::DdsBinding binding;
+  int domain = 0;  // the <dds>'s; ROS_DOMAIN_ID overrides it when keel runs
+  /// The instance's <redundancy> (a <publish>: its writer is exclusive, of this strength).
+  std::optional<profile::Redundancy> redundancy;
+};
+
 struct PlannedExecutor {
   std::string name;
   bool periodic = true;
@@ -73,6 +83,10 @@ struct Plan {
   std::vector<profile::Depends> execution_order;  // <depends>: OPRoS's execution order; qualified
   std::vector<PlannedProcess> processes;          // in order of first mention
   std::vector<PlannedComposite> composites;       // outer before inner
+  std::vector<PlannedDds> dds;                    // every <dds> binding, in profile order
+  /// Where keel run publishes /diagnostics: the root profile's <dds> domain (none: no <dds>
+  /// there, or diagnostics="false").
+  std::optional<int> diagnostics_domain;
 
   const PlannedInstance* find(std::string_view instance) const;
   /// The process `instance` runs in; empty for keel run's own (or an unknown instance).

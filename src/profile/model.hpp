@@ -216,12 +216,22 @@ struct ProcessSpec {
   Where where;
 };
 
+/// <redundancy group="nav" strength="10"/>: this component runs in several keel runs (hosts);
+/// its DDS writers are exclusive, and readers that ask for exclusive ownership take the
+/// strongest live one's samples (docs/dds.md#redundancy-across-hosts).
+struct Redundancy {
+  std::string group;  // the role the runs share
+  int strength = 0;   // DDS ownership strength: the highest live one is heard
+  Where where;
+};
+
 struct Subcomponent {
   std::string name;                                    // instance name, unique within its package/composite
   std::string reference;                               // resolved absolute path of the referenced profile
   std::map<std::string, Property> property_overrides;  // typed against the component profile
   std::optional<FaultPolicy> fault_policy;
   std::optional<ProcessSpec> process;  // none: keel run's own process
+  std::optional<Redundancy> redundancy;
   Where where;
 };
 
@@ -270,6 +280,32 @@ struct Task {
 };
 
 /// root <package_profile> (or <application_profile>)
+/// ROS 2's QoS profiles by name (docs/dds.md#qos): what a <publish>/<subscribe> asks for.
+enum class DdsQos { Default, SensorData, Reliable, TransientLocal };
+
+/// One <publish> or <subscribe> of a <dds>: a data port of a subcomponent seen on a DDS topic,
+/// with ROS 2's names.
+struct DdsBinding {
+  bool publish = true;  // <publish>: an output port's values are written; <subscribe>: read into an input
+  Endpoint endpoint;    // subcomponent (qualified in a plan) and port
+  std::string topic;    // the ROS 2 name, absolute: "/sonar/range"
+  std::string type;     // ROS 2's type name: "sensor_msgs/msg/Range"
+  DdsQos qos = DdsQos::Default;
+  std::optional<std::size_t> depth;     // history depth; the QoS profile's when absent
+  std::optional<double> deadline_ms;    // offered (publish) / requested and checked (subscribe)
+  std::optional<double> liveliness_ms;  // the writer's lease (publish) / the lease required (subscribe)
+  bool exclusive = false;               // <subscribe ownership="exclusive">: only the strongest writer (redundancy)
+  Where where;
+};
+
+/// <dds domain="0"> of a package or system profile.
+struct DdsSpec {
+  std::optional<int> domain;  // none: 0 (ROS_DOMAIN_ID overrides either)
+  bool diagnostics = true;    // keel's health on /diagnostics (the root profile's <dds>)
+  std::vector<DdsBinding> bindings;
+  Where where;
+};
+
 struct PackageProfile {
   std::string file;
   std::string name;
@@ -278,6 +314,7 @@ struct PackageProfile {
   std::vector<Connection> connections;
   std::vector<Task> tasks;
   Coordination coordination;
+  std::optional<DdsSpec> dds;
   Where where;
 };
 
@@ -304,6 +341,7 @@ struct SystemProfile {
   std::vector<Application> applications;
   /// Connections between applications: endpoints name "application.subcomponent".
   std::vector<Connection> connections;
+  std::optional<DdsSpec> dds;  // endpoints name "application.subcomponent"
   Where where;
 };
 

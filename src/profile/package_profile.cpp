@@ -83,6 +83,7 @@ void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
                 {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
                 {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
                 {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
+                {"dds", [&](pugi::xml_node n) { out.dds = parseDds(ctx, n); }},
                 {"id", {}},
                 {"version", {}},
                 {"copyright", {}},

@@ -41,6 +41,8 @@ Coordination parseCoordination(Ctx& ctx, pugi::xml_node node);
 inline constexpr std::string_view kNoAppDomain = "OPRoS's engine read it and did nothing with it";
 inline constexpr std::string_view kNoAssemblyEnvironment =
     "each component profile's <execution_environment> names its library";
+/// <dds> of a package or system profile (dds_profile.cpp).
+DdsSpec parseDds(Ctx& ctx, pugi::xml_node node);
 /// <fault_policy> of subcomponent `owner` (fault_policy.cpp).
 FaultPolicy parseFaultPolicy(Ctx& ctx, pugi::xml_node node, const std::string& owner);
 

@@ -80,6 +80,24 @@ std::optional<ProcessSpec> readProcess(Ctx& ctx, pugi::xml_node node, const std:
   return p;
 }
 
+std::optional<Redundancy> readRedundancy(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
+  readChildren(ctx, node, {}, {"group", "strength"});
+  Redundancy r;
+  r.where = ctx.where(node);
+  const auto group = requiredAttribute(ctx, node, "group");
+  const auto strength = requiredAttribute(ctx, node, "strength");
+  if (!group || !strength) return std::nullopt;
+  r.group = std::string(trim(*group));
+  if (r.group.empty()) {
+    ctx.error(node, fmt::format("<redundancy> of {}: empty group", owner));
+    return std::nullopt;
+  }
+  const auto n = readIntIn(ctx, node, trim(*strength), "strength of <redundancy> of " + owner, 0, 1'000'000);
+  if (!n) return std::nullopt;
+  r.strength = *n;
+  return r;
+}
+
 /// Where OPRoS's engine and IDE put a subcomponent's profile, relative to the assembly's
 /// folder D, for an assembly D/app.xml: D/app/REF (the engine's default deployment),
 /// D/INSTANCE/REF (its other deployment), D/app/STEM/REF (a packed package), D/../STEM/profile/REF
@@ -112,6 +130,7 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
                 {"properties", [&](pugi::xml_node n) { s.property_overrides = readOverrides(ctx, n, owner); }},
                 {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
                 {"process", [&](pugi::xml_node n) { s.process = readProcess(ctx, n, owner); }},
+                {"redundancy", [&](pugi::xml_node n) { s.redundancy = readRedundancy(ctx, n, owner); }},
                 {"node_id",
                  [&](pugi::xml_node n) {
                    if (const std::string node_id = leafText(ctx, n); !node_id.empty())

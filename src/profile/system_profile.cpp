@@ -83,6 +83,7 @@ void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out) {
                                   true}});
                  }},
                 {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
+                {"dds", [&](pugi::xml_node n) { out.dds = parseDds(ctx, n); }},
                 {"id", {}},
                 {"version", {}},
                 {"copyright", {}}});

@@ -17,7 +17,7 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkExports(set, composite, diags);
     checkAlternatives(set, composite.subcomponents, diags);
     checkCoordination(set, composite.subcomponents, composite.coordination, diags);
-    checkIneffectivePolicies(set, composite.subcomponents);
+    checkIneffectivePolicies(set, composite.subcomponents, nullptr);
   }
   for (auto& [path, pkg] : set.packages) {
     checkSubcomponents(set, pkg.subcomponents, diags);
@@ -25,7 +25,8 @@ void validate(ProfileSet& set, Diagnostics& diags) {
     checkAlternatives(set, pkg.subcomponents, diags);
     checkTasks(set, pkg, diags);
     checkCoordination(set, pkg.subcomponents, pkg.coordination, diags);
-    checkIneffectivePolicies(set, pkg.subcomponents);
+    if (pkg.dds) checkDds(set, pkg.subcomponents, *pkg.dds, diags);
+    checkIneffectivePolicies(set, pkg.subcomponents, pkg.dds ? &*pkg.dds : nullptr);
   }
   if (set.system) checkSystem(set, *set.system, diags);
   checkTypeReferences(set);

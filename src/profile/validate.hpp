@@ -27,12 +27,16 @@ void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& d
 void checkCoordination(ProfileSet& set, const std::vector<Subcomponent>& subs, const Coordination& coordination,
                        Diagnostics& diags);
 /// Warnings (set.warnings) for fault_policy settings that load but have no effect.
-void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs);
+/// `dds`: the <dds> of the same profile (null: none).
+void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs, const DdsSpec* dds);
 
 // validate_ports.cpp: connections, exports, alternatives.
 void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& subs,
                       std::vector<Connection>& connections, Diagnostics& diags);
 void checkExports(const ProfileSet& set, const CompositeProfile& composite, Diagnostics& diags);
+/// A <dds>'s bindings: the port exists, is a data port of the right direction, its data_type is
+/// the topic's type.
+void checkDds(const ProfileSet& set, const std::vector<Subcomponent>& subs, const DdsSpec& dds, Diagnostics& diags);
 void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs, Diagnostics& diags);
 
 // validate_system.cpp (connections between applications typed in place, as a package's).

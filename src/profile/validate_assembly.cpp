@@ -1,5 +1,7 @@
 // Checks of an assembly (package or composite): unique subcomponent names, property overrides
 // typed against the referenced component, tasks and coordination dependencies.
+#include <algorithm>
+
 #include <fmt/format.h>
 
 #include "profile/field_reader.hpp"
@@ -188,14 +190,17 @@ void checkCoordination(ProfileSet& set, const std::vector<Subcomponent>& subs, c
   }
 }
 
-void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs) {
+void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& subs, const DdsSpec* dds) {
   for (const Subcomponent& sub : subs) {
     if (!sub.fault_policy) continue;
     const FaultPolicy& p = *sub.fault_policy;
-    if (const auto it = p.severity_kind_where.find("remote"); it != p.severity_kind_where.end())
+    const bool subscribes = dds && std::any_of(dds->bindings.begin(), dds->bindings.end(), [&](const DdsBinding& b) {
+                              return !b.publish && b.endpoint.component == sub.name;
+                            });
+    if (const auto it = p.severity_kind_where.find("remote"); it != p.severity_kind_where.end() && !subscribes)
       set.warnings.push_back({it->second, fmt::format("<severity kind=\"remote\"> of subcomponent '{}' has no effect: "
-                                                      "remote faults come from DDS subscriptions, which this keel "
-                                                      "does not have",
+                                                      "remote faults come from its DDS subscriptions, and this "
+                                                      "profile's <dds> has no <subscribe> of it",
                                                       sub.name)});
     const auto c = set.components.find(sub.reference);
     if (c == set.components.end() || c->second.execution.type != ExecutionType::Passive) continue;

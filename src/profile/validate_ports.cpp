@@ -127,6 +127,28 @@ void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& su
   }
 }
 
+void checkDds(const ProfileSet& set, const std::vector<Subcomponent>& subs, const DdsSpec& dds, Diagnostics& diags) {
+  for (const DdsBinding& b : dds.bindings) {
+    const char* element = b.publish ? "<publish>" : "<subscribe>";
+    const auto port = resolve(set, subs, b.endpoint, b.where, element, diags);
+    if (!port) continue;
+    if (port->kind != PortType::Data) {
+      error(diags, b.where,
+            fmt::format("{}: '{}' is {}; DDS topics carry data ports' values", element, dotted(b.endpoint),
+                        aPort(port->kind)));
+    } else if (port->source_side != b.publish) {
+      error(diags, b.where,
+            fmt::format("{}: '{}' is {}; {} needs {} port", element, dotted(b.endpoint), describe(*port), element,
+                        b.publish ? "an output" : "an input"));
+    } else if (port->type != b.type) {
+      error(diags, b.where,
+            fmt::format("{}: topic '{}' has type '{}', but port '{}' has data_type '{}' (a keel::msg type's data_type "
+                        "is its ROS 2 name)",
+                        element, b.topic, b.type, dotted(b.endpoint), port->type));
+    }
+  }
+}
+
 void checkExports(const ProfileSet& set, const CompositeProfile& composite, Diagnostics& diags) {
   for (const ExportedPort& e : composite.exported_ports) {
     (void)resolve(set, composite.subcomponents, e.inner, e.where, fmt::format("export_port '{}'", e.name), diags);

@@ -123,6 +123,13 @@ void checkSystem(const ProfileSet& set, SystemProfile& system, Diagnostics& diag
   }
   reportCycles(graph, diags);
   checkSystemConnections(set, system, diags);
+  if (system.dds) {
+    std::vector<std::string> unloaded;
+    const std::vector<Subcomponent> subs = qualifiedSubcomponents(set, system, unloaded);
+    DdsSpec loaded = *system.dds;
+    std::erase_if(loaded.bindings, [&](const DdsBinding& b) { return inUnloaded(b.endpoint, unloaded); });
+    checkDds(set, subs, loaded, diags);
+  }
 }
 
 }  // namespace keel::profile::detail

@@ -53,7 +53,7 @@ std::string wordList(const std::vector<std::pair<std::string_view, E>>& table) {
   std::vector<E> seen;
   for (const auto& [name, value] : table) {
     bool dup = false;
-    for (const E& s : seen) dup = dup || s == value;
+    for (const auto& s : seen) dup = dup || s == value;  // auto: E may be bool (vector<bool>)
     if (!dup) {
       names.push_back(name);
       seen.push_back(value);

@@ -11,6 +11,9 @@
    the log shows both instances reaching Active and then Destroyed, and no fault. The project's
    OPRoS component (keel_add_opros_component, libShouter.so) is an OPRoS library to `keel
    inspect`, and in app_opros.xml hears the Greeter.
+   The project's messages (keel_add_messages, greeters_msgs/msg/*.msg with a field of keel's
+   std_msgs/Header) are built into libannouncer.so, whose port `keel inspect` shows under its
+   ROS 2 type name.
 5. `cmake --install` of the project puts libgreeters.so into <prefix>/lib/keel; the same
    application run from the installed profiles finds it there, through libkeel's location.
 6. The installed robot: `<prefix>/bin/keel run <prefix>/share/keel/robot/navigation.xml` with
@@ -217,6 +220,25 @@ def check_opros(keel, build):
     check_log(build / "opros.jsonl", ["greeter", "shouter"])
 
 
+def check_messages(keel, prefix, build):
+    """keel_add_messages from the installed package: the project's messages, generated against the
+    installed shipped ones, compile into a component library that loads (their DDS registrations
+    find libkeel's) and whose ports carry them under their ROS 2 names."""
+    for path in (prefix / "share" / "keel" / "msgs" / "std_msgs" / "msg" / "Header.msg",
+                 prefix / "share" / "keel" / "idl" / "std_msgs" / "msg" / "Header_.idl",
+                 prefix / "include" / "keel" / "msg" / "std_msgs" / "msg" / "header.hpp",
+                 prefix / "include" / "keel" / "idlc" / "std_msgs" / "msg" / "Header_.h"):
+        expect(path.exists(), f"install layout: missing {path}")
+    lib = build / "libannouncer.so"
+    expect(lib.exists(), f"keel_add_messages: no libannouncer.so in {build}")
+    header = next(build.rglob("greeting.hpp"), None)
+    expect(header is not None and "struct Greeting {" in header.read_text(),
+           f"keel_add_messages: no keel/msg/greeters_msgs/msg/greeting.hpp under {build}")
+    out = run("keel inspect libannouncer.so", [keel, "inspect", lib], timeout=60)
+    expect("greeters_msgs/msg/Greeting" in out and "std_msgs/msg/Float64" in out,
+           f"keel inspect libannouncer.so: ports not shown with their ROS 2 types:\n{out}")
+
+
 def check_installed_run(args, work, prefix, libdir, build):
     run("install the component project", [args.cmake, "--install", build]
         + (["--config", args.config] if args.config else []))
@@ -289,6 +311,7 @@ def main():
         check_inspect(keel, lib)
         check_run(keel, "app.xml", lib.parent, "run.jsonl")
         check_opros(keel, lib.parent)
+        check_messages(keel, prefix, build)
         check_installed_run(args, work, prefix, libdir, build)
         check_installed_robot(work, prefix)
     except Failure as e:

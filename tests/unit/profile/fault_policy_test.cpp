@@ -223,8 +223,8 @@ TEST(FaultPolicyWarnings, SettingsWithoutEffectAreWarningsAtTheirLine) {
                   "warnings/ineffective_policy.xml:9: warning: <deadline> of subcomponent 'map' has no effect: "
                   "'MapServer' is passive, and a deadline bounds onExecute, which only an executor calls",
                   "warnings/ineffective_policy.xml:15: warning: <severity kind=\"remote\"> of subcomponent "
-                  "'sonar' has no effect: remote faults come from DDS subscriptions, which this keel does not "
-                  "have"));
+                  "'sonar' has no effect: remote faults come from its DDS subscriptions, and this profile's "
+                  "<dds> has no <subscribe> of it"));
 }
 
 TEST(FaultPolicyWarnings, AValidProfileHasNone) {

@@ -40,12 +40,12 @@ struct MenuPlan {
                          port("out", profile::Usage::Output, "double", false)};
     logger.data_ports = {port("in", profile::Usage::Input, "double", true),
                          port("count", profile::Usage::Output, "int", false)};
-    plan::PlannedInstance s{"sensor", &sensor, {}, profile::FaultPolicy{}, "", "", {}};
+    plan::PlannedInstance s{"sensor", &sensor, {}, profile::FaultPolicy{}, "", "", {}, {}};
     s.policy->heartbeat_timeout_ms = 200;
     plan.instances = {s,
-                      {"filter", &filter, {}, std::nullopt, "", "", {}},
-                      {"logger", &logger, {}, std::nullopt, "", "", {}},
-                      {"vision", &vision, {}, std::nullopt, "", "vision", {}}};
+                      {"filter", &filter, {}, std::nullopt, "", "", {}, {}},
+                      {"logger", &logger, {}, std::nullopt, "", "", {}, {}},
+                      {"vision", &vision, {}, std::nullopt, "", "vision", {}, {}}};
     plan.connections = {{profile::PortType::Data, {"sensor", "range"}, {"filter", "in"}, {}},
                         {profile::PortType::Data, {"filter", "out"}, {"logger", "in"}, {}}};
     plan::PlannedExecutor task;

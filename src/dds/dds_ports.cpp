@@ -1,0 +1,270 @@
+// DDS writers and readers for keel's data ports (dds_ports.hpp).
+#include "dds/dds_ports.hpp"
+
+#include <dds/dds.h>
+#include <fmt/format.h>
+
+#include <atomic>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <mutex>
+
+#include "dds/qos.hpp"
+#include "dds/type_registry.hpp"
+#include "runtime/clock.hpp"
+
+namespace keel::dds {
+
+std::string ddsTopicName(const std::string& topic) { return "rt" + topic; }
+
+std::string ddsTypeName(const std::string& type) {
+  const std::size_t a = type.find('/');
+  const std::size_t b = type.rfind('/');
+  return type.substr(0, a) + "::msg::dds_::" + type.substr(b + 1) + "_";
+}
+
+int effectiveDomain(int domain) {
+  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env && *env) {
+    char* end = nullptr;
+    const long v = std::strtol(env, &end, 10);
+    if (end && *end == '\0' && v >= 0 && v <= 232) return static_cast<int>(v);
+  }
+  return domain;
+}
+
+/// One subscription: the connection its samples go to, and its outage (one fault per outage).
+struct DdsPorts::Reader {
+  DdsPorts* owner = nullptr;
+  const detail::DdsType* type = nullptr;
+  detail::ConnectionBase* connection = nullptr;
+  profile::DdsBinding binding;
+  std::string instance;
+  std::mutex mutex;          // guards outage and warned
+  std::uint64_t outage = 0;  // the fault id of the outage under way; kNoId: one not reported
+  bool warned_incompatible = false;
+  static constexpr std::uint64_t kNoId = std::numeric_limits<std::uint64_t>::max();
+
+  void lost(const std::string& why) {
+    std::lock_guard lock(mutex);
+    if (outage != 0) return;
+    FaultEvent f(FaultKind::Remote, instance, why);
+    f.t_ns = runtime::steadyNs();
+    const std::uint64_t id = owner->watch_.peerLost(instance, f);
+    outage = id != 0 ? id : kNoId;
+  }
+  /// A peer whose QoS cannot match (it never will): a warning, once.
+  static void incompatible(dds_entity_t, dds_requested_incompatible_qos_status_t status, void* arg);
+  void back() {
+    std::lock_guard lock(mutex);
+    if (outage == 0) return;
+    const std::uint64_t id = outage;
+    outage = 0;
+    if (id != kNoId) owner->watch_.peerBack(instance, id, runtime::steadyNs());
+  }
+};
+
+namespace {
+
+std::string at(const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); }
+
+std::string ms(double v) { return fmt::format("{:g} ms", v); }
+
+void onData(dds_entity_t reader, void* arg) {
+  auto* r = static_cast<DdsPorts::Reader*>(arg);
+  bool any = false;
+  constexpr std::uint32_t kBatch = 16;
+  void* samples[kBatch];
+  dds_sample_info_t infos[kBatch];
+  for (;;) {
+    samples[0] = nullptr;  // loaned: no copy out of CycloneDDS's buffers
+    const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
+    if (n <= 0) break;
+    for (dds_return_t i = 0; i < n; ++i) {
+      if (!infos[i].valid_data) continue;
+      try {
+        r->type->deliver(samples[i], *r->connection);
+        any = true;
+      } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
+      }
+    }
+    dds_return_loan(reader, samples, n);
+  }
+  if (any) r->back();
+}
+
+void onDeadline(dds_entity_t, const dds_requested_deadline_missed_status_t status, void* arg) {
+  auto* r = static_cast<DdsPorts::Reader*>(arg);
+  if (status.total_count_change <= 0) return;
+  r->lost(fmt::format("no sample on {} within its deadline of {}", r->binding.topic, ms(*r->binding.deadline_ms)));
+}
+
+void onLiveliness(dds_entity_t, const dds_liveliness_changed_status_t status, void* arg) {
+  auto* r = static_cast<DdsPorts::Reader*>(arg);
+  if (status.alive_count == 0 && status.not_alive_count_change > 0) {
+    r->lost(r->binding.liveliness_ms ? fmt::format("the writer of {} lost its liveliness (lease {})", r->binding.topic,
+                                                   ms(*r->binding.liveliness_ms))
+                                     : fmt::format("the writer of {} lost its liveliness", r->binding.topic));
+  } else if (status.alive_count_change > 0) {
+    r->back();
+  }
+}
+
+}  // namespace
+
+void DdsPorts::Reader::incompatible(dds_entity_t, const dds_requested_incompatible_qos_status_t status, void* arg) {
+  auto* r = static_cast<Reader*>(arg);
+  {
+    std::lock_guard lock(r->mutex);
+    if (r->warned_incompatible) return;
+    r->warned_incompatible = true;
+  }
+  r->owner->warn_(fmt::format("{}: <subscribe> of {}.{}: a writer of {} offers an incompatible {} and is not heard",
+                              at(r->binding.where), r->instance, r->binding.endpoint.port, r->binding.topic,
+                              policyName(static_cast<dds_qos_policy_id_t>(status.last_policy_id))));
+}
+
+DdsPorts::DdsPorts(PeerWatch& watch, runtime::Warn warn) : watch_(watch), warn_(std::move(warn)) {}
+
+DdsPorts::~DdsPorts() { close(); }
+
+Result<std::int32_t> DdsPorts::participant(int domain) {
+  const int d = effectiveDomain(domain);
+  if (const auto it = participants_.find(d); it != participants_.end()) return it->second;
+  const dds_entity_t made = dds_create_participant(static_cast<dds_domainid_t>(d), nullptr, nullptr);
+  if (made < 0) {
+    const char* uri = std::getenv("CYCLONEDDS_URI");
+    return fail(fmt::format("CycloneDDS could not join domain {}: {} (its configuration: CYCLONEDDS_URI={})", d,
+                            dds_strretcode(made), uri ? uri : "unset"));
+  }
+  participants_.emplace(d, made);
+  return made;
+}
+
+Result<void> DdsPorts::publishDiagnostics(int domain, DiagnosticsWriter::Snapshot snapshot) {
+  const detail::DdsType* type = findType("diagnostic_msgs/msg/DiagnosticArray");
+  if (type == nullptr) return fail("/diagnostics: diagnostic_msgs/msg/DiagnosticArray is not linked into keel");
+  auto pp = participant(domain);
+  if (!pp) return pp.error();
+  const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
+  const dds_entity_t topic = dds_create_topic(*pp, descriptor, "rt/diagnostics", nullptr, nullptr);
+  if (topic < 0) return fail(fmt::format("/diagnostics: CycloneDDS refused the topic: {}", dds_strretcode(topic)));
+  profile::DdsBinding b;  // ROS 2's default QoS, as diagnostic_updater publishes
+  const Qos qos = qosOf(b);
+  const dds_entity_t writer = dds_create_writer(*pp, topic, qos.get(), nullptr);
+  if (writer < 0) return fail(fmt::format("/diagnostics: CycloneDDS refused the writer: {}", dds_strretcode(writer)));
+  std::shared_ptr<detail::ByteEnd> outlet = type->make_outlet(writer);
+  auto publish = [outlet](const msg::diagnostic_msgs::DiagnosticArray& a) {
+    static_cast<detail::Connection<msg::diagnostic_msgs::DiagnosticArray>&>(outlet->connection()).send(a);
+  };
+  diagnostics_ = std::make_unique<DiagnosticsWriter>(std::move(snapshot), std::move(publish));
+  return {};
+}
+
+void DdsPorts::close() {
+  if (diagnostics_) diagnostics_->stop();  // before its writer goes
+  // Deleting a participant deletes its topics, writers and readers, and waits for their
+  // listeners: no sample is delivered after this. The outlets stay (ports may still hold
+  // their connections): a write to a deleted writer fails and is dropped.
+  for (const auto& [domain, participant] : participants_) dds_delete(participant);
+  participants_.clear();
+}
+
+Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find) {
+  std::string errors;
+  auto problem = [&](const profile::DdsBinding& b, const std::string& what) {
+    errors += fmt::format("{}: <{}> of {}.{}: {}\n", at(b.where), b.publish ? "publish" : "subscribe",
+                          b.endpoint.component, b.endpoint.port, what);
+  };
+  std::map<std::pair<std::int32_t, std::string>, dds_entity_t> topics;
+  for (const plan::PlannedDds& d : bindings) {
+    const profile::DdsBinding& b = d.binding;
+    detail::PortBase* port = find(b.endpoint);
+    if (port == nullptr) {
+      problem(b, "the component's code has no such port");
+      continue;
+    }
+    const detail::DdsType* type = findType(b.type);
+    if (type == nullptr) {
+      problem(b, fmt::format("no message type '{}' is linked into this keel (keel ships {}; "
+                             "keel_add_messages gives others, linked into the component's library)",
+                             b.type, fmt::join(typeNames(), ", ")));
+      continue;
+    }
+    if (port->type() != type->type) {
+      problem(b, fmt::format("the port's C++ type is '{}', not keel::msg's '{}' that topic {} carries",
+                             port->typeName(), b.type, b.topic));
+      continue;
+    }
+    const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
+    if (ddsTypeName(b.type) != descriptor->m_typename) {
+      problem(b, fmt::format("the message code registered '{}' for DDS type '{}'", b.type, descriptor->m_typename));
+      continue;
+    }
+    const auto pp = participant(d.domain);
+    if (!pp) {
+      problem(b, pp.error().message);
+      continue;
+    }
+    const std::string topic_name = ddsTopicName(b.topic);
+    auto& topic = topics[{*pp, topic_name}];
+    if (topic == 0) {
+      topic = dds_create_topic(*pp, descriptor, topic_name.c_str(), nullptr, nullptr);
+      if (topic < 0) {
+        problem(b, fmt::format("CycloneDDS refused topic {} ({}): {}", b.topic, topic_name, dds_strretcode(topic)));
+        topic = 0;
+        continue;
+      }
+    }
+    const Qos qos = qosOf(b);
+    if (b.exclusive) dds_qset_ownership(qos.get(), DDS_OWNERSHIP_EXCLUSIVE);
+    if (b.publish && d.redundancy) {  // the role's writer: the strongest live one is heard
+      dds_qset_ownership(qos.get(), DDS_OWNERSHIP_EXCLUSIVE);
+      dds_qset_ownership_strength(qos.get(), d.redundancy->strength);
+    }
+    if (b.publish) {
+      const dds_entity_t writer = dds_create_writer(*pp, topic, qos.get(), nullptr);
+      if (writer < 0) {
+        problem(b, fmt::format("CycloneDDS refused the writer: {}", dds_strretcode(writer)));
+        continue;
+      }
+      auto outlet = type->make_outlet(writer);
+      if (!static_cast<detail::OutputPortBase*>(port)->attach(outlet->connection())) {
+        problem(b, "the port refused the connection");
+        continue;
+      }
+      ends_.push_back({&outlet->connection(), port, true});
+      outlets_.push_back(std::move(outlet));
+    } else {
+      auto connection = static_cast<detail::InputPortBase*>(port)->makeConnection();
+      auto reader = std::make_unique<Reader>();
+      reader->owner = this;
+      reader->type = type;
+      reader->connection = connection.get();
+      reader->binding = b;
+      reader->instance = b.endpoint.component;
+      dds_listener_t* listener = dds_create_listener(reader.get());
+      dds_lset_data_available(listener, onData);
+      dds_lset_requested_deadline_missed(listener, onDeadline);
+      dds_lset_liveliness_changed(listener, onLiveliness);
+      dds_lset_requested_incompatible_qos(listener, Reader::incompatible);
+      const dds_entity_t made = dds_create_reader(*pp, topic, qos.get(), listener);
+      dds_delete_listener(listener);
+      if (made < 0) {
+        problem(b, fmt::format("CycloneDDS refused the reader: {}", dds_strretcode(made)));
+        continue;
+      }
+      ends_.push_back({connection.get(), port, false});
+      inlets_.push_back(std::move(connection));
+      readers_.push_back(std::move(reader));
+    }
+  }
+  if (!errors.empty()) {
+    close();
+    errors.pop_back();
+    return fail(errors);
+  }
+  return {};
+}
+
+}  // namespace keel::dds

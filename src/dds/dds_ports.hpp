@@ -1,0 +1,94 @@
+// keel's data ports on DDS topics (docs/dds.md): the plan's <publish> and <subscribe> bindings
+// of one process made into CycloneDDS writers and readers, with ROS 2's conventions (topic
+// `/a/b` is DDS topic `rt/a/b`, type `pkg/msg/Name` is `pkg::msg::dds_::Name_`, ROS 2's QoS).
+//   publish:   the output port attaches a connection whose sink converts each value and writes
+//              it (on the sending component's thread: no copy, no queue, no thread of keel's).
+//   subscribe: a connection made by the input port; CycloneDDS's listener takes each sample,
+//              converts it and sends it there (queue policy, validity, wake-ups as for a local
+//              connection), and reports a missed deadline or a writer's lost liveliness to the
+//              PeerWatch once per outage, and the outage's end.
+// Both ends are connections the engine re-points when it replaces a component.
+// Thread-safety: open/close from one thread; listeners run on CycloneDDS's threads.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "dds/diagnostics.hpp"
+#include "keel/detail/port_base.hpp"
+#include "keel/fault_event.hpp"
+#include "keel/result.hpp"
+#include "plan/plan.hpp"
+#include "runtime/warning.hpp"
+
+namespace keel::dds {
+
+/// What the DDS layer reports of a subscription's writers (the engine: to its fault manager).
+class PeerWatch {
+ public:
+  virtual ~PeerWatch() = default;
+  /// The writers feeding a subscription of `instance` were lost (deadline missed, liveliness
+  /// lost): a `remote` fault of it. Returns the fault's id (0: not reported).
+  virtual std::uint64_t peerLost(const std::string& instance, const FaultEvent& fault) = 0;
+  /// Samples (or a live writer) came back after fault `id`, at steady time `t_ns`.
+  virtual void peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) = 0;
+};
+
+/// The DDS name of ROS 2 topic `topic` ("/a/b" → "rt/a/b").
+std::string ddsTopicName(const std::string& topic);
+/// The DDS type name of ROS 2 type `type` ("pkg/msg/Name" → "pkg::msg::dds_::Name_").
+std::string ddsTypeName(const std::string& type);
+/// The domain a <dds domain> means in this process: ROS_DOMAIN_ID when set, else `domain`.
+int effectiveDomain(int domain);
+
+class DdsPorts {
+ public:
+  /// One end made: the connection and the port it belongs to (output: attached to it).
+  struct End {
+    detail::ConnectionBase* connection = nullptr;
+    detail::PortBase* port = nullptr;
+    bool output = false;
+  };
+  using FindPort = std::function<detail::PortBase*(const profile::Endpoint&)>;
+
+  DdsPorts(PeerWatch& watch, runtime::Warn warn);
+  ~DdsPorts();
+  DdsPorts(const DdsPorts&) = delete;
+  DdsPorts& operator=(const DdsPorts&) = delete;
+
+  /// Makes the writers and readers of `bindings` (this process's), their ports found by
+  /// `find`. Every problem is in the error, each line `file:line: what and why`; nothing is
+  /// left open after a failure.
+  Result<void> open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find);
+  const std::vector<End>& ends() const { return ends_; }
+  /// Publishes /diagnostics in `domain` (ROS_DOMAIN_ID overrides it): `snapshot()` at 1 Hz and
+  /// after each pokeDiagnostics().
+  Result<void> publishDiagnostics(int domain, DiagnosticsWriter::Snapshot snapshot);
+  /// A component's state changed: /diagnostics says so now (any thread; nothing without one).
+  void pokeDiagnostics() {
+    if (diagnostics_) diagnostics_->poke();
+  }
+  /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
+  void close();
+
+  struct Reader;  // dds_ports.cpp
+
+ private:
+  /// The participant of `domain` in this process, joined on first use.
+  Result<std::int32_t> participant(int domain);
+
+  PeerWatch& watch_;
+  runtime::Warn warn_;
+  std::map<int, std::int32_t> participants_;  // by domain
+  std::vector<std::unique_ptr<Reader>> readers_;
+  std::vector<std::unique_ptr<detail::ByteEnd>> outlets_;
+  std::vector<std::unique_ptr<detail::ConnectionBase>> inlets_;
+  std::vector<End> ends_;
+  std::unique_ptr<DiagnosticsWriter> diagnostics_;
+};
+
+}  // namespace keel::dds

@@ -1,0 +1,48 @@
+// ROS 2's naming on the DDS wire (src/dds/dds_ports): topic `/a/b` is DDS topic `rt/a/b`, type
+// `pkg/msg/Name` is `pkg::msg::dds_::Name_`, and ROS_DOMAIN_ID overrides a profile's domain.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+
+#include "dds/dds_ports.hpp"
+#include "dds/type_registry.hpp"
+
+namespace keel::dds {
+namespace {
+
+TEST(DdsNames, TopicsAndTypesAreNamedAsROS2NamesThemOnTheWire) {
+  EXPECT_EQ(ddsTopicName("/cmd_vel"), "rt/cmd_vel");
+  EXPECT_EQ(ddsTopicName("/sonar/range"), "rt/sonar/range");
+  EXPECT_EQ(ddsTypeName("geometry_msgs/msg/Twist"), "geometry_msgs::msg::dds_::Twist_");
+  EXPECT_EQ(ddsTypeName("std_msgs/msg/String"), "std_msgs::msg::dds_::String_");
+}
+
+TEST(DdsNames, EveryShippedTypeIsRegisteredUnderTheNameItsDescriptorHas) {
+  for (const char* name : {"std_msgs/msg/Float64", "geometry_msgs/msg/Twist", "sensor_msgs/msg/LaserScan",
+                           "diagnostic_msgs/msg/DiagnosticArray", "builtin_interfaces/msg/Time"}) {
+    const detail::DdsType* t = findType(name);
+    ASSERT_NE(t, nullptr) << name;
+    EXPECT_STREQ(t->ros_name, name);
+  }
+  EXPECT_EQ(findType("std_msgs/msg/NoSuchThing"), nullptr);
+}
+
+TEST(DdsNames, RosDomainIdOverridesTheProfilesDomainWhenItIsADomain) {
+  const char* before = std::getenv("ROS_DOMAIN_ID");
+  const std::string saved = before ? before : "";
+  ::unsetenv("ROS_DOMAIN_ID");
+  EXPECT_EQ(effectiveDomain(7), 7);
+  ::setenv("ROS_DOMAIN_ID", "42", 1);
+  EXPECT_EQ(effectiveDomain(7), 42);
+  ::setenv("ROS_DOMAIN_ID", "", 1);  // set but empty: as unset
+  EXPECT_EQ(effectiveDomain(7), 7);
+  ::setenv("ROS_DOMAIN_ID", "4x", 1);  // not a number: the profile's
+  EXPECT_EQ(effectiveDomain(7), 7);
+  ::setenv("ROS_DOMAIN_ID", "233", 1);  // beyond DDS's port formula
+  EXPECT_EQ(effectiveDomain(7), 7);
+  if (before) ::setenv("ROS_DOMAIN_ID", saved.c_str(), 1);
+  else ::unsetenv("ROS_DOMAIN_ID");
+}
+
+}  // namespace
+}  // namespace keel::dds
