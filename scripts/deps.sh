@@ -16,6 +16,7 @@ packages=(
   erlang-base
   cyclonedds-tools  # ddsperf (keel bench isolation) and idlc (message types)
   cyclonedds-dev  # CycloneDDS C API: DDS ports visible to ROS 2 (src/dds, decision 0018)
+  iproute2  # ip netns: the redundancy test's two hosts (tests/dds/redundancy_test.py)
   graphviz  # dot, for the docs' `keel graph` examples (tests/docs/examples_test.py)
 )
 packages+=("$@")  # a script's own (scripts/fuzz.sh: clang and libFuzzer)
