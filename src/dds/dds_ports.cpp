@@ -40,27 +40,28 @@ struct DdsPorts::Reader {
   detail::ConnectionBase* connection = nullptr;
   profile::DdsBinding binding;
   std::string instance;
-  std::mutex mutex;          // guards outage and warned
-  std::uint64_t outage = 0;  // the fault id of the outage under way; kNoId: one not reported
+  std::mutex mutex;  // serialises outages' beginnings and ends; guards warned_incompatible
+  // The fault id of the outage under way (kNoId: one not reported), 0: none. Atomic so that a
+  // sample's arrival checks it without the lock.
+  std::atomic<std::uint64_t> outage{0};
   bool warned_incompatible = false;
   static constexpr std::uint64_t kNoId = std::numeric_limits<std::uint64_t>::max();
 
   void lost(const std::string& why) {
     std::lock_guard lock(mutex);
-    if (outage != 0) return;
+    if (outage.load(std::memory_order_relaxed) != 0) return;
     FaultEvent f(FaultKind::Remote, instance, why);
     f.t_ns = runtime::steadyNs();
     const std::uint64_t id = owner->watch_.peerLost(instance, f);
-    outage = id != 0 ? id : kNoId;
+    outage.store(id != 0 ? id : kNoId, std::memory_order_release);
   }
   /// A peer whose QoS cannot match (it never will): a warning, once.
   static void incompatible(dds_entity_t, dds_requested_incompatible_qos_status_t status, void* arg);
   void back() {
+    if (outage.load(std::memory_order_acquire) == 0) return;  // every sample asks: no lock then
     std::lock_guard lock(mutex);
-    if (outage == 0) return;
-    const std::uint64_t id = outage;
-    outage = 0;
-    if (id != kNoId) owner->watch_.peerBack(instance, id, runtime::steadyNs());
+    const std::uint64_t id = outage.exchange(0, std::memory_order_acq_rel);
+    if (id != 0 && id != kNoId) owner->watch_.peerBack(instance, id, runtime::steadyNs());
   }
 };
 

@@ -5,9 +5,8 @@
 // executor slot taken, lookups by name answering the alternative.
 #include <fmt/format.h>
 
-#include <set>
-
 #include <algorithm>
+#include <set>
 
 #include "engine/engine.hpp"
 #include "fault/fault_manager_component.hpp"
