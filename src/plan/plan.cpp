@@ -219,6 +219,11 @@ class Planner {
     if (cit == set_.composites.end())
       return fail(fmt::format("{}:{}: subcomponent '{}': '{}' is not a loaded component or composite", sub.where.file,
                               sub.where.line, sub.name, sub.reference));
+    if (sub.redundancy)
+      return fail(
+          fmt::format("{}:{}: <redundancy> of subcomponent '{}': '{}' is a composite; give the role to the "
+                      "components inside it whose topics it is about",
+                      sub.redundancy->where.file, sub.redundancy->where.line, sub.name, sub.reference));
     const profile::CompositeProfile& comp = cit->second;
     std::size_t first = plan_.instances.size();
     const std::size_t composite = plan_.composites.size();

@@ -91,5 +91,15 @@ TEST(DdsProfile, ARemoteSeverityWithoutASubscriptionIsAWarning) {
   EXPECT_THAT(warnings("dds/app.xml"), ElementsAre());  // planner subscribes: its remote rule acts
 }
 
+TEST(DdsProfile, RedundancyOnACompositeIsRefusedAtItsLine) {
+  auto set = load(dataPath("dds/redundant_composite.xml"));
+  ASSERT_TRUE(set.ok()) << joined(set);
+  auto plan = plan::makePlan(*set);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(relative(plan.error().message),
+            "dds/redundant_composite.xml:7: <redundancy> of subcomponent 'array': 'valid/SonarArray.xml' is a "
+            "composite; give the role to the components inside it whose topics it is about");
+}
+
 }  // namespace
 }  // namespace keel::profile::test
