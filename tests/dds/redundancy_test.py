@@ -17,6 +17,9 @@ import time
 import unittest
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from domains import domain  # noqa: E402
+
 KEEL = COMPONENTS = None
 LEASE_MS = 200
 PERIOD_MS = 10
@@ -56,7 +59,7 @@ class Redundancy(unittest.TestCase):
             sh("ip", "-n", ns, "link", "set", "lo", "up")
             sh("ip", "-n", ns, "link", "set", v, "up")
         self.dir = Path(tempfile.mkdtemp(prefix="keel_redundancy_"))
-        self.domain = random.randint(1, 100)
+        self.domain = domain()
         (self.dir / "Announcer.xml").write_text(profile("Announcer", [("said", "output")], PERIOD_MS,
                                                         '<property name="who" type="string">?</property>'))
         (self.dir / "Recorder.xml").write_text(profile("Recorder", [("heard", "input")], None,

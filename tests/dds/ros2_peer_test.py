@@ -19,6 +19,9 @@ import time
 import unittest
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from domains import domain  # noqa: E402
+
 HERE = Path(__file__).resolve().parent
 KEEL = COMPONENTS = None
 
@@ -131,10 +134,6 @@ class Ros2Peer:
         self.executor.shutdown()
         self.node.destroy_node()
         rclpy.shutdown(context=self.context)
-
-
-def domain():
-    return random.randint(1, 100)
 
 
 def package(subcomponents, dds, dds_domain=None):
