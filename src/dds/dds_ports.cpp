@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 
 #include <atomic>
+#include <cctype>
+#include <cerrno>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
@@ -24,13 +26,15 @@ std::string ddsTypeName(const std::string& type) {
   return type.substr(0, a) + "::msg::dds_::" + type.substr(b + 1) + "_";
 }
 
-int effectiveDomain(int domain) {
-  if (const char* env = std::getenv("ROS_DOMAIN_ID"); env && *env) {
-    char* end = nullptr;
-    const long v = std::strtol(env, &end, 10);
-    if (end && *end == '\0' && v >= 0 && v <= 232) return static_cast<int>(v);
-  }
-  return domain;
+Result<int> effectiveDomain(int domain) {
+  const char* env = std::getenv("ROS_DOMAIN_ID");
+  if (env == nullptr || *env == '\0') return domain;
+  char* end = nullptr;
+  errno = 0;
+  const long v = std::strtol(env, &end, 10);
+  if (errno != 0 || !std::isdigit(static_cast<unsigned char>(*env)) || *end != '\0' || v > 232)
+    return fail(fmt::format("ROS_DOMAIN_ID='{}' is not a DDS domain id (a whole number from 0 to 232)", env));
+  return static_cast<int>(v);
 }
 
 /// One subscription: the connection its samples go to, and its outage (one fault per outage).
@@ -130,7 +134,9 @@ DdsPorts::DdsPorts(PeerWatch& watch, runtime::Warn warn) : watch_(watch), warn_(
 DdsPorts::~DdsPorts() { close(); }
 
 Result<std::int32_t> DdsPorts::participant(int domain) {
-  const int d = effectiveDomain(domain);
+  const auto domain_id = effectiveDomain(domain);
+  if (!domain_id) return domain_id.error();
+  const int d = *domain_id;
   if (const auto it = participants_.find(d); it != participants_.end()) return it->second;
   const dds_entity_t made = dds_create_participant(static_cast<dds_domainid_t>(d), nullptr, nullptr);
   if (made < 0) {
@@ -146,7 +152,7 @@ Result<void> DdsPorts::publishDiagnostics(int domain, DiagnosticsWriter::Snapsho
   const detail::DdsType* type = findType("diagnostic_msgs/msg/DiagnosticArray");
   if (type == nullptr) return fail("/diagnostics: diagnostic_msgs/msg/DiagnosticArray is not linked into keel");
   auto pp = participant(domain);
-  if (!pp) return pp.error();
+  if (!pp) return fail("/diagnostics: " + pp.error().message);
   const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
   const dds_entity_t topic = dds_create_topic(*pp, descriptor, "rt/diagnostics", nullptr, nullptr);
   if (topic < 0) return fail(fmt::format("/diagnostics: CycloneDDS refused the topic: {}", dds_strretcode(topic)));

@@ -42,8 +42,9 @@ class PeerWatch {
 std::string ddsTopicName(const std::string& topic);
 /// The DDS type name of ROS 2 type `type` ("pkg/msg/Name" → "pkg::msg::dds_::Name_").
 std::string ddsTypeName(const std::string& type);
-/// The domain a <dds domain> means in this process: ROS_DOMAIN_ID when set, else `domain`.
-int effectiveDomain(int domain);
+/// The domain a <dds domain> means in this process: ROS_DOMAIN_ID when set (and not empty),
+/// else `domain`. An error if ROS_DOMAIN_ID is not a domain id (0-232), as ROS 2's rcl refuses it.
+Result<int> effectiveDomain(int domain);
 
 class DdsPorts {
  public:

@@ -27,19 +27,22 @@ TEST(DdsNames, EveryShippedTypeIsRegisteredUnderTheNameItsDescriptorHas) {
   EXPECT_EQ(findType("std_msgs/msg/NoSuchThing"), nullptr);
 }
 
-TEST(DdsNames, RosDomainIdOverridesTheProfilesDomainWhenItIsADomain) {
+TEST(DdsNames, RosDomainIdOverridesTheProfilesDomainAndABadOneIsAnError) {
   const char* before = std::getenv("ROS_DOMAIN_ID");
   const std::string saved = before ? before : "";
   ::unsetenv("ROS_DOMAIN_ID");
-  EXPECT_EQ(effectiveDomain(7), 7);
+  EXPECT_EQ(*effectiveDomain(7), 7);
   ::setenv("ROS_DOMAIN_ID", "42", 1);
-  EXPECT_EQ(effectiveDomain(7), 42);
-  ::setenv("ROS_DOMAIN_ID", "", 1);  // set but empty: as unset
-  EXPECT_EQ(effectiveDomain(7), 7);
-  ::setenv("ROS_DOMAIN_ID", "4x", 1);  // not a number: the profile's
-  EXPECT_EQ(effectiveDomain(7), 7);
-  ::setenv("ROS_DOMAIN_ID", "233", 1);  // beyond DDS's port formula
-  EXPECT_EQ(effectiveDomain(7), 7);
+  EXPECT_EQ(*effectiveDomain(7), 42);
+  ::setenv("ROS_DOMAIN_ID", "", 1);  // set but empty: as unset (as rcl takes it)
+  EXPECT_EQ(*effectiveDomain(7), 7);
+  for (const char* bad : {"4x", "233", "-1", " 5"}) {  // not a number; beyond DDS's port formula
+    ::setenv("ROS_DOMAIN_ID", bad, 1);
+    const auto d = effectiveDomain(7);
+    ASSERT_FALSE(d.ok()) << bad;
+    EXPECT_EQ(d.error().message,
+              std::string("ROS_DOMAIN_ID='") + bad + "' is not a DDS domain id (a whole number from 0 to 232)");
+  }
   if (before) ::setenv("ROS_DOMAIN_ID", saved.c_str(), 1);
   else ::unsetenv("ROS_DOMAIN_ID");
 }
