@@ -223,12 +223,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
         continue;
       }
     }
-    const Qos qos = qosOf(b);
-    if (b.exclusive) dds_qset_ownership(qos.get(), DDS_OWNERSHIP_EXCLUSIVE);
-    if (b.publish && d.redundancy) {  // the role's writer: the strongest live one is heard
-      dds_qset_ownership(qos.get(), DDS_OWNERSHIP_EXCLUSIVE);
-      dds_qset_ownership_strength(qos.get(), d.redundancy->strength);
-    }
+    const Qos qos = qosOf(b, b.publish ? d.redundancy : std::nullopt);
     if (b.publish) {
       const dds_entity_t writer = dds_create_writer(*pp, topic, qos.get(), nullptr);
       if (writer < 0) {

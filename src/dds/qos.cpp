@@ -3,7 +3,7 @@
 
 namespace keel::dds {
 
-Qos qosOf(const profile::DdsBinding& b) {
+Qos qosOf(const profile::DdsBinding& b, const std::optional<profile::Redundancy>& redundancy) {
   Qos q(dds_create_qos());
   dds_qos_t* p = q.get();
   std::int32_t depth = 10;
@@ -29,6 +29,8 @@ Qos qosOf(const profile::DdsBinding& b) {
   if (b.deadline_ms) dds_qset_deadline(p, static_cast<dds_duration_t>(*b.deadline_ms * 1e6));
   if (b.liveliness_ms)
     dds_qset_liveliness(p, DDS_LIVELINESS_AUTOMATIC, static_cast<dds_duration_t>(*b.liveliness_ms * 1e6));
+  if (b.exclusive || redundancy) dds_qset_ownership(p, DDS_OWNERSHIP_EXCLUSIVE);
+  if (redundancy) dds_qset_ownership_strength(p, redundancy->strength);  // the strongest live writer is heard
   return q;
 }
 

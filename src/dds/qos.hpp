@@ -5,6 +5,7 @@
 #include <dds/dds.h>
 
 #include <memory>
+#include <optional>
 
 #include "profile/model.hpp"
 
@@ -16,8 +17,9 @@ struct QosDeleter {
 using Qos = std::unique_ptr<dds_qos_t, QosDeleter>;
 
 /// The QoS of `b`'s writer (publish) or reader (subscribe): the profile named by its `qos`,
-/// its depth, and the deadline and liveliness it offers or requests.
-Qos qosOf(const profile::DdsBinding& b);
+/// its depth, the deadline and liveliness it offers or requests, and its ownership: a reader's
+/// `ownership="exclusive"`, or the `redundancy` of the component a writer belongs to.
+Qos qosOf(const profile::DdsBinding& b, const std::optional<profile::Redundancy>& redundancy = std::nullopt);
 
 /// ROS 2's name of the QoS policy `id` (DDS_..._QOS_POLICY_ID), for messages: "reliability".
 const char* policyName(dds_qos_policy_id_t id);

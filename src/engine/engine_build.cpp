@@ -325,15 +325,16 @@ Result<void> Engine::connect() {
       dds.push_back(d);
       dds.back().redundancy = pi->redundancy;
     }
-  if (!dds.empty()) {
+  // /diagnostics: keel run's, for the components it knows the state of (its own process's).
+  const bool diagnostics = !options_.host && planned_.plan.diagnostics_domain;
+  if (!dds.empty() || diagnostics)
     dds_ = std::make_unique<dds::DdsPorts>(*this, [this](const std::string& m) { warn(m); });
+  if (!dds.empty()) {
     if (auto made = dds_->open(dds, port); !made) errors += made.error().message + '\n';
     for (const dds::DdsPorts::End& end : dds_->ends())
       wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
   }
-  // /diagnostics: keel run's, for the components it knows the state of (its own process's).
-  if (!options_.host && planned_.plan.diagnostics_domain) {
-    if (!dds_) dds_ = std::make_unique<dds::DdsPorts>(*this, [this](const std::string& m) { warn(m); });
+  if (diagnostics) {
     if (auto made = dds_->publishDiagnostics(*planned_.plan.diagnostics_domain, [this] { return health(); }); !made)
       errors += made.error().message + '\n';
     fault_manager_.onChange([this] { dds_->pokeDiagnostics(); });  // a fault, its actions, its recovery
