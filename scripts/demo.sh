@@ -4,14 +4,15 @@
 # without faults, then through the paper's experiments, each injected while it drives: a
 # segmentation fault, the vision's process killed with `kill -9` (twice), an unplugged sonar, a
 # lying sonar, the left wheel's driver losing power (Fig. 6), an obstacle avoider that keeps
-# crashing. For each run keel prints what it detected, how it handled it and the mission's
-# outcome, and for a killed process how soon its standby took over; the fault logs, MCAP
-# recordings and plots (trajectory with the faults marked, Fig. 6's rpm and detection) go to
-# demo/. While each runs, its live monitor is at the address printed (KEEL_DEMO_MONITOR sets it,
-# default 127.0.0.1:8765).
+# crashing. Last, `ros2`: a ROS 2 node (rclpy, from PyPI) drives the robot over DDS from the
+# sonar ranges keel publishes, is killed with `kill -9` and started again (robot/ros2/). For each
+# run keel prints what it detected, how it handled it and the mission's outcome, and for a killed
+# process how soon its standby took over; the fault logs, MCAP recordings and plots (trajectory
+# with the faults marked, Fig. 6's rpm and detection) go to demo/. While each runs, its live
+# monitor is at the address printed (KEEL_DEMO_MONITOR sets it, default 127.0.0.1:8765).
 #   scripts/demo.sh [experiment...]   (default: nominal segfault vision_killed sonar_unplugged
-#                                      sonar_wrong fig6_left_motor_off avoidance_replaced;
-#                                      see robot/scenarios)
+#                                      sonar_wrong fig6_left_motor_off avoidance_replaced ros2;
+#                                      see robot/scenarios, and robot/ros2.xml for ros2)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -56,8 +57,22 @@ fi
 monitor=${KEEL_DEMO_MONITOR:-127.0.0.1:8765}  # the live monitor's address (docs/monitor.md)
 experiments=("$@")
 ((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off
-                                       avoidance_replaced)
+                                       avoidance_replaced ros2)
 for e in "${experiments[@]}"; do
+  if [[ "$e" == ros2 ]]; then
+    # A ROS 2 node drives the robot (robot/ros2.xml, robot/ros2/): rclpy from PyPI, in the test
+    # peers' venv; without it (no network, no python3-venv) this experiment alone is skipped.
+    echo
+    echo "=== ros2: a ROS 2 node drives keel's robot, is killed with kill -9, comes back ==="
+    if ! scripts/peers.sh python; then
+      echo "demo.sh: skipping ros2: rclpy could not be installed (scripts/peers.sh python, above)" >&2
+      continue
+    fi
+    python3 robot/ros2/experiment.py --keel build/bin/keel --python tests/peers/venv/bin/python --out demo/ros2 \
+      --monitor "$monitor" || echo "demo.sh: the ros2 experiment did not complete (above)" >&2
+    python3 robot/plot_run.py --trace demo/ros2.csv --log demo/ros2.jsonl --out demo/ros2 || true
+    continue
+  fi
   inject=()
   [[ "$e" == nominal ]] || inject=(--inject "robot/scenarios/$e.xml")
   echo

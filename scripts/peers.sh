@@ -6,10 +6,21 @@
 # Chromium for the monitor's page. Quiet and offline when all is installed already, so
 # scripts/test.sh calls it every time; otherwise one line, with the installers' output in a log
 # shown only if one fails.
+#   scripts/peers.sh           all of them (scripts/test.sh)
+#   scripts/peers.sh python    the venv alone: rclpy for scripts/demo.sh's ros2 experiment
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-scripts/deps.sh python3-venv chromium fonts-dejavu-core
+only=${1:-}
+case "$only" in
+  "" | python) ;;
+  *) echo "usage: scripts/peers.sh [python]" >&2 && exit 2 ;;
+esac
+if [[ "$only" == python ]]; then
+  scripts/deps.sh python3-venv
+else
+  scripts/deps.sh python3-venv chromium fonts-dejavu-core
+fi
 
 peers=tests/peers
 log="${TMPDIR:-/tmp}/keel-peers.log"
@@ -19,9 +30,14 @@ want_py=$(sha256sum "$peers/requirements.txt" | cut -c1-64)
 want_js=$(sha256sum "$peers/package-lock.json" | cut -c1-64)
 have_py=$(cat "$stamp_py" 2>/dev/null || true)
 have_js=$(cat "$stamp_js" 2>/dev/null || true)
+[[ "$only" == python ]] && have_js=$want_js  # not asked for
 [[ "$have_py" == "$want_py" && "$have_js" == "$want_js" ]] && exit 0
 
-echo "peers.sh: installing the test peers (PyPI: mcap, rclpy; npm: @foxglove/ws-protocol, ws, puppeteer-core); output: $log"
+if [[ "$only" == python ]]; then
+  echo "peers.sh: installing rclpy and mcap from PyPI in $peers/venv; output: $log"
+else
+  echo "peers.sh: installing the test peers (PyPI: mcap, rclpy; npm: @foxglove/ws-protocol, ws, puppeteer-core); output: $log"
+fi
 : >"$log"
 fail() {
   echo "peers.sh: $1 failed; the end of $log:" >&2

@@ -1,0 +1,292 @@
+#!/usr/bin/env python3
+"""The `ros2` experiment of scripts/demo.sh (docs/robot.md): a ROS 2 node drives keel's
+simulated robot, is killed with kill -9 mid-run, and is started again.
+
+  experiment.py --keel build/bin/keel --python tests/peers/venv/bin/python --out demo/ros2
+                [--monitor 127.0.0.1:8765] [--drive 5] [--gone 2] [--after 5]
+
+keel runs robot/ros2.xml; robot/ros2/wander.py, an rclpy node, plans from the sonar ranges keel
+publishes and sends /cmd_vel. Once the robot has driven `--drive` s on the node's commands, the
+node gets SIGKILL; `--gone` s later it is started again, and runs `--after` s more. Both sides
+are on one ROS domain — ROS_DOMAIN_ID if set, else one held from the DDS tests' pool
+(tests/dds/domains.py) — and on the loopback unless CYCLONEDDS_URI / FASTDDS_DEFAULT_PROFILES_FILE
+say otherwise (tests/dds/*-lo.xml). It watches keel's fault log and the referee's trace as they
+are written (every 10 ms), so each moment is when this process saw it, on one clock, and prints
+the story; OUT.summary.json holds it for tests/robot/ros2_demo_test.py. Files: OUT.jsonl (the
+fault log), OUT.csv (the trace), OUT.mcap, OUT.out (keel run's output), OUT.node1.out /
+OUT.node2.out and their .json stats (the node's view). Exit 1 when a step did not happen."""
+import argparse
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+MOVING_RPM = 20.0  # a wheel this fast: the robot drives
+REST_RPM = 2.0  # both wheels slower: at rest
+
+
+class Watch:
+    """keel's fault log and the referee's trace, read as they grow; each record or row with the
+    monotonic time this process first saw it."""
+
+    def __init__(self, log, trace):
+        self.files = {log: [], trace: []}
+        self.log, self.trace = log, trace
+        self.offsets = {log: 0, trace: 0}
+        self.partial = {log: "", trace: ""}
+
+    def poll(self):
+        now = time.monotonic()
+        for path, out in self.files.items():
+            if not path.exists():
+                continue
+            with open(path) as f:
+                f.seek(self.offsets[path])
+                text = f.read()
+                self.offsets[path] = f.tell()
+            text = self.partial[path] + text
+            lines = text.split("\n")
+            self.partial[path] = lines.pop()
+            for line in lines:
+                if not line.strip():
+                    continue
+                if path == self.log:
+                    try:
+                        out.append((now, json.loads(line)))
+                    except json.JSONDecodeError:
+                        pass
+                elif not line.startswith("t_s"):
+                    v = line.split(",")
+                    out.append((now, {"t_s": float(v[0]), "rpm_left": float(v[4]), "rpm_right": float(v[5]),
+                                      "collisions": float(v[11])}))
+
+    def records(self):
+        return self.files[self.log]
+
+    def rows(self):
+        return self.files[self.trace]
+
+    def first(self, pred, rows, after=0.0):
+        return next(((t, r) for t, r in rows if t >= after and pred(r)), None)
+
+
+def moving(r):
+    return max(abs(r["rpm_left"]), abs(r["rpm_right"])) > MOVING_RPM
+
+
+def at_rest(r):
+    return max(abs(r["rpm_left"]), abs(r["rpm_right"])) < REST_RPM
+
+
+def environment(args):
+    env = dict(os.environ)
+    held = None
+    if not env.get("ROS_DOMAIN_ID"):
+        sys.path.insert(0, str(ROOT / "tests" / "dds"))
+        from domains import domain  # held by this process until it exits
+        held = domain()
+        env["ROS_DOMAIN_ID"] = str(held)
+    env.setdefault("CYCLONEDDS_URI", (ROOT / "tests" / "dds" / "cyclonedds-lo.xml").as_uri())
+    env.setdefault("FASTDDS_DEFAULT_PROFILES_FILE", str(ROOT / "tests" / "dds" / "fastdds-lo.xml"))
+    env.pop("ROS_LOCALHOST_ONLY", None)
+    env.pop("ROS_AUTOMATIC_DISCOVERY_RANGE", None)
+    return env
+
+
+class Experiment:
+    def __init__(self, args):
+        self.args = args
+        self.out = Path(args.out)
+        self.out.parent.mkdir(parents=True, exist_ok=True)
+        self.env = environment(args)
+        self.log, self.trace = Path(f"{self.out}.jsonl"), Path(f"{self.out}.csv")
+        for p in (self.log, self.trace):
+            p.unlink(missing_ok=True)
+        self.watch = Watch(self.log, self.trace)
+        self.t0 = time.monotonic()
+        self.events = []  # (t, text): what this process did and saw
+        self.summary = {"domain": int(self.env["ROS_DOMAIN_ID"])}
+        self.nodes = []
+        self.keel = None
+
+    def note(self, text, t=None):
+        t = time.monotonic() if t is None else t
+        self.events.append((t, text))
+        print(f"  {t - self.t0:5.1f} s  {text}", flush=True)
+
+    def wait(self, what, seconds, pred):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            self.watch.poll()
+            found = pred()
+            if found:
+                return found
+            if self.keel.poll() is not None:
+                raise RuntimeError(f"keel run ended ({self.keel.returncode}) while waiting for {what}")
+            time.sleep(0.01)
+        raise RuntimeError(f"no {what} within {seconds} s")
+
+    def idle(self, seconds):
+        end = time.monotonic() + seconds
+        while time.monotonic() < end:
+            self.watch.poll()
+            time.sleep(0.01)
+
+    def start_keel(self):
+        cmd = [self.args.keel, "run", str(ROOT / "robot" / "ros2.xml"), "--duration", "120", "--log", str(self.log),
+               "--set", f"referee.trace={self.trace}", "--record", f"{self.out}.mcap"]
+        if self.args.monitor:
+            cmd += ["--monitor", self.args.monitor]
+        self.keel_out = open(f"{self.out}.out", "w")
+        self.keel = subprocess.Popen(cmd, env=self.env, stdout=self.keel_out, stderr=subprocess.STDOUT)
+        self.wait("start of keel run", 30, lambda: self.watch.first(
+            lambda r: r.get("event") == "engine" and r.get("phase") == "started", self.watch.records()))
+        if self.args.monitor:
+            for line in Path(f"{self.out}.out").read_text().splitlines():
+                if line.startswith("monitor: "):
+                    print(f"  {line}")
+        self.note("keel run robot/ros2.xml: publishes /sonar/a, /sonar/b, /sonar/c and /diagnostics, "
+                  "subscribes /cmd_vel (deadline 300 ms, lease 600 ms)")
+
+    def start_node(self):
+        k = len(self.nodes) + 1
+        out = open(f"{self.out}.node{k}.out", "w")
+        stats = f"{self.out}.node{k}.json"
+        Path(stats).unlink(missing_ok=True)
+        proc = subprocess.Popen([self.args.python, "-u", str(ROOT / "robot" / "ros2" / "wander.py"), "--stats", stats],
+                                env=self.env, stdout=out, stderr=subprocess.STDOUT)
+        self.nodes.append((proc, out))
+        self.note(f"the ROS 2 node robot/ros2/wander.py started{' again' if k > 1 else ''}, pid {proc.pid}")
+        return proc, time.monotonic()
+
+    def run(self):
+        w = self.watch
+        self.start_keel()
+        node, started = self.start_node()
+        t, _ = self.wait("motion (keel obeying the node's /cmd_vel)", 30,
+                         lambda: w.first(moving, w.rows(), after=started))
+        self.note(f"the robot drives on the node's /cmd_vel ({t - started:.1f} s after the node started)", t)
+        self.summary["moving"] = t - self.t0
+        self.idle(self.args.drive)
+
+        remote = [r for _, r in w.records() if r.get("event") == "detected" and r.get("kind") == "remote"]
+        self.summary["remote_faults_before_kill"] = len(remote)
+        last = w.rows()[-1][1]
+        killed = time.monotonic()
+        node.send_signal(signal.SIGKILL)
+        node.wait()
+        self.note(f"kill -9 of the ROS 2 node, pid {node.pid} (the wheels at {last['rpm_left']:.0f} / "
+                  f"{last['rpm_right']:.0f} rpm)", killed)
+        self.summary.update(killed=killed - self.t0, rpm_at_kill=[last["rpm_left"], last["rpm_right"]])
+
+        seen, fault = self.wait("remote fault", 10, lambda: w.first(
+            lambda r: r.get("event") == "detected" and r.get("kind") == "remote", w.records(), after=killed))
+        self.note(f"keel: {fault['detail']} — a `remote` fault of {fault['component']}, logged "
+                  f"{(seen - killed) * 1e3:.0f} ms after the kill", seen)
+        fid = fault["fault_id"]
+        by_id = [r for _, r in w.records() if r.get("fault_id") == fid]
+        action = next((r for r in by_id if r.get("event") == "action"), None)
+        if action:
+            self.note(f"keel: its policy: {action['action']} ({action.get('detail', '')}), "
+                      f"{(action['t_ns'] - fault['t_ns']) / 1e3:.0f} us after the detection"
+                      + (": the velocity command zeroed" if action["action"] == "reset" else ""), seen)
+        seen_r, rec = self.wait("recovery", 5, lambda: w.first(
+            lambda r: r.get("event") == "recovered" and r.get("fault_id") == fid, w.records()))
+        self.note(f"keel: `recovered` {(rec['t_ns'] - fault['t_ns']) / 1e3:.0f} us after the detection: the "
+                  "teleop runs again, holding the robot still until a Twist comes", seen_r)
+        rest, _ = self.wait("wheels at rest", 10, lambda: w.first(at_rest, w.rows(), after=seen))
+        self.note(f"the wheels at rest, {rest - killed:.2f} s after the kill", rest)
+        self.summary.update(fault=fault, fault_seen=seen - self.t0, action=action, recovered=rec,
+                            at_rest=rest - self.t0)
+
+        self.idle(max(0.0, self.args.gone - (time.monotonic() - killed)))
+        moved = [r for t, r in w.rows() if t > rest and not at_rest(r)]
+        self.summary["rows_moving_while_gone"] = len(moved)
+        self.note(f"the robot stood still while no node drove it ({len(moved)} trace rows with a wheel turning)")
+        node2, restarted = self.start_node()
+        again, _ = self.wait("motion after the restart", 30, lambda: w.first(moving, w.rows(), after=restarted))
+        self.note(f"keel hears /cmd_vel again: the robot drives, {again - restarted:.1f} s after the restart", again)
+        self.summary.update(restarted=restarted - self.t0, moving_again=again - self.t0)
+        self.idle(self.args.after)
+
+        self.keel.send_signal(signal.SIGINT)
+        self.keel.wait(30)
+        self.note(f"keel run stopped (SIGINT), exit {self.keel.returncode}")
+        self.idle(1.0)  # the node sees keel's components leave
+        node2.send_signal(signal.SIGINT)
+        node2.wait(10)
+        self.note("the ROS 2 node stopped (SIGINT)")
+        self.watch.poll()
+        records = [r for _, r in w.records()]
+        self.summary.update(keel_exit=self.keel.returncode,
+                            remote_faults=[r for r in records if r.get("event") == "detected"
+                                           and r.get("kind") == "remote"],
+                            mission=next((r for r in records if r.get("event") == "mission"), None),
+                            collisions=max((r["collisions"] for _, r in w.rows()), default=0))
+        return 0
+
+    def close(self):
+        for proc, out in self.nodes:
+            if proc.poll() is None:
+                proc.kill()
+                proc.wait()
+            out.close()
+        if self.keel and self.keel.poll() is None:
+            self.keel.kill()
+            self.keel.wait()
+        summary = dict(self.summary, events=[[round(t - self.t0, 3), text] for t, text in self.events])
+        Path(f"{self.out}.summary.json").write_text(json.dumps(summary, indent=1))
+
+
+def show(out):
+    """The node's view and keel's, as the demo prints them after the run."""
+    for k, title in ((1, "its first run, until the kill"), (2, "started again")):
+        path = Path(f"{out}.node{k}.out")
+        if path.exists():
+            print(f"--- the ROS 2 node's view, {title} ({path}):")
+            lines = path.read_text().splitlines()
+            for line in lines if len(lines) <= 14 else lines[:7] + ["  ..."] + lines[-6:]:
+                print(f"  {line}")
+    print(f"--- keel's view: detections, actions, recoveries ({out}.jsonl):")
+    lines = [line for line in Path(f"{out}.jsonl").read_text().splitlines()
+             if any(f'"event":"{e}"' in line for e in ("detected", "action", "recovered"))]
+    for line in lines or ["(none)"]:
+        print(f"  {line[:200]}")
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--keel", default=str(ROOT / "build" / "bin" / "keel"))
+    p.add_argument("--python", default=str(ROOT / "tests" / "peers" / "venv" / "bin" / "python"),
+                   help="a Python with rclpy (scripts/peers.sh python makes it)")
+    p.add_argument("--out", default=str(ROOT / "demo" / "ros2"))
+    p.add_argument("--monitor", default="", help="keel run's --monitor address (none by default)")
+    p.add_argument("--drive", type=float, default=5.0, help="s of driving before the kill")
+    p.add_argument("--gone", type=float, default=2.0, help="s from the kill to the restart")
+    p.add_argument("--after", type=float, default=5.0, help="s of driving after the restart")
+    args = p.parse_args()
+    e = Experiment(args)
+    print(f"  ROS_DOMAIN_ID={e.summary['domain']}; keel on CycloneDDS, the node on rclpy's Fast DDS", flush=True)
+    rc = 1
+    try:
+        rc = e.run()
+    except (RuntimeError, subprocess.TimeoutExpired) as x:
+        print(f"experiment.py: {x}", file=sys.stderr)
+    finally:
+        e.close()
+    if Path(f"{args.out}.out").exists():
+        tail = [ln for ln in Path(f"{args.out}.out").read_text().splitlines() if not ln.startswith("monitor: ")]
+        print(f"--- keel run's summary ({args.out}.out):")
+        for line in tail[-8:]:
+            print(f"  {line}")
+    if Path(f"{args.out}.jsonl").exists():
+        show(args.out)
+    return rc
+
+
+if __name__ == "__main__":
+    sys.exit(main())
