@@ -1,5 +1,5 @@
 // Components of `keel bench isolation` (bench/harness/isolation.cpp). Each maps the harness's
-// page (isolation_page.hpp), named by its `page` property, and writes there what the harness
+// page (bench_page.hpp), named by its `page` property, and writes there what the harness
 // measures:
 //   BenchBeat         a periodic step with 4 KB of critical memory (checkpointed, restored by a
 //                     takeover or respawn): the end of the first step a new process runs is the
@@ -7,37 +7,18 @@
 //   BenchStampSource  pushes {seq, CLOCK_MONOTONIC} every period, the time taken right before
 //                     the push
 //   BenchStampSink    aperiodic, woken by each sample: arrival − stamp, the port's one-way latency
-#include <fcntl.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <keel/component.hpp>
 
 #include <array>
 #include <cstdint>
-#include <ctime>
 #include <string>
 
-#include "isolation_page.hpp"
+#include "bench_page.hpp"
 
 namespace keel_bench {
 namespace {
-
-std::int64_t monotonicNs() {
-  timespec ts{};
-  ::clock_gettime(CLOCK_MONOTONIC, &ts);
-  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-/// The harness's page, mapped shared; nullptr when `path` cannot be (the component then fails
-/// to initialise, which the harness reports).
-IsolationPage* mapPage(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDWR | O_CLOEXEC);
-  if (fd < 0) return nullptr;
-  void* p = ::mmap(nullptr, sizeof(IsolationPage), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-  ::close(fd);
-  return p == MAP_FAILED ? nullptr : static_cast<IsolationPage*>(p);
-}
 
 class BenchBeat : public keel::Component {
  public:
@@ -46,7 +27,7 @@ class BenchBeat : public keel::Component {
     if (page_ == nullptr) return keel::ReturnCode::PreconditionNotMet;
     critical(state_);
     const auto k = page_->initialised.fetch_add(1);
-    if (k < IsolationPage::kMaxPids) page_->pids[k].store(::getpid());
+    if (k < BenchPage::kMaxPids) page_->pids[k].store(::getpid());
     return keel::ReturnCode::Ok;
   }
   keel::ReturnCode onExecute() override {
@@ -61,7 +42,7 @@ class BenchBeat : public keel::Component {
   }
 
  private:
-  IsolationPage* page_ = nullptr;
+  BenchPage* page_ = nullptr;
   std::array<std::uint8_t, 4096> state_{};
   std::uint64_t steps_ = 0;
   bool running_here_ = false;
@@ -93,13 +74,13 @@ class BenchStampSink : public keel::Component {
     const std::int64_t now = monotonicNs();
     while (auto s = in.pop()) {
       const auto k = page_->received.fetch_add(1, std::memory_order_relaxed);
-      if (k < IsolationPage::kMaxSamples) page_->latency_ns[k].store(now - s->t_ns, std::memory_order_relaxed);
+      if (k < BenchPage::kMaxSamples) page_->latency_ns[k].store(now - s->t_ns, std::memory_order_relaxed);
     }
     return keel::ReturnCode::Ok;
   }
 
  private:
-  IsolationPage* page_ = nullptr;
+  BenchPage* page_ = nullptr;
 };
 
 }  // namespace

@@ -1,26 +1,21 @@
 #include "isolation.hpp"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-#include <map>
 #include <optional>
 #include <sstream>
 #include <thread>
 #include <utility>
 
-#include "isolation_page.hpp"
-#include "process.hpp"
+#include "bench_run.hpp"
 #include "runtime/clock.hpp"
 
 namespace keel::bench {
@@ -28,127 +23,16 @@ namespace {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-using keel_bench::IsolationPage;
+using keel_bench::BenchPage;
 
 constexpr auto kStartBound = 20s;  // keel run up, its processes started and running
 constexpr auto kTrialBound = 3s;   // a kill → the new process's first step
 
-std::string schedXml(bool fifo) {
-  return fifo ? fmt::format("<priority>{}</priority><policy>fifo</policy>", kFifoPriority) : "";
-}
-
-/// One component profile of the benchmark's library.
+/// One component profile of the isolation benchmark's library.
 std::string componentXml(const std::string& name, const std::string& semantics, const std::string& ports,
                          const std::string& page) {
-  return fmt::format(R"(<?xml version="1.0" encoding="UTF-8"?>
-<component_profile>
-  <name>{}</name>
-  <execution_environment><library_name>keel_bench_isolation</library_name></execution_environment>
-  <execution_semantics>{}</execution_semantics>
-  <properties><property name="page" type="string">{}</property></properties>
-  <ports>{}</ports>
-</component_profile>
-)",
-                     name, semantics, page, ports);
+  return benchComponentXml("keel_bench_isolation", name, semantics, ports, page);
 }
-
-/// A `keel run` of profiles written for it, its page and its fault log, as a user runs it.
-class BenchRun {
- public:
-  explicit BenchRun(const Paths& paths)
-      : paths_(paths), dir_("keel-bench-isolation-"),
-        page_path_(fmt::format("/dev/shm/keel-bench-isolation.{}.{}", ::getpid(), counter_++)) {}
-  ~BenchRun() {
-    proc_.reset();  // killed and reaped if still there: its hosts follow (no orphans)
-    if (page_) ::munmap(page_, sizeof(IsolationPage));
-    ::unlink(page_path_.c_str());
-  }
-  BenchRun(const BenchRun&) = delete;
-  BenchRun& operator=(const BenchRun&) = delete;
-
-  const std::string& pagePath() const { return page_path_; }
-  IsolationPage& page() { return *page_; }
-
-  /// Writes `files` (name → text) beside each other, maps a fresh page and starts keel run on
-  /// `package`; empty, or why not.
-  std::string start(const std::vector<std::pair<std::string, std::string>>& files, const std::string& package) {
-    if (dir_.path().empty()) return "mkdtemp failed";
-    const int fd = ::open(page_path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    if (fd < 0 || ::ftruncate(fd, sizeof(IsolationPage)) != 0) return "cannot create " + page_path_;
-    void* p = ::mmap(nullptr, sizeof(IsolationPage), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
-    ::close(fd);
-    if (p == MAP_FAILED) return "cannot map " + page_path_;
-    page_ = new (p) IsolationPage;
-    for (const auto& [name, text] : files) std::ofstream(dir_.path() + "/" + name) << text;
-    log_path_ = dir_.path() + "/fault.jsonl";
-    out_path_ = dir_.path() + "/keel-run.out";
-    const int out = ::open(out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-    ::setenv("KEEL_COMPONENT_PATH", paths_.components.c_str(), 1);
-    auto spawned = Process::spawn({paths_.bin + "/keel", "run", dir_.path() + "/" + package, "--duration", "86400",
-                                   "--log", log_path_},
-                                  {.out = out, .err = out}, false, true);
-    ::close(out);
-    if (!spawned) return "keel run: " + spawned.error().message;
-    proc_.emplace(std::move(*spawned));
-    return {};
-  }
-
-  /// Why keel run is not running as it should: its last lines.
-  std::string failure(const std::string& what) const {
-    std::ifstream in(out_path_);
-    std::string line, last;
-    while (std::getline(in, line))
-      if (!line.empty()) last = line;
-    return what + (last.empty() ? "" : ": keel run said: " + last);
-  }
-
-  /// The fault log's records written since the last call (whole lines only).
-  std::vector<nlohmann::json> newRecords() {
-    std::vector<nlohmann::json> out;
-    std::ifstream in(log_path_);
-    if (!in) return out;
-    in.seekg(static_cast<std::streamoff>(log_read_));
-    std::string line;
-    while (std::getline(in, line) && !in.eof()) {
-      log_read_ += line.size() + 1;
-      auto r = nlohmann::json::parse(line, nullptr, false);
-      if (!r.is_discarded()) out.push_back(std::move(r));
-    }
-    return out;
-  }
-
-  /// Host records of `phase` seen so far (every call reads the new part of the log).
-  std::size_t hostPhases(const std::string& phase) {
-    for (auto& r : newRecords()) {
-      const std::string event = r.value("event", "");
-      if (event == "host") ++phases_[r.value("phase", "")];
-      if (event == "recovered") recovered_ns_.push_back(static_cast<std::int64_t>(r.value("latency_us", 0.0) * 1000));
-    }
-    return phases_[phase];
-  }
-  /// Each `recovered` record's recovered − detected so far: for a process fault, from the first to
-  /// see the death (the standby waking, or keel run) to the first good step.
-  const std::vector<std::int64_t>& recoveredNs() const { return recovered_ns_; }
-
-  /// SIGTERM, as an operator stops it: keel run stops its processes and ends.
-  void stop() {
-    if (!proc_) return;
-    proc_->signal(SIGTERM);
-    proc_->waitUntil(Clock::now() + 10s);
-    proc_.reset();
-  }
-
- private:
-  static inline int counter_ = 0;
-  const Paths& paths_;
-  TempDir dir_;
-  std::string page_path_, log_path_, out_path_;
-  IsolationPage* page_ = nullptr;
-  std::optional<Process> proc_;
-  std::size_t log_read_ = 0;
-  std::map<std::string, std::size_t> phases_;
-  std::vector<std::int64_t> recovered_ns_;
-};
 
 std::vector<std::pair<std::string, std::string>> beatFiles(const std::string& page, bool standby, bool fifo) {
   return {{"BenchBeat.xml",
@@ -196,7 +80,7 @@ IsolationCell measureTakeover(const Paths& paths, bool standby, bool fifo, int n
   if (cell.error = run.start(beatFiles(run.pagePath(), standby, fifo), "takeover.xml"); !cell.error.empty())
     return cell;
   if (cell.error = awaitStart(run, standby); !cell.error.empty()) return cell;
-  IsolationPage& page = run.page();
+  BenchPage& page = run.page();
   cell.host_threads = threadsOf(page.active_pid.load());
   const int chunk = std::max(1, n / 10);
   std::size_t took_over = 0, respawned = 0;
@@ -263,18 +147,18 @@ IsolationCell measurePort(const Paths& paths, bool crossing, bool fifo, int n) {
 )",
                                crossing ? R"(<process name="source"/>)" : "")}};
   if (cell.error = run.start(files, "port.xml"); !cell.error.empty()) return cell;
-  IsolationPage& page = run.page();
+  BenchPage& page = run.page();
   constexpr std::uint64_t kWarmUp = 100;
   if (!pollUntil([&] { return page.received.load() >= kWarmUp; }, kStartBound)) {
     cell.error = run.failure("no sample arrived within 20 s");
     return cell;
   }
   const std::uint64_t from = page.received.load();
-  const auto want = std::min<std::uint64_t>(from + static_cast<std::uint64_t>(n), IsolationPage::kMaxSamples);
+  const auto want = std::min<std::uint64_t>(from + static_cast<std::uint64_t>(n), BenchPage::kMaxSamples);
   if (!pollUntil([&] { return page.received.load() >= want; }, std::chrono::milliseconds(3 * n) + 10s))
     cell.error = run.failure(fmt::format("{} of {} samples arrived", page.received.load() - from, want - from));
   run.stop();
-  const std::uint64_t got = std::min<std::uint64_t>(page.received.load(), IsolationPage::kMaxSamples);
+  const std::uint64_t got = std::min<std::uint64_t>(page.received.load(), BenchPage::kMaxSamples);
   for (std::uint64_t k = from; k < std::min(got, want); ++k) cell.latencies_ns.push_back(page.latency_ns[k].load());
   return cell;
 }
@@ -322,7 +206,7 @@ StandbyCost measureStandbyCost(const Paths& paths, double seconds) {
   if (c.error = run.start(beatFiles(run.pagePath(), true, false), "takeover.xml"); !c.error.empty()) return c;
   if (c.error = awaitStart(run, true); !c.error.empty()) return c;
   std::this_thread::sleep_for(500ms);  // both settled
-  IsolationPage& page = run.page();
+  BenchPage& page = run.page();
   const pid_t active = page.active_pid.load();
   pid_t standby = 0;
   for (std::uint32_t k = 0; k < page.initialised.load(); ++k)

@@ -1,7 +1,7 @@
 // `keel bench isolation`: components in processes of their own (docs/isolation.md), measured as
 // a user runs them — `keel run` started by the harness on profiles it writes, over the
 // benchmark's components (bench/components/isolation_components.cpp), which note what they see
-// in a page shared with the harness (isolation_page.hpp):
+// in a page shared with the harness (bench_page.hpp):
 //   takeover      kill -9 of the active process of `<process standby="1">` → the end of the first
 //                 onExecute of the standby that took over (restoring 4 KB of checkpoint)
 //   respawn       the same with standby="0": keel run respawns the process, cold

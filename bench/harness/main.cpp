@@ -10,6 +10,8 @@
 //   isolation  components in processes of their own: a port across processes beside one in a
 //              process and a raw CycloneDDS loopback, a standby's takeover beside a cold
 //              respawn, each with the machine's floor; what a waiting standby costs
+//   dds        keel's DDS ports: the round trip keel ↔ keel beside a plain CycloneDDS C program's
+//              (and rclpy's), `remote` fault detection and failover across two hosts
 // `_load P` is the internal duty-cycle load (load.hpp), started by keel-bench itself.
 #include <fmt/format.h>
 #include <unistd.h>
@@ -17,6 +19,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -28,6 +31,7 @@
 #include <string_view>
 #include <thread>
 
+#include "dds.hpp"
 #include "detection.hpp"
 #include "floor.hpp"
 #include "isolation.hpp"
@@ -392,6 +396,108 @@ int isolation(Options o, const Paths& paths) {
   return 0;
 }
 
+/// One DDS cell's result in its row: a cell with no sample is skipped, with the reason.
+void ddsRow(DdsCell c, Row& row) {
+  row.skipped = c.latencies_ns.empty() && !c.error.empty();
+  row.s = summarise(std::move(c.latencies_ns));
+  row.failed = c.failed;
+  addNote(row.note, c.error);
+  addNote(row.note, c.note);
+}
+
+const std::vector<std::string> kDdsCells{"roundtrip_keel", "roundtrip_raw", "roundtrip_rclpy", "remote", "failover"};
+
+int dds(Options o, const Paths& paths) {
+  if (o.which.empty()) o.which = kDdsCells;
+  auto wants = [&](const char* w) { return std::find(o.which.begin(), o.which.end(), w) != o.which.end(); };
+  const auto low = lowLatency(o.low_latency);
+  const DdsEnvironment env;
+  header(o, "dds", "trials");
+  std::cout << fmt::format("domain {}; the remote and failover cells: max(10, n/{}) and max(10, n/{}) kills\n",
+                           env.domain(), 5, 20)
+            << std::flush;
+  const int kills_remote = std::max(10, o.n / 5), kills_failover = std::max(10, o.n / 20);
+  std::vector<Row> rows;
+  const std::string self = paths.bin + "/keel-bench";
+  for (int load : o.loads) {
+    BackgroundLoad bg(load, loadSourceOf(o.load_source), self);
+    auto row = [&](const std::string& what) {
+      Row r;
+      r.load = load;
+      r.load_source = bg.source();
+      r.what = what;
+      r.policy = "other";
+      return r;
+    };
+    auto report = [](const Row& r) {
+      std::cerr << fmt::format("keel-bench: load {}% ({:.0f}% achieved), {}: ", r.load, r.load_achieved, r.what)
+                << (r.skipped ? "skipped: " + r.note
+                              : fmt::format("n {} p50 {:.1f} µs p99 {:.1f} µs max {:.1f} µs", r.s.n, r.s.p50_us,
+                                            r.s.p99_us, r.s.max_us))
+                << '\n';
+    };
+    // keel's round trip and the C program's alternate in five chunks: the machine's drift over
+    // the cell weighs on both alike.
+    std::vector<Row> pair;
+    for (const char* w : {"roundtrip_keel", "roundtrip_raw"})
+      if (wants(w)) pair.push_back(row(w));
+    if (!pair.empty()) {
+      const CpuMeter meter;
+      std::vector<DdsCell> got(pair.size());
+      constexpr int kChunks = 5;
+      for (int chunk = 0; chunk < kChunks; ++chunk) {
+        const int m = o.n / kChunks + (chunk < o.n % kChunks ? 1 : 0);
+        for (std::size_t i = 0; i < pair.size(); ++i) {
+          DdsCell part = pair[i].what == "roundtrip_keel" ? measureKeelRoundTrip(paths, m)
+                                                          : measureRawRoundTrip(paths, m);
+          got[i].latencies_ns.insert(got[i].latencies_ns.end(), part.latencies_ns.begin(), part.latencies_ns.end());
+          got[i].failed += part.failed;
+          addNote(got[i].error, part.error);
+          got[i].note = part.note;
+        }
+      }
+      for (std::size_t i = 0; i < pair.size(); ++i) {
+        pair[i].load_achieved = meter.busy() * 100;
+        ddsRow(std::move(got[i]), pair[i]);
+        report(pair[i]);
+        rows.push_back(std::move(pair[i]));
+      }
+    }
+    for (const char* w : {"roundtrip_rclpy", "remote", "failover"}) {
+      if (!wants(w)) continue;
+      Row r = row(w);
+      const CpuMeter meter;
+      const std::string what = w;
+      ddsRow(what == "roundtrip_rclpy" ? measureRclpyRoundTrip(paths, o.n)
+             : what == "remote"        ? measureRemoteDetection(paths, kills_remote)
+                                       : measureFailover(paths, kills_failover),
+             r);
+      r.load_achieved = meter.busy() * 100;
+      report(r);
+      rows.push_back(std::move(r));
+    }
+  }
+  printDds(rows, kRemoteDeadlineMs, kFailoverLeaseMs, std::cout);
+  std::cout << "\nEvery cell (p50 / p99 / max µs; failed: trials that did not end within their bound)\n\n";
+  printCells(rows, false, std::cout);
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : rows) {
+    auto cell = toJson(r, false);
+    if (r.what == "remote") cell["goal_p99_us"] = (kRemoteDeadlineMs + 10) * 1000;
+    if (r.what == "failover") cell["goal_p99_us"] = (kFailoverLeaseMs + 10) * 1000;
+    if (r.what == "roundtrip_keel") {
+      for (const auto& raw : rows)
+        if (raw.what == "roundtrip_raw" && raw.load == r.load && raw.s.n > 0 && r.s.n > 0)
+          cell["vs_raw"] = {{"p50", std::round(r.s.p50_us / raw.s.p50_us * 1000) / 1000},
+                            {"p99", std::round(r.s.p99_us / raw.s.p99_us * 1000) / 1000}};
+    }
+    j.push_back(std::move(cell));
+  }
+  o.no_plot = true;  // tables only
+  finish(o, paths, "dds", std::move(j));
+  return 0;
+}
+
 void commonOptions(CLI::App& sub, Options& o, const std::string& items_help) {
   sub.add_option("--loads", o.loads, "load levels, % busy on every CPU (0: idle)")
       ->delimiter(',')
@@ -432,6 +538,11 @@ int main(int argc, char** argv) {
   commonOptions(*iso, o,
                 "cells: port_process,port_thread,port_dds,takeover,floor_robust,respawn,standby (a waiting "
                 "standby's cost, once)");
+  auto* dds_cmd = app.add_subcommand("dds",
+                                     "DDS ports: round trip beside CycloneDDS and rclpy, remote faults, failover");
+  commonOptions(*dds_cmd, o,
+                "cells: roundtrip_keel,roundtrip_raw (a plain CycloneDDS C program),roundtrip_rclpy,remote,failover "
+                "(root: two network namespaces)");
   std::vector<int> sizes{1, 10, 100, 1000};
   int trials = 5;
   auto* sca = app.add_subcommand("scale", "start-up, memory and diagnosis against the number of components");
@@ -453,10 +564,16 @@ int main(int argc, char** argv) {
     const std::vector<std::string> cells{"port_process", "port_thread", "port_dds", "takeover",
                                          "floor_robust", "respawn",     "standby"};
     if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // the two: idle, and 80 % loaded
+    if (dds_cmd->parsed() && !dds_cmd->count("--loads")) o.loads = {0};
+    if (dds_cmd->parsed() && o.policy == "fifo") {
+      std::cerr << "keel bench dds: --policy fifo: its cells run under SCHED_OTHER only\n";
+      return 2;
+    }
     for (const auto& w : o.which) {
-      const bool ok = iso->parsed()   ? std::find(cells.begin(), cells.end(), w) != cells.end()
-                      : rec->parsed() ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
-                                      : keel::runtime::parseInjectKind(w).has_value() || floorNamed(w);
+      const bool ok = dds_cmd->parsed() ? std::find(kDdsCells.begin(), kDdsCells.end(), w) != kDdsCells.end()
+                      : iso->parsed()   ? std::find(cells.begin(), cells.end(), w) != cells.end()
+                      : rec->parsed()   ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
+                                        : keel::runtime::parseInjectKind(w).has_value() || floorNamed(w);
       if (!ok) {
         std::cerr << "keel bench: --only: unknown '" << w << "'\n";
         return 2;
@@ -465,6 +582,7 @@ int main(int argc, char** argv) {
     if (rec->parsed()) return recovery(o, paths);
     if (det->parsed()) return detection(o, paths);
     if (iso->parsed()) return isolation(o, paths);
+    if (dds_cmd->parsed()) return dds(o, paths);
     std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
                              fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())
               << std::flush;

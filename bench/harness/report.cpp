@@ -235,4 +235,32 @@ void printIsolation(const std::vector<Row>& rows, std::ostream& out) {
   }
 }
 
+void printDds(const std::vector<Row>& rows, int deadline_ms, int lease_ms, std::ostream& out) {
+  std::set<int> loads;
+  for (const auto& r : rows) loads.insert(r.load);
+  auto ms = [](const Row* r) {
+    return r && r->s.n > 0
+               ? fmt::format("{:.1f} / {:.1f} / {:.1f}", r->s.p50_us / 1000, r->s.p99_us / 1000, r->s.max_us / 1000)
+               : std::string("—");
+  };
+  out << "\nRound trip over DDS (p50 / p99 µs): a stamp out on one topic, echoed back on another, 1 kHz, "
+         "std_msgs/msg/Header, reliable\n\n"
+      << "| load | keel ↔ keel | CycloneDDS C program | keel ÷ CycloneDDS (goal ≤ 1.1) | rclpy ↔ rclpy |\n"
+         "|---|---|---|---|---|\n";
+  for (int load : loads) {
+    const Row* keel = find(rows, load, "other", "roundtrip_keel");
+    const Row* raw = find(rows, load, "other", "roundtrip_raw");
+    out << fmt::format("| {}% | {} | {} | {} | {} |\n", load, cell(keel), cell(raw), ratio(keel, raw),
+                       cell(find(rows, load, "other", "roundtrip_rclpy")));
+  }
+  out << fmt::format(
+      "\nFaults from the network (p50 / p99 / max ms), from the kill -9\n\n"
+      "| load | `remote` detected, deadline {} ms (goal p99 ≤ {} ms) | failover across hosts, lease {} ms "
+      "(goal p99 ≤ {} ms) |\n|---|---|---|\n",
+      deadline_ms, deadline_ms + 10, lease_ms, lease_ms + 10);
+  for (int load : loads)
+    out << fmt::format("| {}% | {} | {} |\n", load, ms(find(rows, load, "other", "remote")),
+                       ms(find(rows, load, "other", "failover")));
+}
+
 }  // namespace keel::bench

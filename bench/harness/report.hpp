@@ -55,6 +55,10 @@ void printCells(const std::vector<Row>& rows, bool detection, std::ostream& out)
 /// takeover (with its floor, beside the cold respawn), a row per load and policy.
 void printIsolation(const std::vector<Row>& rows, std::ostream& out);
 
+/// DDS: the round trips (keel's, the CycloneDDS C program's, keel ÷ it, rclpy's), then remote
+/// detection and failover beside their goals (deadline + 10 ms, lease + 10 ms), a row per load.
+void printDds(const std::vector<Row>& rows, int deadline_ms, int lease_ms, std::ostream& out);
+
 /// Recovery only: per policy, load levels down and mechanisms across ("p50 / p99 µs"), the
 /// paper's Linux-Pentium4 column beside, then keel ÷ peer per load.
 void printTable3(const std::vector<Row>& rows, std::ostream& out);

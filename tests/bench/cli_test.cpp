@@ -1,6 +1,9 @@
 // `keel bench ... --quick` end to end, as CI runs it: a smoke test of the harness (every cell
 // present, measured or skipped with a reason, the JSON and the plot written), not of the numbers.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -234,6 +237,60 @@ TEST(BenchCli, QuickIsolationMeasuresPortsTakeoverRespawnBesideTheirFloorsAndAWa
   EXPECT_LE(standby["standby"]["cpu_ticks"].get<long>(), 1) << "a waiting standby costs no CPU";
   for (const char* p : {"active", "standby"}) EXPECT_GT(standby[p].value("anon_kb", 0L), 0) << standby.dump();
   EXPECT_NE(r.ran.out.find("Takeover (p50 / p99"), std::string::npos) << r.ran.out;
+}
+
+/// A ROS domain no other test of this machine holds (tests/dds/domains.py's flocks), set as
+/// ROS_DOMAIN_ID; held until its lock file, returned, is closed (-1: none free).
+int holdRosDomain() {
+  for (int d = 1; d <= 100; ++d) {
+    const int fd = ::open(("/tmp/keel-ros-domain-" + std::to_string(d)).c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
+    if (fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0) {
+      ::setenv("ROS_DOMAIN_ID", std::to_string(d).c_str(), 1);
+      return fd;
+    }
+    if (fd >= 0) ::close(fd);
+  }
+  return -1;
+}
+
+// keel's DDS ports beside a plain CycloneDDS program and rclpy, and the faults from the network
+// against the times they cannot beat: a deadline's fault is not seen long before the deadline
+// has passed since the kill, a standby not heard before the primary's lease could expire.
+TEST(BenchCli, QuickDdsMeasuresRoundTripsBesideCycloneDdsAndRclpyRemoteFaultsAndFailover) {
+  const int domain = holdRosDomain();
+  ASSERT_GE(domain, 0) << "every ROS domain 1-100 is held";
+  if (::access(KEEL_RCLPY_PYTHON, X_OK) == 0) ::setenv("KEEL_RCLPY_PYTHON", KEEL_RCLPY_PYTHON, 1);
+  const auto r = quick({"dds"});
+  ::unsetenv("KEEL_RCLPY_PYTHON");
+  ::unsetenv("ROS_DOMAIN_ID");
+  ::close(domain);
+  ASSERT_EQ(r.ran.status, 0) << r.ran.err;
+  ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
+  expectCellsSound(r.cells, "mechanism");
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& c : r.cells) by[c["mechanism"].get<std::string>()] = c;
+  ASSERT_EQ(by.size(), 5u) << r.ran.out;
+  for (const char* measured : {"roundtrip_keel", "roundtrip_raw", "remote"}) {
+    EXPECT_FALSE(by[measured].value("skipped", false)) << by[measured].dump();
+    EXPECT_EQ(by[measured]["failed"].get<int>(), 0) << by[measured].dump();
+  }
+  EXPECT_EQ(by["roundtrip_keel"]["n"].get<int>(), 20) << by["roundtrip_keel"].dump();
+  EXPECT_TRUE(by["roundtrip_keel"].contains("vs_raw")) << by["roundtrip_keel"].dump();
+  EXPECT_EQ(by["remote"]["n"].get<int>(), 10) << by["remote"].dump();
+  // The deadline counts from the writer's last sample, at most a period (1 ms) and its lateness
+  // before the kill.
+  EXPECT_GE(by["remote"]["p50_us"].get<double>(), 40'000)
+      << "a fault long before the deadline: " << by["remote"].dump();
+  EXPECT_EQ(by["remote"]["goal_p99_us"].get<int>(), 60'000);
+  if (::access(KEEL_RCLPY_PYTHON, X_OK) == 0) {
+    EXPECT_FALSE(by["roundtrip_rclpy"].value("skipped", false)) << by["roundtrip_rclpy"].dump();
+  }
+  if (::geteuid() == 0) {  // two network namespaces
+    EXPECT_FALSE(by["failover"].value("skipped", false)) << by["failover"].dump();
+    EXPECT_EQ(by["failover"]["failed"].get<int>(), 0) << by["failover"].dump();
+    EXPECT_GE(by["failover"]["p50_us"].get<double>(), 100'000) << "heard before the lease: " << by["failover"].dump();
+  }
+  EXPECT_NE(r.ran.out.find("keel ÷ CycloneDDS"), std::string::npos) << r.ran.out;
 }
 
 TEST(BenchCli, QuickScaleHasARowPerSize) {
