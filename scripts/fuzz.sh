@@ -20,7 +20,7 @@ usage() { sed -n '2,15s/^# \{0,1\}//p' "$0"; }
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 targets=(profile_component profile_composite profile_package profile_system profile_types scenario motion_board
-  monitor_client mcap_reader opros_archive)
+  monitor_client mcap_reader opros_archive dds_sample)
 
 case "${1:-}" in
   --list) printf '%s\n' "${targets[@]}"; exit 0 ;;
@@ -49,7 +49,7 @@ run() {
   mkdir -p "$work" "$findings"
   local dict=()
   case $target in
-    motion_board | mcap_reader | opros_archive) ;;
+    motion_board | mcap_reader | opros_archive | dds_sample) ;;
     monitor_client) dict=(-dict=fuzz/monitor_client.dict) ;;
     *) dict=(-dict=fuzz/xml.dict) ;;
   esac
