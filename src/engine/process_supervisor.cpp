@@ -221,6 +221,10 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
   posix_spawn_file_actions_init(&actions);
   for (std::size_t j = 0; j < high.size(); ++j)
     posix_spawn_file_actions_adddup2(&actions, high[j], kFirstChildFd + static_cast<int>(j));
+  // Nothing else of keel run's: not every descriptor it holds is close-on-exec (CycloneDDS's
+  // sockets are not, nor what a component opens without O_CLOEXEC), and a host started after
+  // keel run joined DDS would otherwise hold its participant's sockets for its whole life.
+  posix_spawn_file_actions_addclosefrom_np(&actions, kFirstChildFd + static_cast<int>(high.size()));
   posix_spawnattr_t attr;
   posix_spawnattr_init(&attr);
   sigset_t none, defaults;
