@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <mutex>
+#include <optional>
 
 #include "dds/qos.hpp"
 #include "dds/type_registry.hpp"
@@ -44,28 +45,55 @@ struct DdsPorts::Reader {
   detail::ConnectionBase* connection = nullptr;
   profile::DdsBinding binding;
   std::string instance;
-  std::mutex mutex;  // serialises outages' beginnings and ends; guards warned_incompatible
+  std::mutex mutex;  // serialises outages' beginnings and ends; guards held, warned_incompatible
   // The fault id of the outage under way (kNoId: one not reported), 0: none. Atomic so that a
   // sample's arrival checks it without the lock.
   std::atomic<std::uint64_t> outage{0};
+  // False while a standby's: samples are dropped, an outage is held, not reported. Written
+  // under the mutex, read without it by each sample.
+  std::atomic<bool> serving{true};
+  std::optional<std::string> held;  // an outage that began while standing by and lasts: why
   bool warned_incompatible = false;
   static constexpr std::uint64_t kNoId = std::numeric_limits<std::uint64_t>::max();
 
   void lost(const std::string& why) {
     std::lock_guard lock(mutex);
+    if (!serving.load(std::memory_order_relaxed)) {
+      held = why;  // the active host reports this outage; the standby only remembers it
+      return;
+    }
+    raise(why);
+  }
+  /// A peer whose QoS cannot match (it never will): a warning, once.
+  static void incompatible(dds_entity_t, dds_requested_incompatible_qos_status_t status, void* arg);
+  void back() {
+    if (!serving.load(std::memory_order_acquire)) {
+      std::lock_guard lock(mutex);
+      held.reset();
+      return;
+    }
+    if (outage.load(std::memory_order_acquire) == 0) return;  // every sample asks: no lock then
+    std::lock_guard lock(mutex);
+    const std::uint64_t id = outage.exchange(0, std::memory_order_acq_rel);
+    if (id != 0 && id != kNoId) owner->watch_.peerBack(instance, id, runtime::steadyNs());
+  }
+  void serve() {
+    std::lock_guard lock(mutex);
+    serving.store(true, std::memory_order_release);
+  }
+  void reportHeld() {
+    std::lock_guard lock(mutex);
+    if (held) raise(*held);
+    held.reset();
+  }
+
+ private:
+  void raise(const std::string& why) {  // the mutex held
     if (outage.load(std::memory_order_relaxed) != 0) return;
     FaultEvent f(FaultKind::Remote, instance, why);
     f.t_ns = runtime::steadyNs();
     const std::uint64_t id = owner->watch_.peerLost(instance, f);
     outage.store(id != 0 ? id : kNoId, std::memory_order_release);
-  }
-  /// A peer whose QoS cannot match (it never will): a warning, once.
-  static void incompatible(dds_entity_t, dds_requested_incompatible_qos_status_t status, void* arg);
-  void back() {
-    if (outage.load(std::memory_order_acquire) == 0) return;  // every sample asks: no lock then
-    std::lock_guard lock(mutex);
-    const std::uint64_t id = outage.exchange(0, std::memory_order_acq_rel);
-    if (id != 0 && id != kNoId) owner->watch_.peerBack(instance, id, runtime::steadyNs());
   }
 };
 
@@ -85,11 +113,15 @@ void onData(dds_entity_t reader, void* arg) {
     samples[0] = nullptr;  // loaned: no copy out of CycloneDDS's buffers
     const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
     if (n <= 0) break;
+    // A standby's: taken (nothing stale is left for its takeover) and dropped; its active
+    // host has them.
+    const bool serving = r->serving.load(std::memory_order_acquire);
     for (dds_return_t i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
+      any = true;
+      if (!serving) continue;
       try {
         r->type->deliver(samples[i], *r->connection);
-        any = true;
       } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
       }
     }
@@ -177,7 +209,15 @@ void DdsPorts::close() {
   participants_.clear();
 }
 
-Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find) {
+void DdsPorts::takeOver() {
+  for (const auto& r : readers_) r->serve();
+}
+
+void DdsPorts::reportHeldOutages() {
+  for (const auto& r : readers_) r->reportHeld();
+}
+
+Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find, Readers readers) {
   std::string errors;
   auto problem = [&](const profile::DdsBinding& b, const std::string& what) {
     errors += fmt::format("{}: <{}> of {}.{}: {}\n", at(b.where), b.publish ? "publish" : "subscribe",
@@ -245,6 +285,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
       reader->connection = connection.get();
       reader->binding = b;
       reader->instance = b.endpoint.component;
+      reader->serving.store(readers == Readers::Serving, std::memory_order_relaxed);
       dds_listener_t* listener = dds_create_listener(reader.get());
       dds_lset_data_available(listener, onData);
       dds_lset_requested_deadline_missed(listener, onDeadline);

@@ -8,7 +8,11 @@
 //              connection), and reports a missed deadline or a writer's lost liveliness to the
 //              PeerWatch once per outage, and the outage's end.
 // Both ends are connections the engine re-points when it replaces a component.
-// Thread-safety: open/close from one thread; listeners run on CycloneDDS's threads.
+// A standby host's (docs/isolation.md) are made ahead and matched by their peers, but its
+// readers stand by: they take and drop each sample and keep an outage to themselves until
+// takeOver() (decision 0019).
+// Thread-safety: open/close from one thread; takeOver and reportHeldOutages from any one thread
+// after open; listeners run on CycloneDDS's threads.
 #pragma once
 
 #include <cstdint>
@@ -61,10 +65,20 @@ class DdsPorts {
   DdsPorts(const DdsPorts&) = delete;
   DdsPorts& operator=(const DdsPorts&) = delete;
 
+  /// Whether the readers deliver from open() on, or stand by until takeOver().
+  enum class Readers { Serving, StandingBy };
+
   /// Makes the writers and readers of `bindings` (this process's), their ports found by
   /// `find`. Every problem is in the error, each line `file:line: what and why`; nothing is
   /// left open after a failure.
-  Result<void> open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find);
+  Result<void> open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find,
+                    Readers readers = Readers::Serving);
+  /// A standby took over: its readers deliver each sample from here (the takeover's thread,
+  /// before its components start). Does not report: see reportHeldOutages().
+  void takeOver();
+  /// After takeOver(), once the components run: an outage that began while standing by and
+  /// lasts (a writer lost before the takeover) is reported now, as a fault of the new active.
+  void reportHeldOutages();
   const std::vector<End>& ends() const { return ends_; }
   /// Publishes /diagnostics in `domain` (ROS_DOMAIN_ID overrides it): `snapshot()` at 1 Hz and
   /// after each pokeDiagnostics().

@@ -197,6 +197,7 @@ Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
   // and taking over would drive the actuators again. Ends this process.
   if (host.runLost()) host.supervisorLost();
   if (host.stopRequested()) return RoleTaken{};
+  if (dds_) dds_->takeOver();  // samples into the ports from here, before the components start
   RoleTaken taken{host.role().respawn ? "respawned" : *died ? "took_over" : "starting", 0};
   if (*died || host.role().respawn) {
     for (auto& inst : instances_)
@@ -366,6 +367,7 @@ Result<void> Engine::start() {
     startDetectors();
     options_.host->becameActive();
     log_.write(fault::schema::host(myProcess(), ::getpid(), "active"));
+    if (dds_) dds_->reportHeldOutages();  // a writer lost while it stood by: its fault now
     return {};
   }
   if (auto r = crossings_.takeOver(); !r) return r;

@@ -318,19 +318,25 @@ Result<void> Engine::connect() {
     for (const Crossings::End& end : crossings_.ends())
       wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
   }
-  // DDS topics (<dds>): the bindings of this process's components.
+  // DDS topics (<dds>): the bindings of this process's components, made here, in the process
+  // whose threads run them (decision 0019); keel run makes those of its own.
   std::vector<plan::PlannedDds> dds;
   for (const plan::PlannedDds& d : planned_.plan.dds)
     if (const plan::PlannedInstance* pi = planned_.plan.find(d.binding.endpoint.component); pi && isLocal(*pi)) {
       dds.push_back(d);
       dds.back().redundancy = pi->redundancy;
     }
-  // /diagnostics: keel run's, for the components it knows the state of (its own process's).
+  // /diagnostics: keel run's, for every component; those of component processes as keel run
+  // knows them (their proxies' states, the faults it handles).
   const bool diagnostics = !options_.host && planned_.plan.diagnostics_domain;
   if (!dds.empty() || diagnostics)
     dds_ = std::make_unique<dds::DdsPorts>(*this, [this](const std::string& m) { warn(m); });
   if (!dds.empty()) {
-    if (auto made = dds_->open(dds, port); !made) errors += made.error().message + '\n';
+    // A standby's endpoints are made now, so that its peers have matched them when it takes
+    // over; its readers stand by until then (takeRoleAsHost).
+    const bool standby = options_.host && options_.host->role().standby;
+    const auto readers = standby ? dds::DdsPorts::Readers::StandingBy : dds::DdsPorts::Readers::Serving;
+    if (auto made = dds_->open(dds, port, readers); !made) errors += made.error().message + '\n';
     for (const dds::DdsPorts::End& end : dds_->ends())
       wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
   }
