@@ -142,7 +142,10 @@ void onLiveliness(dds_entity_t, const dds_liveliness_changed_status_t status, vo
     r->lost(r->binding.liveliness_ms ? fmt::format("the writer of {} lost its liveliness (lease {})", r->binding.topic,
                                                    ms(*r->binding.liveliness_ms))
                                      : fmt::format("the writer of {} lost its liveliness", r->binding.topic));
-  } else if (status.alive_count_change > 0) {
+  } else if (status.alive_count_change > 0 && !r->binding.deadline_ms) {
+    // A writer alive again ends an outage of liveliness. With a deadline the outage ends with
+    // the first sample instead: a writer can be alive long before it writes (a ROS 2 node
+    // starting), and the deadline, firing meanwhile, would open a second fault for one outage.
     r->back();
   }
 }

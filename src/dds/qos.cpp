@@ -29,6 +29,10 @@ Qos qosOf(const profile::DdsBinding& b, const std::optional<profile::Redundancy>
   if (b.deadline_ms) dds_qset_deadline(p, static_cast<dds_duration_t>(*b.deadline_ms * 1e6));
   if (b.liveliness_ms)
     dds_qset_liveliness(p, DDS_LIVELINESS_AUTOMATIC, static_cast<dds_duration_t>(*b.liveliness_ms * 1e6));
+  // XCDR1, as ROS 2 writes: a reader accepts nothing else, so a writer offering XCDR2 does not
+  // match (CycloneDDS 0.10 reads past a truncated XCDR2 sample's 8-byte fields: docs/fuzzing.md).
+  const dds_data_representation_id_t xcdr1[] = {DDS_DATA_REPRESENTATION_XCDR1};
+  dds_qset_data_representation(p, 1, xcdr1);
   if (b.exclusive || redundancy) dds_qset_ownership(p, DDS_OWNERSHIP_EXCLUSIVE);
   if (redundancy) dds_qset_ownership_strength(p, redundancy->strength);  // the strongest live writer is heard
   return q;

@@ -400,16 +400,14 @@ class RemoteFaults(unittest.TestCase):
     # before the kill; the figures for tight ones are keel bench's.
     QOS = dict(deadline=300, liveliness=600)
 
-    def start_publisher(self, d):
+    def start_publisher(self, d, delay_ms=0):
         return subprocess.Popen([sys.executable, str(HERE / "ros2_publisher.py"), "/cmd_vel", "20",
-                                 str(self.QOS["deadline"]), str(self.QOS["liveliness"])], env=peer_env(d),
-                                stdout=subprocess.PIPE, text=True)
+                                 str(self.QOS["deadline"]), str(self.QOS["liveliness"]), str(delay_ms)],
+                                env=peer_env(d), stdout=subprocess.PIPE, text=True)
 
-    def test_a_killed_rclpy_publisher_is_a_remote_fault_and_its_return_a_recovery(self):
-        """rclpy publishes /cmd_vel at 20 ms offering deadline 300 ms and lease 600 ms; keel
-        subscribes requesting them. kill -9 of the publisher: one `remote` fault of the
-        subscriber (deadline, then liveliness, are one outage); a new publisher: `recovered`."""
-        d = domain()
+    def echo_and_kill(self, d):
+        """keel run echoing /cmd_vel, with its deadline and lease; an rclpy publisher heard, then
+        killed with kill -9: keel run, the peer, the `remote` fault, the kill's time."""
         components = {"EchoTwist.xml": echo_profile("EchoTwist", "geometry_msgs/msg/Twist")}
         dds = ('<subscribe component="planner" port="in" topic="/cmd_vel" type="geometry_msgs/msg/Twist" '
                f'deadline="{self.QOS["deadline"]}" liveliness="{self.QOS["liveliness"]}"/>'
@@ -429,6 +427,14 @@ class RemoteFaults(unittest.TestCase):
         pub.wait()
         [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("kind") == "remote", 5,
                                "a remote fault")
+        return run, peer, fault, killed
+
+    def test_a_killed_rclpy_publisher_is_a_remote_fault_and_its_return_a_recovery(self):
+        """rclpy publishes /cmd_vel at 20 ms offering deadline 300 ms and lease 600 ms; keel
+        subscribes requesting them. kill -9 of the publisher: one `remote` fault of the
+        subscriber (deadline, then liveliness, are one outage); a new publisher: `recovered`."""
+        d = domain()
+        run, _, fault, killed = self.echo_and_kill(d)
         waited = time.monotonic() - killed
         self.assertEqual(fault["component"], "planner")
         self.assertEqual(fault["detector"], "dds")
@@ -442,6 +448,26 @@ class RemoteFaults(unittest.TestCase):
         [rec] = run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 20,
                              "the remote fault's recovery")
         self.assertEqual(rec["component"], "planner")
+
+    def test_a_publisher_alive_before_it_writes_ends_the_outage_with_its_first_message(self):
+        """After the kill's fault, a new publisher alive for 1.5 s (five deadlines) before its
+        first message, as a node still starting: its liveliness alone does not end the outage
+        (the deadline firing meanwhile would open a second fault); its first message does."""
+        d = domain()
+        run, _, fault, _ = self.echo_and_kill(d)
+        again = self.start_publisher(d, delay_ms=1500)
+        self.addCleanup(lambda: again.poll() is None and again.kill())
+        self.assertEqual(again.stdout.readline().strip(), "alive")
+        self.assertEqual(again.stdout.readline().strip(), "publishing")
+        [rec] = run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 20,
+                             "the remote fault's recovery")
+        time.sleep(1.0)  # the deadline would have fired meanwhile: nothing more
+        detected = [r for r in run.records() if r.get("event") == "detected"]
+        self.assertEqual(detected, [fault], run.records())
+        recoveries = [r for r in run.records() if r.get("event") == "recovered"]
+        self.assertEqual(recoveries, [rec], run.records())
+        # The outage lasted from the fault to the first message, at least the delay's most.
+        self.assertGreater(rec["t_ns"] - fault["t_ns"], 1.0e9, rec)
 
 
 if __name__ == "__main__":

@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """A ROS 2 node (rclpy) that publishes geometry_msgs/Twist, for ros2_peer_test.py to kill.
 
-  ros2_publisher.py TOPIC PERIOD_MS DEADLINE_MS LEASE_MS
+  ros2_publisher.py TOPIC PERIOD_MS DEADLINE_MS LEASE_MS [DELAY_MS]
 
 It offers the deadline and an automatic liveliness lease (a reader requesting them matches
-only such writers), prints `publishing` once it has published, and runs until killed."""
+only such writers), prints `publishing` once it has published, and runs until killed. With
+DELAY_MS, its first message waits that long after the publisher is made (alive all along, as a
+node still starting)."""
 import sys
+import time
 
 import rclpy
 from rclpy.duration import Duration
@@ -15,6 +18,7 @@ from geometry_msgs.msg import Twist
 
 def main():
     topic, period_ms, deadline_ms, lease_ms = sys.argv[1], *map(float, sys.argv[2:5])
+    delay_ms = float(sys.argv[5]) if len(sys.argv) > 5 else 0
     rclpy.init()
     node = rclpy.create_node("keel_test_publisher")
     qos = QoSProfile(depth=10, deadline=Duration(nanoseconds=int(deadline_ms * 1e6)),
@@ -31,6 +35,9 @@ def main():
         if n == 0:
             print("publishing", flush=True)
         n += 1
+    if delay_ms:
+        print("alive", flush=True)
+        time.sleep(delay_ms / 1000.0)
     node.create_timer(period_ms / 1000.0, tick)
     rclpy.spin(node)
 
