@@ -34,23 +34,6 @@ constexpr int kPeriodUs = 1000;    // every writer's period: 1 kHz
 constexpr auto kTrialBound = 5s;   // a kill → its detection or takeover
 constexpr char kHeader[] = "std_msgs/msg/Header";
 
-// CycloneDDS on the loopback alone, peers found by unicast (the machine may have no
-// multicast-capable interface), as keel's tests run it.
-constexpr std::string_view kCycloneConfig = R"(<CycloneDDS>
-  <Domain id="any">
-    <General>
-      <Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>
-      <AllowMulticast>false</AllowMulticast>
-    </General>
-    <Discovery>
-      <ParticipantIndex>auto</ParticipantIndex>
-      <MaxAutoParticipantIndex>30</MaxAutoParticipantIndex>
-      <Peers><Peer address="127.0.0.1"/></Peers>
-    </Discovery>
-  </Domain>
-</CycloneDDS>
-)";
-
 // Fast DDS (rclpy's rmw) on UDPv4 127.0.0.1 alone, 127.0.0.1 its initial peer.
 constexpr std::string_view kFastDdsConfig = R"(<?xml version="1.0" encoding="UTF-8"?>
 <profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
@@ -108,8 +91,14 @@ std::string binding(const char* kind, const char* component, const char* port_na
                      kHeader, more);
 }
 
-/// `rtt <ns>` lines of a ping (keel-bench-dds-raw's, rclpy's) until `done`; the reason otherwise.
-DdsCell pingPong(std::vector<std::string> pong_argv, std::vector<std::string> ping_argv, int n) {
+/// `command pong IN OUT` and `command ping OUT IN N PERIOD_US` (keel-bench-dds-raw, rclpy's
+/// script) on the topics `<prefix>ping_<tag>` and `<prefix>pong_<tag>`: the ping's `rtt <ns>`
+/// lines until `done`; the reason otherwise.
+DdsCell pingPong(const std::vector<std::string>& command, const std::string& prefix, const std::string& tag, int n) {
+  const std::string ping_topic = prefix + "ping_" + tag, pong_topic = prefix + "pong_" + tag;
+  std::vector<std::string> pong_argv = command, ping_argv = command;
+  pong_argv.insert(pong_argv.end(), {"pong", ping_topic, pong_topic});
+  ping_argv.insert(ping_argv.end(), {"ping", ping_topic, pong_topic, std::to_string(n), std::to_string(kPeriodUs)});
   DdsCell cell;
   Fd quiet(::open("/dev/null", O_WRONLY | O_CLOEXEC));
   auto pong = Process::spawn(std::move(pong_argv), {.out = quiet.get(), .err = quiet.get()}, false, true);
@@ -230,7 +219,7 @@ class DefaultCyclone {
 
 DdsEnvironment::DdsEnvironment() : dir_("keel-bench-dds-env-") {
   const std::string& dir = dir_.path();
-  std::ofstream(dir + "/cyclonedds.xml") << kCycloneConfig;
+  std::ofstream(dir + "/cyclonedds.xml") << kCycloneLoopbackConfig;
   std::ofstream(dir + "/fastdds.xml") << kFastDdsConfig;
   ::setenv("CYCLONEDDS_URI", ("file://" + dir + "/cyclonedds.xml").c_str(), 1);
   ::setenv("FASTDDS_DEFAULT_PROFILES_FILE", (dir + "/fastdds.xml").c_str(), 1);
@@ -273,11 +262,7 @@ DdsCell measureKeelRoundTrip(const Paths& paths, int n) {
 }
 
 DdsCell measureRawRoundTrip(const Paths& paths, int n) {
-  const std::string raw = paths.bin + "/keel-bench-dds-raw";
-  DdsCell cell = pingPong({raw, "pong", "rt/keel_bench/ping_raw", "rt/keel_bench/pong_raw"},
-                          {raw, "ping", "rt/keel_bench/ping_raw", "rt/keel_bench/pong_raw", std::to_string(n),
-                           std::to_string(kPeriodUs)},
-                          n);
+  DdsCell cell = pingPong({paths.bin + "/keel-bench-dds-raw"}, "rt/keel_bench/", "raw", n);
   cell.note = "CycloneDDS's C API, a WaitSet thread on each side";
   return cell;
 }
@@ -289,11 +274,7 @@ DdsCell measureRclpyRoundTrip(const Paths& paths, int n) {
     cell.error = "no python with rclpy (set KEEL_RCLPY_PYTHON; scripts/peers.sh makes tests/peers/venv)";
     return cell;
   }
-  const std::string script = paths.peers + "/rclpy_pingpong.py";
-  cell = pingPong({python, script, "pong", "/keel_bench/ping_rclpy", "/keel_bench/pong_rclpy"},
-                  {python, script, "ping", "/keel_bench/ping_rclpy", "/keel_bench/pong_rclpy", std::to_string(n),
-                   std::to_string(kPeriodUs)},
-                  n);
+  cell = pingPong({python, paths.peers + "/rclpy_pingpong.py"}, "/keel_bench/", "rclpy", n);
   cell.note = "rclpy (Fast DDS), a SingleThreadedExecutor";
   return cell;
 }

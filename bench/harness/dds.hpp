@@ -24,6 +24,7 @@
 
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "paths.hpp"
@@ -37,6 +38,23 @@ struct DdsCell {
   std::string error;       // non-empty: the cell could not run (all of it, or its rest)
   std::string note;        // what ran, when it says more than the cell's name
 };
+
+// CycloneDDS on the loopback alone, peers found by unicast (the machine may have no
+// multicast-capable interface), as keel's tests run it; also `keel bench isolation`'s ddsperf.
+inline constexpr std::string_view kCycloneLoopbackConfig = R"(<CycloneDDS>
+  <Domain id="any">
+    <General>
+      <Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>
+      <AllowMulticast>false</AllowMulticast>
+    </General>
+    <Discovery>
+      <ParticipantIndex>auto</ParticipantIndex>
+      <MaxAutoParticipantIndex>30</MaxAutoParticipantIndex>
+      <Peers><Peer address="127.0.0.1"/></Peers>
+    </Discovery>
+  </Domain>
+</CycloneDDS>
+)";
 
 inline constexpr int kRemoteDeadlineMs = 50;  // remote: the subscription's deadline
 inline constexpr int kFailoverLeaseMs = 200;  // failover: the writers' liveliness lease

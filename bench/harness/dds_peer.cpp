@@ -16,6 +16,7 @@
 #include <thread>
 #include <vector>
 
+#include "dds.hpp"
 #include "peers.hpp"
 #include "process.hpp"
 
@@ -24,20 +25,6 @@ namespace {
 
 using namespace std::chrono_literals;
 using Clock = std::chrono::steady_clock;
-
-constexpr std::string_view kConfig = R"(<CycloneDDS>
-  <Domain id="any">
-    <General>
-      <Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>
-      <AllowMulticast>false</AllowMulticast>
-    </General>
-    <Discovery>
-      <ParticipantIndex>auto</ParticipantIndex>
-      <Peers><Peer address="127.0.0.1"/></Peers>
-    </Discovery>
-  </Domain>
-</CycloneDDS>
-)";
 
 /// The value (µs) after `key` in a ddsperf line ("50% 62.4us"), or nullopt.
 std::optional<double> micros(std::string_view line, std::string_view key) {
@@ -66,7 +53,7 @@ DdsResult runDdsPeer(int n, bool fifo) {
   }
   const TempDir dir("keel-bench-dds-");
   const std::string config = dir.path() + "/cyclonedds.xml";
-  std::ofstream(config) << kConfig;
+  std::ofstream(config) << kCycloneLoopbackConfig;
   const char* before = std::getenv("CYCLONEDDS_URI");
   const std::string saved = before ? before : "";
   ::setenv("CYCLONEDDS_URI", ("file://" + config).c_str(), 1);
