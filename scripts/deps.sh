@@ -8,6 +8,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++
+  ccache  # the presets compile through it (docs/decisions/0020-ci-time.md)
   libgtest-dev libgmock-dev libpugixml-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libbenchmark-dev
   libboost-dev  # Beast and Asio (header-only): the monitor's HTTP/WebSocket server

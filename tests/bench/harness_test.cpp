@@ -10,6 +10,7 @@
 #include "report.hpp"
 #include "runtime/guard.hpp"
 #include "stats.hpp"
+#include "support/paths.hpp"
 
 namespace keel::bench {
 namespace {

@@ -16,6 +16,7 @@
 #include <string>
 
 #include "peers.hpp"
+#include "support/paths.hpp"
 
 namespace fs = std::filesystem;
 

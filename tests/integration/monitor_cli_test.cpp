@@ -8,6 +8,7 @@
 
 #include <filesystem>
 
+#include "support/paths.hpp"
 #include "support/process.hpp"
 #include "support/temp_log.hpp"
 

@@ -10,6 +10,7 @@
 
 #include "fault/log_schema.hpp"
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/process.hpp"
 #include "support/temp_log.hpp"
 

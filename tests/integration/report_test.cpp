@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "support/paths.hpp"
 #include "support/process.hpp"
 
 namespace keel {

@@ -7,6 +7,7 @@
 #include "engine/engine.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/process.hpp"
 #include "support/recording_hooks.hpp"
 

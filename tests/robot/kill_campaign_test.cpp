@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/pipe_reader.hpp"
 #include "support/process.hpp"
 

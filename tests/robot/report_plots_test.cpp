@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <string>
 
+#include "support/paths.hpp"
 #include "support/process.hpp"
 
 namespace keel::test {

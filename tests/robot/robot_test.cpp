@@ -15,6 +15,7 @@
 
 #include "fault/log_schema.hpp"
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/process.hpp"
 
 namespace keel::test {

@@ -15,6 +15,7 @@
 #include "runtime/component_core.hpp"
 #include "runtime/guard.hpp"
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/recording_hooks.hpp"
 
 namespace keel {

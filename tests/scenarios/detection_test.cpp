@@ -15,6 +15,7 @@
 #include "fault/scenario.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/temp_log.hpp"
 
 namespace keel {

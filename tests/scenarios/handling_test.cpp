@@ -23,6 +23,7 @@
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
 #include "support/log_reader.hpp"
+#include "support/paths.hpp"
 #include "support/temp_log.hpp"
 
 namespace keel {

@@ -4,6 +4,7 @@
 // record), and the table below holds every constant of the header — so a constant renamed,
 // added or removed without the reference (and this table) following fails here.
 #include "fault/log_schema.hpp"
+#include "support/paths.hpp"
 
 #include <gtest/gtest.h>
 

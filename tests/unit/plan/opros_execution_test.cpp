@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "plan/plan.hpp"
+#include "support/paths.hpp"
 #include "unit/profile/profile_test_support.hpp"
 
 namespace keel::plan {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "profile/loader.hpp"
+#include "support/paths.hpp"
 
 namespace keel::plan {
 namespace {

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "profile/loader.hpp"
+#include "support/paths.hpp"
 
 namespace keel::profile {
 namespace {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "profile/loader.hpp"
+#include "support/paths.hpp"
 
 #ifndef KEEL_PROFILE_TEST_DATA
 #error "KEEL_PROFILE_TEST_DATA must name tests/unit/profile/data"

@@ -24,6 +24,7 @@
 #include "robot/sim/sim_host.hpp"
 #include "robot/sim/truth.hpp"
 #include "robot/world/world.hpp"
+#include "support/paths.hpp"
 
 extern char** environ;
 

@@ -11,6 +11,8 @@
 #include <map>
 #include <string>
 
+#include "support/paths.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
