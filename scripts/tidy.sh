@@ -83,16 +83,34 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 trap 'exit 130' INT TERM  # so that the EXIT trap cleans up
 
-echo "tidy.sh: $version on ${#files[@]} files of src/ ($db, -j$jobs${checks:+, without the static analyzer})"
+# A file's result is reused from the cache when everything it depends on is the same
+# (scripts/lib/tidy_cache.py: clang-tidy's version, .clang-tidy, these flags, the compile command
+# and the preprocessed source with its comments); $KEEL_TIDY_CACHE, else ~/.cache/keel/tidy;
+# KEEL_TIDY_CACHE=off runs clang-tidy on every file.
+cache=${KEEL_TIDY_CACHE:-${XDG_CACHE_HOME:-$HOME/.cache}/keel/tidy}
+[[ "$cache" == off ]] || "$root/scripts/deps.sh" clang-14  # its preprocessor makes the keys
+flags="--quiet --use-color=false --extra-arg=-Wno-unknown-warning-option $checks"
 start=$SECONDS
+if [[ "$cache" == off ]]; then
+  todo=("${files[@]}")
+  echo "0 ${#files[@]}" >"$out/hits"
+else
+  mkdir -p "$cache"
+  mapfile -d '' todo < <(KEEL_JOBS=$jobs python3 "$root/scripts/lib/tidy_cache.py" lookup "$db" "$root" "$build" \
+    "$cache" "$out" "$clang_tidy" "$flags" "${files[@]}")
+fi
+read -r hits _ <"$out/hits"
+echo "tidy.sh: $version on ${#files[@]} files of src/ ($db, -j$jobs${checks:+, without the static analyzer}; $hits from the cache)"
 # One output file per translation unit, so that parallel runs never interleave. GCC-only warning
 # options in the database (sanitizer presets) are not clang-tidy's business.
-printf '%s\0' "${files[@]}" | xargs -0 -n 1 -P "$jobs" sh -c '
-  name=$(printf "%s" "$5" | tr "/" "_")
-  if ! "$0" -p "$1" --quiet --use-color=false --extra-arg=-Wno-unknown-warning-option ${4:+"$4"} "$5" \
-       >"$3/$name.out" 2>"$3/$name.err"; then
-    echo "$5" >>"$3/$name.failed"
-  fi' "$clang_tidy" "$build" "$root" "$out" "$checks"
+if ((${#todo[@]} > 0)); then
+  printf '%s\0' "${todo[@]}" | xargs -0 -n 1 -P "$jobs" sh -c '
+    name=$(printf "%s" "$5" | tr "/" "_")
+    if ! "$0" -p "$1" $4 "$5" >"$3/$name.out" 2>"$3/$name.err"; then
+      echo "$5" >>"$3/$name.failed"
+    fi' "$clang_tidy" "$build" "$root" "$out" "$flags"
+fi
+[[ "$cache" == off ]] || python3 "$root/scripts/lib/tidy_cache.py" store "$root" "$build" "$cache" "$out"
 
 # Findings, each once, with paths relative to the root and the layers/ links resolved to src/.
 python3 - "$out" "$root" "$build" <<'PY'
@@ -151,4 +169,4 @@ if ((count > 0)); then
   echo "tidy.sh: $count finding(s) in ${#files[@]} files ($version, ${elapsed} s)" >&2
   exit 1
 fi
-echo "tidy.sh: no findings in ${#files[@]} files ($version, ${elapsed} s)"
+echo "tidy.sh: no findings in ${#files[@]} files ($version, ${elapsed} s, $hits from the cache)"
