@@ -8,9 +8,11 @@ ahead and stand by, and they carry the topics on through a kill -9 of the active
 Run with the test peers' venv (scripts/peers.sh), as ros2_peer_test.py, whose helpers these
 tests share."""
 import os
+import queue
 import signal
 import subprocess
 import sys
+import threading
 import time
 import unittest
 from pathlib import Path
@@ -208,12 +210,24 @@ class Process(unittest.TestCase):
 class ProcessRemoteFaults(unittest.TestCase):
     QOS = dict(deadline=300, liveliness=600)
 
-    def start_publisher(self, d):
+    def start_publisher(self, d, readers=2):
+        """An rclpy publisher of /cmd_vel (ros2_publisher.py), once `readers` keel readers (the
+        active's and the standby's) know its writer: a reader that never matched a writer cannot
+        tell that it was lost, and a standby's discovery of a new writer can lag the active's."""
         p = subprocess.Popen([sys.executable, str(HERE / "ros2_publisher.py"), "/cmd_vel", "20",
-                              str(self.QOS["deadline"]), str(self.QOS["liveliness"])], env=peer.peer_env(d),
-                             stdout=subprocess.PIPE, text=True)
+                              str(self.QOS["deadline"]), str(self.QOS["liveliness"]), "0", str(readers)],
+                             env=peer.peer_env(d), stdout=subprocess.PIPE, text=True)
         self.addCleanup(lambda: p.poll() is None and (p.kill(), p.wait()))
-        self.assertEqual(p.stdout.readline().strip(), "publishing")
+        lines = queue.Queue()
+        threading.Thread(target=lambda: [lines.put(line.strip()) for line in p.stdout], daemon=True).start()
+
+        def line(what):
+            try:
+                return lines.get(timeout=20)
+            except queue.Empty:
+                self.fail(f"the publisher printed no {what} within 20 s")
+        self.assertEqual(line("'publishing'"), "publishing")
+        self.assertRegex(line(f"'heard by {readers}'"), r"^heard by \d+$")
         return p
 
     def remote(self, run):
@@ -295,7 +309,9 @@ class ProcessRemoteFaults(unittest.TestCase):
     def test_a_writer_lost_while_a_standby_stood_by_is_its_fault_when_it_takes_over(self):
         """A lease alone (no deadline, whose listener would fire again after the takeover): the
         lost writer's liveliness is told once, to the active and to the standby alike. The active
-        reports it; kill -9 of the active: the standby reports the outage it kept, which lasts."""
+        reports it; kill -9 of the active: the standby reports the outage it kept, which lasts.
+        The writer is killed only once both readers know it (start_publisher): a standby that
+        never matched a writer has no outage to keep (docs/dds.md)."""
         d = domain()
         components = {"EchoTwist.xml": echo_profile("EchoTwist", "geometry_msgs/msg/Twist")}
         dds = ('<subscribe component="planner" port="in" topic="/cmd_vel" type="geometry_msgs/msg/Twist" '
@@ -323,6 +339,7 @@ class ProcessRemoteFaults(unittest.TestCase):
                               r.get("pid") == standby["pid"], 5, "the outage, reported by the new active")
         self.assertIn("lost its liveliness", held["detail"])
         self.assertEqual(len(self.remote(run)), 2, self.remote(run))
+
 
 if __name__ == "__main__":
     peer.KEEL, peer.COMPONENTS = sys.argv[1], sys.argv[2]
