@@ -6,7 +6,7 @@
 #   scripts/tidy.sh [--no-analyzer] [BUILD_DIR]    default: build
 #
 # --no-analyzer leaves out the static analyzer (clang-analyzer-*), more than half of the run's
-# time: what CI runs within its 90 minutes. Before a commit, run it whole.
+# time: what CI runs within its budget. Before a commit, run it whole.
 #
 # BUILD_DIR/compile_commands.json is written by CMake's configure step (CMAKE_EXPORT_COMPILE_COMMANDS
 # is on); when it is missing the tree is configured (not built): `cmake --preset default` for
