@@ -8,6 +8,7 @@
 
 namespace keel::test::paths {
 
+const char* source() { return KEEL_PATH_SOURCE; }
 const char* cli() { return KEEL_PATH_CLI; }
 const char* testComponents() { return KEEL_PATH_TEST_COMPONENTS; }
 const char* stockComponents() { return KEEL_PATH_STOCK_COMPONENTS; }

@@ -9,6 +9,7 @@
 
 namespace keel::test::paths {
 
+const char* source();           // the checkout
 const char* cli();              // build/bin/keel
 const char* testComponents();   // the test component libraries (tests/integration/components)
 const char* stockComponents();  // keel's stock components
@@ -26,6 +27,7 @@ const char* rclpyPython();      // the test peers' Python, with rclpy (tests/pee
 
 }  // namespace keel::test::paths
 
+#define KEEL_SOURCE_DIR (::keel::test::paths::source())
 #define KEEL_CLI (::keel::test::paths::cli())
 #define KEEL_TEST_COMPONENTS (::keel::test::paths::testComponents())
 #define KEEL_STOCK_COMPONENTS (::keel::test::paths::stockComponents())

@@ -11,12 +11,13 @@
 #include "dds/type_registry.hpp"
 #include "keel/msg/sensor_msgs/msg/detail/laser_scan__dds.hpp"
 #include "keel/msg/std_msgs/msg/detail/header__dds.hpp"
+#include "support/paths.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-const fs::path kShipped = fs::path(__FILE__).parent_path() / ".." / ".." / ".." / "msgs";
+const fs::path kShipped = fs::path(KEEL_SOURCE_DIR) / "msgs";
 
 TEST(MessageRegistration, EveryShippedMessageIsRegisteredUnderItsRos2Name) {
   int count = 0;

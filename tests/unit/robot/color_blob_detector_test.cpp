@@ -20,6 +20,7 @@
 #include "robot/world/world.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
+#include "support/paths.hpp"
 #include "support/recording_hooks.hpp"
 
 namespace keel::robot {
@@ -256,8 +257,7 @@ TEST(ColorBlobDetector, MinAreaDropsATargetTooFarToBeBigEnough) {
 // ---- the profile ----
 
 TEST(ColorBlobDetector, ProfileDeclaresTheClassPortsAndDefaults) {
-  const auto path = std::filesystem::path(__FILE__).parent_path() /
-                    "../../../robot/components/profiles/ColorBlobDetector.xml";
+  const auto path = std::filesystem::path(KEEL_ROBOT) / "components/profiles/ColorBlobDetector.xml";
   const auto loaded = profile::load(path.string());
   ASSERT_TRUE(loaded.ok());
   ASSERT_EQ(loaded->components.size(), 1u);
