@@ -8,7 +8,7 @@ Foxglove client messages below (their first byte picks the frame's kind: '0' tex
 and fuzz/monitor_client.dict the protocol's JSON vocabulary. Run from anywhere:
     python3 fuzz/make_seeds.py
 The motion board's seeds (binary frames) are not generated here: they are checked in. The MCAP
-reader's are written by keel's own writer: build-fuzz/fuzz/mcap_seeds (docs/fuzzing.md).
+reader's are written by keel's own writer: build-asan/fuzz/mcap_seeds (docs/fuzzing.md).
 """
 import glob
 import os

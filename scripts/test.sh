@@ -3,7 +3,8 @@
 # runs the tests of one build mode, exiting non-zero on any failure.
 #
 #   scripts/test.sh          build/       the full suite (the README's plain build)
-#   scripts/test.sh asan     build-asan/  the full suite under ASan + UBSan (UBSan fatal)
+#   scripts/test.sh asan     build-asan/  the full suite under ASan + UBSan (UBSan fatal; clang 14,
+#                                         the build that also holds the fuzz targets)
 #   scripts/test.sh tsan     build-tsan/  the tests labelled `concurrency` or `scenario` under TSan
 #
 # Each mode is the CMake preset of the same name in CMakePresets.json (asan = asan-ubsan), so
@@ -12,13 +13,14 @@
 # else the number of cores; tests run two at a time.
 set -euo pipefail
 
-usage() { sed -n '2,13s/^# \{0,1\}//p' "$0"; }
+usage() { sed -n '2,14s/^# \{0,1\}//p' "$0"; }
 
 mode=${1:-default}
+extra=()  # the packages a mode needs beyond scripts/deps.sh's own
 (($# > 0)) && shift
 case "$mode" in
   default) preset=default ;;
-  asan | asan-ubsan) preset=asan-ubsan ;;
+  asan | asan-ubsan) preset=asan-ubsan; extra=(clang-14 libclang-rt-14-dev libfuzzer-14-dev) ;;
   tsan) preset=tsan ;;
   -h | --help) usage; exit 0 ;;
   *) echo "test.sh: unknown mode '$mode'" >&2; usage >&2; exit 2 ;;
@@ -26,7 +28,7 @@ esac
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
-scripts/deps.sh
+scripts/deps.sh "${extra[@]}"
 scripts/peers.sh  # the independent implementations the interop tests talk to
 
 # Sanitizer runtime options, also set by the test presets (here for anything ctest starts).
@@ -51,8 +53,8 @@ else
   jobs=$(nproc 2>/dev/null || echo 2)
 fi
 
-# GCC 12's sanitizers cannot map their shadow memory when the kernel randomises mmap with more
-# than 28 bits; running the tests without ASLR avoids it.
+# The sanitizers of GCC 12 and clang 14 cannot map their shadow memory when the kernel randomises
+# mmap with more than 28 bits; running the tests without ASLR avoids it.
 run_tests=(ctest --preset "$preset")
 if [[ "$preset" != default ]]; then
   rnd_bits=$(cat /proc/sys/vm/mmap_rnd_bits 2>/dev/null || echo 28)
@@ -68,7 +70,7 @@ fi
 
 start=$SECONDS
 echo "== test.sh $mode: configure (preset $preset)"
-cmake --preset "$preset"
+scripts/lib/configure.sh "$preset"
 echo "== test.sh $mode: build (-j$jobs)"
 cmake --build --preset "$preset" --parallel "$jobs"
 echo "== test.sh $mode: test"

@@ -2,6 +2,10 @@
 //   Leaky: periodic; pushes a level in [0, 100] on `level` each cycle. Its onInitialize opens
 //   `leak_fds` descriptors and allocates `leak_kb` KiB it never gives back (kept reachable, so
 //   that LeakSanitizer does not call it a leak at exit): what a soak must see grow run after run.
+//   The blocks live in a static of this library, which it keeps loaded for good (RTLD_NODELETE):
+//   unloaded at the end of a run, the static's destructor would give them back. GCC keeps such a
+//   library loaded anyway (its function-local statics are unique symbols); clang does not.
+#include <dlfcn.h>
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -20,6 +24,7 @@ class Leaky : public keel::Component {
     for (int i = property<int>("leak_fds", 0); i > 0; --i) (void)::open("/dev/null", O_RDONLY);  // never closed
     const auto kb = static_cast<std::size_t>(property<int>("leak_kb", 0));
     if (kb > 0) {
+      pinLibrary();
       std::vector<char> block(kb * 1024);
       std::memset(block.data(), 1, block.size());  // resident, not just reserved
       std::lock_guard lock(mutex());
@@ -33,6 +38,12 @@ class Leaky : public keel::Component {
   }
 
  private:
+  // Marks this library, already loaded, never to be unloaded.
+  static void pinLibrary() {
+    Dl_info info{};
+    if (::dladdr(reinterpret_cast<void*>(&pinLibrary), &info) != 0 && info.dli_fname != nullptr)
+      (void)::dlopen(info.dli_fname, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);  // a reference never closed
+  }
   static std::vector<std::vector<char>>& hoard() {
     static std::vector<std::vector<char>> blocks;
     return blocks;

@@ -51,6 +51,8 @@ const Row kRows[] = {
      true},
     {"a stop that cannot be carried out after an emergency: nothing further", Step::Stop, Outcome::Failed,
      kAfterEmergency, Step::Done, false},
+    {"a stop that cannot be carried out after an emergency, an alternative declared: nothing further", Step::Stop,
+     Outcome::Failed, kAlternativeAfterEmergency, Step::Done, false},
     {"emergency, then as stop: the alternative replaces", Step::Emergency, Outcome::Done, kAlternative, Step::Replace,
      false},
     {"emergency, then as stop: no alternative → stop", Step::Emergency, Outcome::Done, kNoAlternative, Step::Stop,
