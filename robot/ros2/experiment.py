@@ -188,14 +188,14 @@ class Experiment:
         self.note(f"keel: {fault['detail']} — a `remote` fault of {fault['component']}, logged "
                   f"{(seen - killed) * 1e3:.0f} ms after the kill", seen)
         fid = fault["fault_id"]
-        by_id = [r for _, r in w.records() if r.get("fault_id") == fid]
-        action = next((r for r in by_id if r.get("event") == "action"), None)
+        seen_r, rec = self.wait("recovery", 5, lambda: w.first(
+            lambda r: r.get("event") == "recovered" and r.get("fault_id") == fid, w.records()))
+        # The action is logged before `recovered` but may come after the detection was read.
+        action = next((r for _, r in w.records() if r.get("fault_id") == fid and r.get("event") == "action"), None)
         if action:
             self.note(f"keel: its policy: {action['action']} ({action.get('detail', '')}), "
                       f"{(action['t_ns'] - fault['t_ns']) / 1e3:.0f} us after the detection"
                       + (": the velocity command zeroed" if action["action"] == "reset" else ""), seen)
-        seen_r, rec = self.wait("recovery", 5, lambda: w.first(
-            lambda r: r.get("event") == "recovered" and r.get("fault_id") == fid, w.records()))
         self.note(f"keel: `recovered` {(rec['t_ns'] - fault['t_ns']) / 1e3:.0f} us after the detection: the "
                   "teleop runs again, holding the robot still until a Twist comes", seen_r)
         rest, _ = self.wait("wheels at rest", 10, lambda: w.first(at_rest, w.rows(), after=seen))
