@@ -9,7 +9,11 @@ For every markdown link or image that is not http(s) or mailto:
 Links inside code (fenced blocks, `spans`) are not links and are not checked.
 
 Also fails on any reference to the design folder outside the repository (../shared/, SPEC,
-ARCHITECTURE.md, ROBOT.md, STYLE.md): the docs must be self-contained.
+ARCHITECTURE.md, ROBOT.md, STYLE.md), on a path of one machine (/work/..., /home/...) and on a
+project issue number ("issue 14": the tree's readers have no tracker to look it up in; a public
+project's issue beside its https:// address is a reference like any other). These rules hold for
+the docs and for every source file of the tree too (src, include, tests, bench, robot, examples,
+fuzz, msgs, scripts, .ci, the CMake files): keel's comments stand alone.
 
 Prints `file:line: broken link X (why)` per problem and exits 1, or prints one summary line and
 exits 0. Standard library only. Usage: python3 scripts/check_docs.py [REPO_ROOT]
@@ -30,6 +34,44 @@ FORBIDDEN = [
     (re.compile(r"\bROBOT\.md\b"), "ROBOT.md is outside the repository"),
     (re.compile(r"\bSTYLE\.md\b"), "STYLE.md is outside the repository"),
 ]
+
+# The same rules' further two, for docs and sources alike.
+MACHINE_PATH = (re.compile(r"(?<![\w.~-])/(?:work|home|check)/[\w.-]+"), "a path of one machine")
+ISSUE = (re.compile(r"\b[Ii]ssues?[ -]#?\d+"), "an issue number: say what the work is")
+SOURCE_DIRS = ["src", "include", "tests", "bench", "robot", "examples", "fuzz", "msgs", "scripts", ".ci"]
+SOURCE_SKIP = {"node_modules", "venv", "__pycache__"}
+SOURCE_SUFFIXES = (".cpp", ".hpp", ".h", ".c", ".py", ".sh", ".mjs", ".js", ".cmake", ".xml", ".json", ".html",
+                   ".css", ".txt", ".idl", ".msg", ".yaml", ".yml")
+
+
+def source_files(root):
+    """Every source file of the tree the rules above hold for (the checker itself excepted: it
+    names what it looks for)."""
+    out = []
+    for top in SOURCE_DIRS:
+        for d, dirs, names in os.walk(os.path.join(root, top)):
+            dirs[:] = [x for x in dirs if x not in SOURCE_SKIP]
+            for name in names:
+                path = os.path.join(d, name)
+                if (name.endswith(SOURCE_SUFFIXES) or name in ("run", "stage")) and \
+                        os.path.abspath(path) != os.path.abspath(__file__):
+                    out.append(path)
+    for name in os.listdir(root):
+        if name == "CMakeLists.txt" or name.endswith(".json"):
+            out.append(os.path.join(root, name))
+    return sorted(out)
+
+
+def line_problems(line):
+    """(matched text, why) for each rule a line of a doc or source breaks."""
+    for pattern, why in FORBIDDEN + [MACHINE_PATH]:
+        m = pattern.search(line)
+        if m:
+            yield m.group(0), why
+    m = ISSUE[0].search(line)
+    if m and not re.search(r"https?://", line):
+        yield m.group(0), ISSUE[1]
+
 
 FENCE = re.compile(r"^ {0,3}(`{3,}|~{3,})")
 HEADING = re.compile(r"^ {0,3}(#{1,6})[ \t]+(.*?)[ \t]*#*[ \t]*$")
@@ -148,11 +190,8 @@ def main():
         rel = os.path.relpath(path, root)
         d = doc(path)
         for n, line in enumerate(d.lines, 1):
-            for pattern, why in FORBIDDEN:
-                m = pattern.search(line)
-                if not m:
-                    continue
-                problems.append(f"{rel}:{n}: broken link {m.group(0)} ({why})")
+            for text, why in line_problems(line):
+                problems.append(f"{rel}:{n}: {text} ({why})")
         for n, target in d.links():
             n_links += 1
             t = target[1:-1] if target.startswith("<") and target.endswith(">") else target
@@ -183,6 +222,18 @@ def main():
             elif not re.fullmatch(r"L\d+(-L\d+)?", fragment):
                 problems.append(f"{rel}:{n}: broken link {target} (a fragment on a file that is not markdown)")
 
+    sources = source_files(root)
+    for path in sources:
+        rel = os.path.relpath(path, root)
+        try:
+            with open(path, encoding="utf-8") as f:
+                lines = f.read().split("\n")
+        except UnicodeDecodeError:
+            continue  # not text
+        for n, line in enumerate(lines, 1):
+            for text, why in line_problems(line):
+                problems.append(f"{rel}:{n}: {text} ({why})")
+
     for w in warnings:
         print(w, file=sys.stderr)
     if problems:
@@ -195,7 +246,7 @@ def main():
         print(f"check_docs: {len(problems)} problem(s) in {len(files)} files", file=sys.stderr)
         return 1
     print(f"check_docs: {len(files)} files, {n_links} links, every target and anchor resolves; "
-          f"no reference outside the repository")
+          f"no reference outside the repository, in them or in {len(sources)} source files")
     return 0
 
 

@@ -1,4 +1,4 @@
-// `keel bench scale` (issue 6): how keel's costs grow with 1, 10, 100, 1000 components. For each
+// `keel bench scale`: how keel's costs grow with 1, 10, 100, 1000 components. For each
 // size N, `trials` times, on the real engine, with the fault log written to a file as
 // `keel run --log` writes it:
 //  - start-up: a generated package of N BenchVictim instances (a trivial onExecute), each with a

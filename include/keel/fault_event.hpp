@@ -1,4 +1,5 @@
-// keel::FaultEvent and keel::FaultKind: the one fault type every detector produces (SPEC §5).
+// keel::FaultEvent and keel::FaultKind: the one fault type every detector produces
+// (docs/faults.md).
 // Components send FaultEvents through an output event port connected to the fault manager's
 // `faults` input, or call Component::raiseFault(). Plain value, fixed size (no allocation), so
 // it can be built on a fault path.

@@ -1,4 +1,4 @@
-// Typed component properties (SPEC §2): the values of a component profile's
+// Typed component properties (docs/author-api.md): the values of a component profile's
 // properties/property, after subcomponent overrides, read with Component::property<T>().
 // Header-only conversion rules; a value that cannot be represented as T is a PropertyError.
 #pragma once

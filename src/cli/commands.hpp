@@ -1,4 +1,4 @@
-// The keel command's subcommands (SPEC §4): one file each, registered on a CLI11 app.
+// The keel command's subcommands (docs/commands.md): one file each, registered on a CLI11 app.
 // A thin front end: each parses its flags and calls src/profile, src/runtime, src/fault.
 #pragma once
 

@@ -1,4 +1,4 @@
-// keel: the command-line front end (SPEC §4).
+// keel: the command-line front end (docs/commands.md).
 #include <exception>
 #include <iostream>
 

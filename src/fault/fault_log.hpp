@@ -1,5 +1,5 @@
-// The fault log of SPEC §5: one JSON object per line, each written with a single write(2) as it
-// happens, so a crash loses at most the line being written. Every record gets `t_ns`
+// The fault log (docs/fault-log.md): one JSON object per line, each written with a single
+// write(2) as it happens, so a crash loses at most the line being written. Every record gets `t_ns`
 // (steady clock, ns since the engine started) unless it carries one. A tee (keel run --log-tee)
 // gets each line right after the log has it, so what a reader of the tee saw is in the log.
 // Thread-safety: write() may be called from any thread (one mutex around the write).

@@ -1,4 +1,4 @@
-// The injector: carries a fault scenario out during a run (SPEC §6). Checked against the
+// The injector: carries a fault scenario out during a run (docs/faults.md). Checked against the
 // running components first (every problem as `file:line: message`); then a thread arms each
 // fault at its time after the start. What an armed fault does, and when it manifests, is
 // runtime/injection's business; the log gets `injected` at manifestation (fault manager).

@@ -24,7 +24,7 @@
 
 namespace keel::fault {
 
-/// The `action` values of the log (SPEC §5).
+/// The `action` values of the log (docs/fault-log.md).
 enum class ActionKind : std::uint8_t { Ignore, Reset, Restore, Replace, Stop, EmergencyStop, Escalate };
 std::string_view toString(ActionKind a);
 

@@ -1,5 +1,5 @@
-// The integrator's fault rules of one component (its <fault_policy>, SPEC §3) compiled into a
-// plain table before anything runs. No XML at fault time.
+// The integrator's fault rules of one component (its <fault_policy>, docs/profiles.md) compiled
+// into a plain table before anything runs. No XML at fault time.
 // Thread-safety: immutable once built.
 #pragma once
 
@@ -18,7 +18,8 @@ namespace keel::fault {
 
 inline constexpr std::size_t kFaultKinds = static_cast<std::size_t>(FaultKind::Process) + 1;
 
-/// The steps of handling, in escalation order (SPEC §3: reset → replace → stop → emergency).
+/// The steps of handling, in escalation order (docs/fault-handling.md): reset → replace → stop →
+/// emergency.
 enum class Step : std::uint8_t { Ignore, Reset, Replace, Stop, Emergency, Done };
 std::string_view toString(Step s);
 using profile::toString;  // Severity, Scope

@@ -1,4 +1,4 @@
-// Fault scenarios (SPEC §6): `<fault_scenario><fault at="1000" component="x" kind="segfault"
+// Fault scenarios (docs/faults.md): `<fault_scenario><fault at="1000" component="x" kind="segfault"
 // .../></fault_scenario>`, read and checked whole, every problem as `file:line: message`.
 // Attributes: at (ms after start), component, kind, and optionally port and value
 // (out_of_range), duration (ms; stall_heartbeat, default: for ever), repeat and every (ms)

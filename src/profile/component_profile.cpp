@@ -1,4 +1,5 @@
-// <component_profile>: identity, execution environment and semantics, properties (SPEC §3).
+// <component_profile>: identity, execution environment and semantics, properties
+// (docs/profiles.md).
 // Ports are read by ports.cpp. OPRoS elements keel does not use are accepted and ignored.
 #include <fmt/format.h>
 

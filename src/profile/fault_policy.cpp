@@ -1,4 +1,4 @@
-// <fault_policy> of a subcomponent: the rule tags of paper §5 as SPEC §3 fixes them.
+// <fault_policy> of a subcomponent: the rule tags of paper §5 as docs/profiles.md gives them.
 // Defaults (model.hpp, docs/profiles.md): severity reset, dependency component, restart
 // intensity 3 in 10000 ms; heartbeat, deadline, checkpoint and alternative absent.
 #include <fmt/format.h>

@@ -46,7 +46,8 @@ std::optional<E> readWord(Ctx& ctx, pugi::xml_node at, std::string_view text, st
   return value;
 }
 
-// The enum vocabularies of SPEC §3, first spelling of each value is the documented one.
+// The enum vocabularies of profiles (docs/profiles.md), first spelling of each value is the
+// documented one.
 const std::vector<std::pair<std::string_view, ExecutionType>>& executionTypes();
 /// OPRoS's periodic types that say how the thread is shared (the others: Sharing::Default).
 const std::vector<std::pair<std::string_view, Sharing>>& executionSharing();
@@ -57,7 +58,7 @@ const std::vector<std::pair<std::string_view, QueuePolicy>>& queuePolicies();
 const std::vector<std::pair<std::string_view, PortType>>& portTypes();
 const std::vector<std::pair<std::string_view, Severity>>& severities();
 const std::vector<std::pair<std::string_view, Scope>>& scopes();
-/// Fault kinds of SPEC §5 (keys of FaultPolicy::severity_by_kind).
+/// Fault kinds (docs/faults.md): the keys of FaultPolicy::severity_by_kind.
 const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds();
 
 std::string_view name(PortType t);

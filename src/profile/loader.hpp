@@ -1,5 +1,5 @@
 // Reads a profile file and everything it references (component, composite, package and system
-// profiles, SPEC §3) and validates the whole before anything runs. Every problem found is
+// profiles, docs/profiles.md) and validates the whole before anything runs. Every problem found is
 // reported, each as `file:line: message`. Knows nothing of threads or dlopen.
 // Thread-safety: free functions over their own data; safe to call concurrently.
 #pragma once

@@ -1,4 +1,4 @@
-// Plain, validated structs that profiles (SPEC §3) are read into.
+// Plain, validated structs that profiles (docs/profiles.md) are read into.
 // Produced by profile/loader.hpp, consumed by plan/plan.hpp; knows nothing of threads or
 // dlopen. Every struct that came from XML carries the `Where` it came from, so that later
 // stages (the plan, the loader) can still report `file:line`.
@@ -174,7 +174,7 @@ struct Restart {
   double period_ms = 10000.0;
 };
 
-/// The paper's rule tags for one subcomponent (SPEC §3). Defaults documented in docs/profiles.md.
+/// The paper's rule tags for one subcomponent, with their defaults (docs/profiles.md).
 struct FaultPolicy {
   Severity severity = Severity::Reset;
   std::map<std::string, Severity> severity_by_kind;  // kind (signal, range, ...) -> severity

@@ -1,6 +1,6 @@
 // <package_profile> (alias <application_profile>): subcomponents, connections, tasks (the
-// paper's executors) and coordination dependencies (SPEC §3). Name checks across these lists
-// are in validate_assembly.cpp.
+// paper's executors) and coordination dependencies (docs/profiles.md). Name checks across these
+// lists are in validate_assembly.cpp.
 #include <fmt/format.h>
 
 #include "profile/field_reader.hpp"

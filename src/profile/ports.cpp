@@ -1,5 +1,5 @@
 // <ports> of a component profile: data, event and service ports, and the signal-model rule
-// <validity> of paper §5.1.2 (SPEC §3).
+// <validity> of paper §5.1.2 (docs/profiles.md).
 #include <fmt/format.h>
 
 #include "profile/field_reader.hpp"

@@ -1,4 +1,5 @@
-// <subcomponents> and <port_connections>, shared by package and composite profiles (SPEC §3).
+// <subcomponents> and <port_connections>, shared by package and composite profiles
+// (docs/profiles.md).
 // Property overrides are kept as text here; validate_assembly.cpp types them against the
 // referenced component once it is loaded.
 #include <fmt/format.h>

@@ -1,6 +1,6 @@
 // Lexical parsing of profile values: strict numbers, booleans, number lists, case-insensitive
-// enum words, and property types/values (SPEC §3). Pure functions of their text; they report
-// nothing themselves (see field_reader.hpp for the versions that produce diagnostics).
+// enum words, and property types/values (docs/profiles.md). Pure functions of their text; they
+// report nothing themselves (see field_reader.hpp for the versions that produce diagnostics).
 // Used by the profile parsers and validation. Thread-safety: stateless, reentrant.
 #pragma once
 

@@ -213,7 +213,7 @@ bool Executor::execute(Component& c) {
   const bool ok = invoke(c, Callback::Execute);
   if (ok) {
     core.executions.fetch_add(1, std::memory_order_relaxed);
-    // The first good step after a recovery is the `recovered` moment (SPEC §5).
+    // The first good step after a recovery is the `recovered` moment (docs/fault-log.md).
     if (core.fault.recovering_id.load(std::memory_order_relaxed) != 0 && core.fault_sink) [[unlikely]]
       core.fault_sink->recovered(c, steadyNs());
   }

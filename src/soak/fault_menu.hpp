@@ -1,8 +1,8 @@
 // What `keel soak` may inject into an application (docs/soak.md): every fault that applies to
 // one of its components and that one of its detectors is configured to see, read from its plan
 // and from what its hardware drivers offer (keel::HardwareDriver::simulatedFaults), and a random
-// fault scenario drawn from them, written as a fault_scenario file (SPEC §6) so that keel run's
-// process and the component processes inject exactly the same faults.
+// fault scenario drawn from them, written as a fault_scenario file (docs/faults.md) so that keel
+// run's process and the component processes inject exactly the same faults.
 // Thread-safety: plain values and functions of their arguments.
 #pragma once
 

@@ -1,5 +1,6 @@
-// The kill -9 campaign of issue 17: `keel run` of the robot, with faults coming all the time, is
-// killed at 100 random moments, from its first instants (while it starts) to a few seconds in.
+// The kill -9 campaign (docs/kill-9.md): `keel run` of the robot, with faults coming all the
+// time, is killed at 100 random moments, from its first instants (while it starts) to a few
+// seconds in.
 // After each kill: the log reads, line by line, up to its last complete line; every record a
 // second channel (the log's tee, a pipe the test reads all along) saw is in the log; nothing
 // keel started is still running; nothing is left in /dev/shm or in the run's directory; and

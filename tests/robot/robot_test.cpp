@@ -173,7 +173,7 @@ TEST_F(Robot, ASegfaultAndADivideByZeroAreCaughtAndResetAndTheRobotReachesTheTar
   reachedTheGoal(r);
 }
 
-TEST_F(Robot, TheVisionProcessKilledTwiceIsTakenOverByAStandbyEachTimeAndTheRobotReachesTheTarget) {  // issue 14
+TEST_F(Robot, TheVisionProcessKilledTwiceIsTakenOverByAStandbyEachTimeAndTheRobotReachesTheTarget) {
   const RobotRun r = run("navigation.xml", "vision_killed.xml");
   const auto d = r.detected("process", "detector");
   ASSERT_EQ(d.size(), 2u) << r.ran.out;

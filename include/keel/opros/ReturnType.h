@@ -2,8 +2,9 @@
 //
 // OPRoS components store these codes in `ReturnType` variables, return them from callbacks and
 // service methods and compare them, so every code is a plain integral constant (a macro, as in
-// OPRoS) that converts both ways; an `enum class` would break that code. Values: API.md §6, with
-// the two recoverable device codes the 2015 header misprinted given their intended values.
+// OPRoS) that converts both ways; an `enum class` would break that code. Values: OPRoS's
+// published ones, with the two recoverable device codes the 2015 header misprinted given their
+// intended values.
 // Header-only, no state: usable from any thread.
 #pragma once
 

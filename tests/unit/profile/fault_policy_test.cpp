@@ -1,4 +1,4 @@
-// <fault_policy> of a subcomponent (SPEC §3): every rule tag read with its value, the
+// <fault_policy> of a subcomponent (docs/profiles.md): every rule tag read with its value, the
 // documented defaults, and each error message with its exact diagnostic.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>

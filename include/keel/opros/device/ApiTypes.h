@@ -1,6 +1,6 @@
 // ApiTypes.h — keel's own, from-scratch OPRoS-compatible version of the device API's data types.
 //
-// One set serves both OPRoS flavours (API.md §8). The 2014 types live in namespace OPRoS: the
+// One set serves both OPRoS flavours (docs/opros.md). The 2014 types live in namespace OPRoS: the
 // value wrappers here (Bool, Int16, ..., Float64Array, StringArray: a `ReturnType status` and a
 // `data`) and the sensor and motion records of OprosDeviceData.h (MobileVelocityData, ...). The
 // 2012 types (ObjectLocation, ObjectPosition, ObjectPosture, ...) are also in namespace OPRoS and

@@ -1,7 +1,7 @@
 // Property.h — keel's own, from-scratch OPRoS-compatible version of the device API's Property:
 // a string-to-string parameter map with a status, passed to and returned by device services.
 //
-// One definition serves both OPRoS flavours (API.md §8): the 2014 `OPRoS::Property` (with its
+// One definition serves both OPRoS flavours (docs/opros.md): the 2014 `OPRoS::Property` (with its
 // `ReturnType status`) is also the global `Property` of 2012 code, and this header makes
 // std::vector, std::valarray, std::string and std::map usable unqualified, as 2012 code expects
 // (through using-declarations, not `using namespace std`). A Property is a value; one object is
