@@ -13,7 +13,9 @@ ARCHITECTURE.md, ROBOT.md, STYLE.md), on a path of one machine (/work/..., /home
 project issue number ("issue 14": the tree's readers have no tracker to look it up in; a public
 project's issue beside its https:// address is a reference like any other). These rules hold for
 the docs and for every source file of the tree too (src, include, tests, bench, robot, examples,
-fuzz, msgs, scripts, .ci, the CMake files): keel's comments stand alone.
+fuzz, msgs, scripts, .ci, the CMake files): keel's comments stand alone. And a clang-tidy
+suppression in C++ names its checks and says why, `// NOLINT(check-name): the reason`, so that
+a reader can judge it and it hides nothing else.
 
 Prints `file:line: broken link X (why)` per problem and exits 1, or prints one summary line and
 exits 0. Standard library only. Usage: python3 scripts/check_docs.py [REPO_ROOT]
@@ -62,7 +64,11 @@ def source_files(root):
     return sorted(out)
 
 
-def line_problems(line):
+NOLINT = re.compile(r"NOLINT(?:NEXTLINE|BEGIN|END)?\b(\([^)]*\))?(:\s*\S.*)?")
+CXX_SUFFIXES = (".cpp", ".hpp", ".h", ".c")
+
+
+def line_problems(line, cxx=False):
     """(matched text, why) for each rule a line of a doc or source breaks."""
     for pattern, why in FORBIDDEN + [MACHINE_PATH]:
         m = pattern.search(line)
@@ -71,6 +77,12 @@ def line_problems(line):
     m = ISSUE[0].search(line)
     if m and not re.search(r"https?://", line):
         yield m.group(0), ISSUE[1]
+    if cxx:
+        for m in NOLINT.finditer(line):
+            if not m.group(1):
+                yield m.group(0).strip(), "a NOLINT names the checks it suppresses: NOLINT(check-name): why"
+            elif not m.group(0).startswith("NOLINTEND") and not m.group(2):
+                yield m.group(0).strip(), "a NOLINT says why: NOLINT(check-name): the reason"
 
 
 FENCE = re.compile(r"^ {0,3}(`{3,}|~{3,})")
@@ -230,8 +242,9 @@ def main():
                 lines = f.read().split("\n")
         except UnicodeDecodeError:
             continue  # not text
+        cxx = path.endswith(CXX_SUFFIXES)
         for n, line in enumerate(lines, 1):
-            for text, why in line_problems(line):
+            for text, why in line_problems(line, cxx):
                 problems.append(f"{rel}:{n}: {text} ({why})")
 
     for w in warnings:

@@ -6,7 +6,7 @@
 
 Component::Component() = default;
 // OPRoS's signature, which generated constructors call: not by value.
-Component::Component(const std::string& compid) : id_(compid) {}  // NOLINT(modernize-pass-by-value)
+Component::Component(const std::string& compid) : id_(compid) {}  // NOLINT(modernize-pass-by-value): see above
 
 Component::~Component() {
   // The generated portSetup() allocates service ports with new and never deletes them: OPRoS's
