@@ -101,7 +101,21 @@ TEST_F(ServicePortTest, AnUnconnectedPortFailsClearly) {
   EXPECT_EQ(r.error().message, "service port 'wrong' is not connected");
 }
 
-TEST_F(ServicePortTest, SignaturesMustMatchToBind) { EXPECT_FALSE(bind(client_.wrong, calc_.add)); }
+TEST_F(ServicePortTest, ABindIsRefusedUnlessTheOtherSideProvidesTheSameSignature) {
+  EXPECT_FALSE(bind(client_.wrong, calc_.add)) << "int(int, int) bound to double(double, double)";
+  EXPECT_FALSE(bind(client_.wrong, client_.wrong)) << "a required port is no provider";
+  // Refused, the port is as unconnected as before: a call says so, nothing reaches a provider.
+  EXPECT_FALSE(client_.wrong.connected());
+  auto r = client_.wrong.call(1, 2);
+  ASSERT_FALSE(r);
+  EXPECT_EQ(r.error().message, "service port 'wrong' is not connected");
+  // And a bound port keeps its provider when a bind of another signature is refused.
+  EXPECT_FALSE(bind(client_.add, client_.wrong));
+  ASSERT_TRUE(transition(calc_, Transition::Start));
+  auto sum = client_.add.call(1.0, 2.0);
+  ASSERT_TRUE(sum) << sum.error().message;
+  EXPECT_EQ(*sum, 3.0);
+}
 
 TEST_F(ServicePortTest, APassiveProviderRunsOnTheCallersThread) {
   ASSERT_TRUE(transition(calc_, Transition::Start));  // passive: no executor
