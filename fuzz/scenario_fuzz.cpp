@@ -1,5 +1,5 @@
-// libFuzzer target for the fault scenario reader (src/fault/scenario): the input bytes become a
-// scenario file that keel::fault::loadScenario() reads (software and hardware kinds, args);
+// libFuzzer target for the fault scenario reader (src/injection/scenario): the input bytes become a
+// scenario file that keel::injection::loadScenario() reads (software and hardware kinds, args);
 // it must never crash, hang or throw, whatever the bytes, and a failure has a diagnostic.
 // Built by the `fuzz` preset (fuzz/CMakeLists.txt); run by scripts/fuzz.sh scenario SECONDS.
 // Thread-safety: one input at a time, as libFuzzer calls it; the temp file is per process.
@@ -12,7 +12,7 @@
 #include <filesystem>
 #include <string>
 
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 
 namespace {
 
@@ -34,7 +34,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const bool written = std::fwrite(data, 1, size, f) == size;
   std::fclose(f);
   if (!written) return 0;
-  auto result = keel::fault::loadScenario(path);
+  auto result = keel::injection::loadScenario(path);
   if (!result.ok()) {
     if (result.error().empty()) std::abort();            // a failure says why
     for (const auto& d : result.error()) (void)d.str();  // every message must be printable

@@ -52,7 +52,7 @@ DetectionCell measureDetection(runtime::InjectKind kind, bool fifo, int n) {
   runtime::installSignalHandlers();
   DetectionCell cell;
   auto warn = [&cell](const std::string& w) { addNote(cell.warnings, w); };
-  fault::FaultLog log;
+  log::FaultLog log;
   Victim victim, bystander;
   fault::FaultManager fm(log, [&](std::string_view) -> Component* { return nullptr; });
   for (auto [c, name] : {std::pair<Component*, const char*>{&victim, "victim"}, {&bystander, "bystander"}}) {

@@ -2,11 +2,13 @@
 
 #include <fcntl.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 #include <string>
@@ -45,11 +47,14 @@ BackgroundLoad::BackgroundLoad(int percent, LoadSource source, const std::string
   if (source == LoadSource::StressNg && stress_ng.empty())
     throw std::runtime_error("stress-ng is not installed (scripts/deps.sh installs it)");
   const bool stress = source != LoadSource::Internal && !stress_ng.empty();
-  // --timeout bounds stress-ng should keel-bench die without stopping it.
-  const std::vector<std::string> argv =
+  // Through `_guard`: should keel-bench die without stopping it, the load gets SIGTERM (and
+  // stress-ng's --timeout bounds it even so).
+  std::vector<std::string> argv{self_exe, "_guard", std::to_string(::getpid())};
+  const std::vector<std::string> load =
       stress ? std::vector<std::string>{stress_ng,   "--cpu", "0", "--cpu-load", std::to_string(percent),
                                         "--timeout", "7200s"}
              : std::vector<std::string>{self_exe, "_load", std::to_string(percent)};
+  argv.insert(argv.end(), load.begin(), load.end());
   const Fd null(::open("/dev/null", O_WRONLY | O_CLOEXEC));
   auto spawned = Process::spawn(argv, {.in = -1, .out = null.get(), .err = null.get()}, false, true);
   if (!spawned) throw std::runtime_error("cannot start the load: " + spawned.error().message);
@@ -62,6 +67,15 @@ BackgroundLoad::~BackgroundLoad() {
   if (!process_) return;
   process_->signal(SIGTERM);  // stress-ng stops and reaps its workers; the group is killed after 3 s
   (void)process_->waitUntil(std::chrono::steady_clock::now() + 3s);
+}
+
+int runGuarded(int argc, char** argv) {
+  if (argc < 4) return 2;
+  if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0) return 126;
+  // The parent may have died before the prctl: then no signal would ever come.
+  if (::getppid() != static_cast<pid_t>(std::atoll(argv[2]))) return 1;
+  ::execv(argv[3], argv + 3);
+  return 127;
 }
 
 int runInternalLoad(int percent) {

@@ -38,6 +38,11 @@ class BackgroundLoad {
   std::string source_ = "none";
 };
 
+/// `keel-bench _guard PID COMMAND ARGS...`: becomes COMMAND (exec), set to get SIGTERM when
+/// its parent, keel-bench `PID`, dies, however it dies: a crashed or killed keel-bench leaves no
+/// load behind (posix_spawn cannot ask for PR_SET_PDEATHSIG itself). Returns only on failure.
+int runGuarded(int argc, char** argv);
+
 /// `keel-bench _load PERCENT`: the internal duty-cycle load; runs until SIGTERM. Returns the exit
 /// status.
 int runInternalLoad(int percent);

@@ -41,8 +41,16 @@ std::string ratio(const Summary& keel, const Summary& ref) {
 std::string ratio(const Row* keel, const Row* peer) { return keel && peer ? ratio(keel->s, peer->s) : "—"; }
 
 /// keel ÷ a reference at p50 and p99, as written in the JSON (3 decimals).
+/// `v` to three significant digits: a ratio far below 1 (keel beside a respawned process) keeps
+/// its figures instead of rounding to 0.
+double significant(double v) {
+  if (v == 0 || !std::isfinite(v)) return v;
+  const double scale = std::pow(10.0, 2 - std::floor(std::log10(std::fabs(v))));
+  return std::round(v * scale) / scale;
+}
+
 nlohmann::json ratioJson(double keel_p50, double keel_p99, double ref_p50, double ref_p99) {
-  return {{"p50", std::round(keel_p50 / ref_p50 * 1000) / 1000}, {"p99", std::round(keel_p99 / ref_p99 * 1000) / 1000}};
+  return {{"p50", significant(keel_p50 / ref_p50)}, {"p99", significant(keel_p99 / ref_p99)}};
 }
 
 bool isPeer(const std::string& what) { return what.rfind("peer_", 0) == 0; }

@@ -30,8 +30,8 @@
 #include "cli/commands.hpp"
 #include "cli/summary.hpp"
 #include "engine/engine.hpp"
-#include "fault/log_schema.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
+#include "log/schema.hpp"
 #include "monitor/monitor.hpp"
 #include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
@@ -208,7 +208,7 @@ int runProfile(const RunOptions& o) {
   if (!settings) return 2;
   eo.property_settings = std::move(*settings);
   if (!o.inject.empty()) {
-    auto scenario = fault::loadScenario(o.inject);
+    auto scenario = injection::loadScenario(o.inject);
     if (!scenario) {
       for (const auto& d : scenario.error()) std::cerr << d.str() << '\n';
       return 2;
@@ -226,7 +226,7 @@ int runProfile(const RunOptions& o) {
     std::cerr << engine.error().message << '\n';
     return 1;
   }
-  for (const auto& w : warnings) (*engine)->log().write(fault::schema::warning(w.str()));
+  for (const auto& w : warnings) (*engine)->log().write(log::schema::warning(w.str()));
   std::unique_ptr<monitor::Monitor> live;
   if (!o.monitor.empty() || !o.record.empty()) {
     monitor::MonitorOptions mo{o.monitor, o.monitor_origins, eo.log_path,
@@ -253,8 +253,8 @@ int runProfile(const RunOptions& o) {
   const int why = waitForEnd(stop_signals, o.duration_s, **engine);
   stop_console.store(true, std::memory_order_release);
   if (console_thread.joinable()) console_thread.join();
-  nlohmann::json stopping = fault::schema::engine("stopping");
-  stopping[fault::schema::field::kReason] = stopReason(why, **engine);
+  nlohmann::json stopping = log::schema::engine("stopping");
+  stopping[log::schema::field::kReason] = stopReason(why, **engine);
   (*engine)->log().write(std::move(stopping));
   (*engine)->shutdown();  // a component may still end the run from its onStop
   if (live) {             // after the last record: clients see the run end, the recording has it all

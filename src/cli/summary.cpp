@@ -8,13 +8,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 namespace keel::cli {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 
 std::string str(const nlohmann::json& r, const char* key) {
   const auto it = r.find(key);
@@ -149,7 +149,7 @@ class Reader {
     auto& h = handling(r);
     if (!h.actions.empty()) h.actions += ", ";
     h.actions += str(r, fd::kAction);
-    if (str(r, fd::kOutcome) == fault::schema::kFailed) h.failed = true;
+    if (str(r, fd::kOutcome) == log::schema::kFailed) h.failed = true;
     if (const std::string by = str(r, fd::kReplacement); !by.empty())
       component(str(r, fd::kComponent)).replacement = by;
   }

@@ -2,14 +2,15 @@
 // exit 2. What loads but has no effect is a `file:line: warning: message` (exit 0; with --strict
 // a problem, `file:line: message (--strict)`).
 // Profiles, and fault scenarios (checked as `keel run --inject` reads them, before a run).
-// With --load, libraries are also loaded and every port of code checked against its profile
-// (nothing is initialized or run); what loading warns of (an OPRoS component's code that
-// disagrees with its profile) is printed as `keel run` prints it, and is a problem with --strict.
+// With --load, libraries are also loaded — every instance's, whatever its <process> — and every
+// port of code checked against its profile, and each connection between processes as the
+// component processes check it when they connect (nothing is initialized or run); what loading warns of (an OPRoS
+// component's code that disagrees with its profile) is printed as `keel run` prints it, and is a problem with --strict.
 #include <iostream>
 
 #include "cli/commands.hpp"
 #include "engine/engine.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 #include "profile/loader.hpp"
 
 namespace keel::cli {
@@ -25,7 +26,7 @@ int validateFiles(const ValidateOptions& o) {
   int problems = 0;
   for (const auto& f : o.files) {
     if (profile::rootElementName(f) == "fault_scenario") {
-      auto scenario = fault::loadScenario(f);
+      auto scenario = injection::loadScenario(f);
       if (!scenario) {
         for (const auto& d : scenario.error()) std::cerr << d.str() << '\n';
         problems += static_cast<int>(scenario.error().size());
@@ -57,6 +58,7 @@ int validateFiles(const ValidateOptions& o) {
       // profile, a queue its code fixes): warnings, errors with --strict.
       std::vector<std::string> load_warnings;
       engine::EngineOptions eo;
+      eo.check_only = true;  // every process's code, here: what keel run's processes would refuse
       eo.warn = [&load_warnings](const std::string& m) { load_warnings.push_back(m); };
       auto engine = engine::Engine::create(std::move(*set), eo);
       for (const auto& w : load_warnings) std::cerr << (o.strict ? w + " (--strict)" : "keel: warning: " + w) << '\n';

@@ -99,8 +99,6 @@ struct DdsPorts::Reader {
 
 namespace {
 
-std::string at(const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); }
-
 std::string ms(double v) { return fmt::format("{:g} ms", v); }
 
 void onData(dds_entity_t reader, void* arg) {
@@ -160,7 +158,7 @@ void DdsPorts::Reader::incompatible(dds_entity_t, const dds_requested_incompatib
     r->warned_incompatible = true;
   }
   r->owner->warn_(fmt::format("{}: <subscribe> of {}.{}: a writer of {} offers an incompatible {} and is not heard",
-                              at(r->binding.where), r->instance, r->binding.endpoint.port, r->binding.topic,
+                              r->binding.where.str(), r->instance, r->binding.endpoint.port, r->binding.topic,
                               policyName(static_cast<dds_qos_policy_id_t>(status.last_policy_id))));
 }
 
@@ -223,7 +221,7 @@ void DdsPorts::reportHeldOutages() {
 Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const FindPort& find, Readers readers) {
   std::string errors;
   auto problem = [&](const profile::DdsBinding& b, const std::string& what) {
-    errors += fmt::format("{}: <{}> of {}.{}: {}\n", at(b.where), b.publish ? "publish" : "subscribe",
+    errors += fmt::format("{}: <{}> of {}.{}: {}\n", b.where.str(), b.publish ? "publish" : "subscribe",
                           b.endpoint.component, b.endpoint.port, what);
   };
   std::map<std::pair<std::int32_t, std::string>, dds_entity_t> topics;

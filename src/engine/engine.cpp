@@ -1,6 +1,6 @@
 #include "engine/engine.hpp"
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "runtime/clock.hpp"
 
 #include <fmt/format.h>
@@ -41,7 +41,7 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
   std::unique_ptr<Engine> engine(new Engine(std::move(options)));
   Engine* e = engine.get();
   e->planned_ = std::move(planned);
-  ProcessHost* host = e->options_.host;
+  supervision::ProcessHost* host = e->options_.host;
   if (!e->options_.log_path.empty()) {
     auto opened = host ? e->log_.join(e->options_.log_path, host->session().logEpoch().load())
                        : e->log_.open(e->options_.log_path, e->options_.log_append);
@@ -61,29 +61,34 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
     }
   }
   if (!host) {
-    nlohmann::json load = fault::schema::engine("load");
-    load[fault::schema::field::kProfile] = e->set().root;
-    load[fault::schema::field::kName] = e->planned_.plan.name;
-    nlohmann::json& names = load[fault::schema::field::kComponents] = nlohmann::json::array();
+    nlohmann::json load = log::schema::engine("load");
+    load[log::schema::field::kProfile] = e->set().root;
+    load[log::schema::field::kName] = e->planned_.plan.name;
+    nlohmann::json& names = load[log::schema::field::kComponents] = nlohmann::json::array();
     for (const auto& pi : e->planned_.plan.instances) names.push_back(pi.name);
-    load[fault::schema::field::kInstances] = e->planned_.plan.instances.size();
-    for (const auto& s : e->options_.property_settings) load[fault::schema::field::kSet].push_back(s.text);
+    load[log::schema::field::kInstances] = e->planned_.plan.instances.size();
+    for (const auto& s : e->options_.property_settings) load[log::schema::field::kSet].push_back(s.text);
     e->log_.write(std::move(load));
   }
-  if (auto r = e->setUpProcesses(); !r) return r.error();
+  if (!e->options_.check_only) {
+    if (auto r = e->setUpProcesses(); !r) return r.error();
+  }
   if (!tee_error.empty()) e->warn(tee_error + "; this process's records are in the log only");
   if (auto r = e->instantiate(); !r) return r.error();
+  if (e->options_.check_only) {
+    if (auto r = e->checkCrossings(); !r) return r.error();
+  }
   e->setUpHandling();
   if (e->options_.scenario) {
     // Each process injects into its own components; keel run also kills component processes.
     auto& faults = e->options_.scenario->faults;
-    std::erase_if(faults, [e](const fault::ScheduledFault& f) {
+    std::erase_if(faults, [e](const injection::ScheduledFault& f) {
       const plan::PlannedInstance* pi = e->planned_.plan.find(f.component);
       if (pi == nullptr) return e->options_.host != nullptr;  // keel run reports it
       const bool kill = !f.hardware && f.kind == runtime::InjectKind::Kill;
       return e->options_.host ? (!e->isLocal(*pi) || kill) : (!e->isLocal(*pi) && !kill);
     });
-    e->injector_ = std::make_unique<fault::Injector>(
+    e->injector_ = std::make_unique<injection::Injector>(
         *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_,
         [e](const std::string& m) { e->warn(m); });
     auto passive = [e](std::string_view name) {
@@ -101,36 +106,56 @@ const std::string& Engine::myProcess() const {
   return options_.host ? options_.host->role().process : keel_run;
 }
 
-bool Engine::isLocal(const plan::PlannedInstance& pi) const { return pi.process == myProcess(); }
+bool Engine::isLocal(const plan::PlannedInstance& pi) const { return options_.check_only || pi.process == myProcess(); }
+
+Result<void> Engine::checkCrossings() const {
+  const plan::Plan& plan = planned_.plan;
+  std::string errors;
+  for (const std::size_t i : supervision::crossingConnections(plan)) {
+    const plan::PlannedConnection& c = plan.connections[i];
+    for (const profile::Endpoint* end : {&c.source, &c.target}) {
+      Component* comp = find(end->component);
+      const detail::PortBase* port = comp ? runtime::coreOf(*comp).findPort(end->port) : nullptr;
+      if (port == nullptr) continue;  // a port the code lacks: instantiate() said so
+      if (auto problem = supervision::crossingProblem(plan, c, *port)) {
+        errors += *problem + "\n";
+        break;  // both ends have the type: said once
+      }
+    }
+  }
+  if (errors.empty()) return {};
+  errors.pop_back();
+  return fail(errors);
+}
 
 Result<void> Engine::setUpProcesses() {
   const plan::Plan& plan = planned_.plan;
-  if (ProcessHost* host = options_.host) {
+  if (supervision::ProcessHost* host = options_.host) {
     fault_manager_.shareIds(&host->session().faultIds());
-    log_.tag(fault::schema::field::kPid, ::getpid());  // one log for the run: whose record
+    log_.tag(log::schema::field::kPid, ::getpid());  // one log for the run: whose record
     log_.share(host->session().log(), runtime::ipc::logParticipant(host->processIndex(), host->role().slot),
-               logParticipants(plan));
+               supervision::logParticipants(plan));
     host->setLog(&log_);  // should keel run die: its line repaired, this one's finished (process_host.hpp)
     return {};
   }
   if (plan.processes.empty()) return {};
-  auto session = runtime::ipc::Session::create(sessionShape(plan));
+  auto session = runtime::ipc::Session::create(supervision::sessionShape(plan));
   if (!session) return session.error();
   session_.emplace(std::move(*session));
   // Held by this (the main) thread for the whole run: its release by death tells every host.
   if (auto locked = session_->supervisor().lock(); !locked) return locked.error();
   holds_supervisor_lock_ = true;
   session_->logEpoch().store(log_.epoch(), std::memory_order_release);
-  log_.share(session_->log(), runtime::ipc::logParticipant(std::nullopt, 0), logParticipants(plan));
+  log_.share(session_->log(), runtime::ipc::logParticipant(std::nullopt, 0), supervision::logParticipants(plan));
   fault_manager_.shareIds(&session_->faultIds());
   std::vector<runtime::ipc::SharedMemory> rings;
-  const std::vector<std::size_t> crossing = crossingConnections(plan);
+  const std::vector<std::size_t> crossing = supervision::crossingConnections(plan);
   for (std::size_t k = 0; k < crossing.size(); ++k) {
     auto ring = runtime::ipc::SharedMemory::createUnsized(fmt::format("keel-ring-{}", k));
     if (!ring) return ring.error();
     rings.push_back(std::move(*ring));
   }
-  supervisor_ = std::make_unique<ProcessSupervisor>(
+  supervisor_ = std::make_unique<supervision::ProcessSupervisor>(
       plan, *session_, std::move(rings), options_.host_launch, [this](const std::string& m) { warn(m); }, log_);
   return {};
 }
@@ -141,7 +166,7 @@ Component* Engine::find(std::string_view instance) const {
 }
 
 void Engine::warn(const std::string& message) {
-  log_.write(fault::schema::warning(message));
+  log_.write(log::schema::warning(message));
   if (options_.warn) options_.warn(message);
   else runtime::warnOnStderr(message);
 }
@@ -190,7 +215,7 @@ void Engine::raiseToProcessPriority() {
 }
 
 Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
-  ProcessHost& host = *options_.host;
+  supervision::ProcessHost& host = *options_.host;
   auto died = host.takeRole();  // a standby sleeps here
   if (!died) return died.error();
   // The active host left because keel run is gone (it ran the emergency stop): the run is over,
@@ -257,7 +282,7 @@ void Engine::standBy(runtime::Executor& self) {
 }
 
 void Engine::leaveRole(const runtime::Executor& self) const {
-  ProcessHost& host = *options_.host;
+  supervision::ProcessHost& host = *options_.host;
   if (!host.holdsRole()) return;
   // Abandoned in a hung callback and back, the process running on: its release would tell the
   // standbys this process died while it still runs. It parks until the process ends.
@@ -267,7 +292,7 @@ void Engine::leaveRole(const runtime::Executor& self) const {
 }
 
 Result<Engine::RoleTaken> Engine::startAsHost() {
-  ProcessHost& host = *options_.host;
+  supervision::ProcessHost& host = *options_.host;
   // Its main thread holds the locks whose release tells of its death (its life; the role,
   // unless a standby's task took it), and must get to die as promptly under load. Its
   // executors' threads wait ready: a takeover starts none, and writes its records once the
@@ -282,14 +307,15 @@ Result<Engine::RoleTaken> Engine::startAsHost() {
   for (auto& inst : instances_) {
     runtime::reserveCheckpoint(runtime::coreOf(*inst.component));
     // The first good cycle of any of them tells keel run the process runs.
-    if (inst.executor) runtime::coreOf(*inst.component).fault.recovering_id.store(HostFaultSink::kFirstRun);
+    if (inst.executor)
+      runtime::coreOf(*inst.component).fault.recovering_id.store(supervision::HostFaultSink::kFirstRun);
   }
   {
     std::lock_guard lock(held_mutex_);
     hold_records_ = true;  // the log's lock and write off the way to the first step
     held_.reserve(2 * instances_.size());
   }
-  if (host.role().standby) log_.write(fault::schema::host(host.role().process, ::getpid(), "standby"));
+  if (host.role().standby) log_.write(log::schema::host(host.role().process, ::getpid(), "standby"));
   if (self == nullptr) {
     auto taken = takeRoleAsHost();
     if (!taken || !taken->phase) return taken;
@@ -347,7 +373,7 @@ Result<void> Engine::start() {
     if (!taken) return taken.error();
     if (taken->phase) {
       crossings_.start();  // pumps for components without an executor, from here
-      nlohmann::json rec = fault::schema::host(options_.host->role().process, ::getpid(), taken->phase);
+      nlohmann::json rec = log::schema::host(options_.host->role().process, ::getpid(), taken->phase);
       rec["restored"] = taken->restored;
       log_.write(std::move(rec));
     }
@@ -362,11 +388,11 @@ Result<void> Engine::start() {
       held.swap(held_);
     }
     for (const auto& h : held)
-      log_.write(fault::schema::componentState(h.component->instanceName(), toString(h.from), toString(h.to), 0, h.t));
+      log_.write(log::schema::componentState(h.component->instanceName(), toString(h.from), toString(h.to), 0, h.t));
     started_ = true;
     startDetectors();
     options_.host->becameActive();
-    log_.write(fault::schema::host(myProcess(), ::getpid(), "active"));
+    log_.write(log::schema::host(myProcess(), ::getpid(), "active"));
     if (dds_) dds_->reportHeldOutages();  // a writer lost while it stood by: its fault now
     return {};
   }
@@ -383,9 +409,9 @@ Result<void> Engine::start() {
   crossings_.start();  // and by pumps for components without one, from here
   started_ = true;
   startDetectors();
-  nlohmann::json started = fault::schema::engine("started");
-  started[fault::schema::field::kExecutors] = executors;
-  if (cpu_latency_.held()) started[fault::schema::field::kCpuDmaLatencyUs] = cpu_latency_.microseconds();
+  nlohmann::json started = log::schema::engine("started");
+  started[log::schema::field::kExecutors] = executors;
+  if (cpu_latency_.held()) started[log::schema::field::kCpuDmaLatencyUs] = cpu_latency_.microseconds();
   log_.write(std::move(started));
   return {};
 }
@@ -461,7 +487,7 @@ void Engine::shutdown() {
   if (supervisor_) supervisor_->stop(options_.stop_timeout);  // hosts the proxies' onStop did not stop
   cpu_latency_ = runtime::CpuLatencyRequest();                // the CPUs may sleep again
   warnTeeDropped();
-  if (started_ && !options_.host) log_.write(fault::schema::engine("stopped"));
+  if (started_ && !options_.host) log_.write(log::schema::engine("stopped"));
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
@@ -484,7 +510,7 @@ void Engine::warnTeeDropped() {
 
 void Engine::logCounts() {
   auto tagged = [this](nlohmann::json r) {
-    if (options_.host) r[fault::schema::field::kProcess] = myProcess();
+    if (options_.host) r[log::schema::field::kProcess] = myProcess();
     log_.write(std::move(r));
   };
   for (const auto& inst : instances_) {
@@ -497,15 +523,14 @@ void Engine::logCounts() {
       executions += runtime::coreOf(*inst.component).executions.load();
       misses += runtime::coreOf(*inst.component).deadline_overruns.load();
     }
-    tagged(fault::schema::componentCounts(inst.plan->name, core.class_name,
-                                          inst.executor ? inst.executor->config().name : "passive", executions,
-                                          misses));
+    tagged(log::schema::componentCounts(inst.plan->name, core.class_name,
+                                        inst.executor ? inst.executor->config().name : "passive", executions, misses));
   }
   for (const auto& ex : executors_) {
     const auto& c = ex->config();
     const auto s = ex->stats();
     const double period_ms = c.kind == runtime::ExecutorKind::Periodic ? c.period.count() / 1e6 : 0;
-    tagged(fault::schema::executorCounts(c.name, period_ms, s.cycles, s.overruns));
+    tagged(log::schema::executorCounts(c.name, period_ms, s.cycles, s.overruns));
   }
 }
 
@@ -517,7 +542,7 @@ void Engine::stateChanged(Component& c, State from, State to) {
       return;
     }
   }
-  log_.write(fault::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
+  log_.write(log::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
   compositeStates(c.instanceName());
   if (dds_) dds_->pokeDiagnostics();
 }
@@ -545,7 +570,7 @@ void Engine::compositeStates(std::string_view instance) {
     if (!shared) continue;
     const State derived = error ? State::Error : agree ? *shared : composite_states_[i];
     if (derived == composite_states_[i]) continue;
-    log_.write(fault::schema::compositeState(comp.name, toString(composite_states_[i]), toString(derived), log_.now()));
+    log_.write(log::schema::compositeState(comp.name, toString(composite_states_[i]), toString(derived), log_.now()));
     composite_states_[i] = derived;
   }
 }
@@ -553,9 +578,9 @@ void Engine::compositeStates(std::string_view instance) {
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
   RunEnd end{c.instanceName(), std::string(summary), std::string(event), std::string(fields)};
   if (!run_end_.request(end)) return;  // the first request wins
-  nlohmann::json rec = {{fault::schema::field::kEvent, fault::schema::event::kEndRequested},
-                        {fault::schema::field::kComponent, end.component},
-                        {fault::schema::field::kSummary, end.summary}};
+  nlohmann::json rec = {{log::schema::field::kEvent, log::schema::event::kEndRequested},
+                        {log::schema::field::kComponent, end.component},
+                        {log::schema::field::kSummary, end.summary}};
   log_.write(std::move(rec));
 }
 

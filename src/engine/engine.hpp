@@ -21,18 +21,15 @@
 #include <vector>
 
 #include "dds/dds_ports.hpp"
-#include "engine/crossing.hpp"
-#include "engine/process_host.hpp"
-#include "engine/process_supervisor.hpp"
 #include "engine/run_end.hpp"
 #include "fault/dependency_graph.hpp"
-#include "fault/fault_log.hpp"
 #include "fault/fault_manager.hpp"
-#include "fault/injector.hpp"
-#include "fault/scenario.hpp"
 #include "fault/watchdog.hpp"
+#include "injection/injector.hpp"
+#include "injection/scenario.hpp"
 #include "keel/component.hpp"
 #include "keel/result.hpp"
+#include "log/fault_log.hpp"
 #include "plan/plan.hpp"
 #include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
@@ -43,6 +40,9 @@
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/warning.hpp"
+#include "supervision/crossing.hpp"
+#include "supervision/process_host.hpp"
+#include "supervision/process_supervisor.hpp"
 
 namespace keel::engine {
 
@@ -50,25 +50,29 @@ struct EngineOptions {
   std::string log_path;     // empty: no log file
   bool log_append = false;  // append to log_path (keel soak's rounds) instead of truncating it
   /// A second copy of every log line, written right after the log has it (keel run
-  /// --log-tee; fault::FaultLog::openTee). keel run passes it on to its hosts as
+  /// --log-tee; log::FaultLog::openTee). keel run passes it on to its hosts as
   /// /proc/<pid>/fd/<fd>, so that they write to the same pipe.
   std::string log_tee;
   std::vector<std::string> search_path = runtime::Loader::defaultSearchPath();
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   runtime::Warn warn;
   std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
-  std::optional<fault::Scenario> scenario;       // faults to inject (keel run --inject)
+  std::optional<injection::Scenario> scenario;   // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.
   std::vector<plan::PropertySetting> property_settings;
   /// Hold the CPUs' wake-up latency at this many µs while running (keel run --cpu-dma-latency;
   /// src/runtime/cpu_latency.hpp). Not permitted: a warning, and the run goes on without it.
   std::optional<std::int32_t> cpu_dma_latency_us;
   /// keel run: how to start the component processes of the plan's <process>es (docs/isolation.md).
-  HostLaunch host_launch{defaultHostExecutable(), {}};
+  supervision::HostLaunch host_launch{supervision::defaultHostExecutable(), {}};
   /// keel-host: this engine runs the components of one <process> only (src/host); null in keel run.
-  ProcessHost* host = nullptr;
+  supervision::ProcessHost* host = nullptr;
   /// How long connections between processes wait for their ring, and keel run for its hosts.
   std::chrono::milliseconds host_start_timeout{10000};
+  /// keel validate --load: the code of every instance, whatever its <process>, is loaded in
+  /// this process and checked against its profile, and so is each connection between processes;
+  /// no process is started and the engine is never started.
+  bool check_only = false;
 };
 
 /// One running instance and what the plan says of it.
@@ -113,7 +117,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   const std::vector<Instance>& instances() const { return instances_; }
   /// The executors, including those that took over from an abandoned one (a snapshot).
   std::vector<const runtime::Executor*> executors() const;
-  fault::FaultLog& log() { return log_; }
+  log::FaultLog& log() { return log_; }
   fault::FaultManager& faultManager() { return fault_manager_; }
   const fault::FaultManager& faultManager() const { return fault_manager_; }
   std::vector<fault::FaultCount> faultCounts() const { return fault_manager_.counts(); }
@@ -121,7 +125,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   std::vector<Component*> components() const override;
   const fault::DependencyGraph* graph() const { return graph_ ? &*graph_ : nullptr; }
   /// keel run's supervisor of the component processes; null without <process>.
-  ProcessSupervisor* supervisor() const { return supervisor_.get(); }
+  supervision::ProcessSupervisor* supervisor() const { return supervisor_.get(); }
 
   /// Emergency stop from outside (an operator, `keel run`'s console): logged with `by`.
   std::vector<std::string> emergencyStop(std::string_view by) { return fault_manager_.emergencyStop(by); }
@@ -173,6 +177,9 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   void warn(const std::string& message);
   /// Whether `pi` runs in this engine's process (keel run's own, or the host's <process>).
   bool isLocal(const plan::PlannedInstance& pi) const;
+  /// check_only: what each component process checks when it connects its ends (a value that
+  /// cannot cross processes), for every connection between processes.
+  Result<void> checkCrossings() const;
   const std::string& myProcess() const;
   Result<void> setUpProcesses();  // create(): the session, the rings, the supervisor (keel run)
   /// How a host came to run its components: its `host` record's phase (null: stopped while
@@ -210,7 +217,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   plan::PlannedProfiles planned_;  // the plan, and the profiles it points into
   const profile::ProfileSet& set() const { return *planned_.profiles; }
   runtime::Loader loader_;
-  fault::FaultLog log_;
+  log::FaultLog log_;
   std::vector<Instance> instances_;
   // Instance by name, built once instantiate() has made them all (read-only afterwards, from
   // any thread): find() is on the fault manager's path, once per stopped component.
@@ -219,9 +226,9 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   // Process isolation (declared before what uses them: destroyed after).
   std::optional<runtime::ipc::Session> session_;  // keel run's, when the plan has <process>es
   bool holds_supervisor_lock_ = false;
-  std::unique_ptr<ProcessSupervisor> supervisor_;
-  std::unique_ptr<HostFaultSink> host_sink_;
-  Crossings crossings_;
+  std::unique_ptr<supervision::ProcessSupervisor> supervisor_;
+  std::unique_ptr<supervision::HostFaultSink> host_sink_;
+  supervision::Crossings crossings_;
   std::unique_ptr<dds::DdsPorts> dds_;  // this process's <publish>/<subscribe>; null: none
   std::vector<Wire> wires_;
   std::optional<fault::DependencyGraph> graph_;
@@ -238,7 +245,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   fault::FaultManager fault_manager_;
   std::unique_ptr<fault::Watchdog> watchdog_;
   runtime::CpuLatencyRequest cpu_latency_;  // held from start() to shutdown()
-  std::unique_ptr<fault::Injector> injector_;
+  std::unique_ptr<injection::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
   std::optional<Result<RoleTaken>> role_taken_;  // a standby's, set on its role executor's thread

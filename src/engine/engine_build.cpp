@@ -18,8 +18,6 @@ namespace {
 using detail::PortDirection;
 using detail::PortKind;
 
-std::string at(const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); }
-
 struct ExpectedPort {
   std::string name;
   PortKind kind;
@@ -140,12 +138,12 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   Result<std::string> lib = loader_.resolve(cp.library_name, dir);
   std::string library = lib ? *lib : std::string();
   if (!lib && !runtime::Registry::instance().find(cp.name, ""))
-    return fail(fmt::format("{}: component '{}' ({}): {}\n", at(cp.where), pi.name, cp.name, lib.error().message));
+    return fail(fmt::format("{}: component '{}' ({}): {}\n", cp.where.str(), pi.name, cp.name, lib.error().message));
   auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
     return runtime::Registry::instance().find(cp.name, "")->factory();
   }()
       : loader_.create(cp.name, library);
-  if (!created) return fail(fmt::format("{}: component '{}': {}\n", at(cp.where), pi.name, created.error().message));
+  if (!created) return fail(fmt::format("{}: component '{}': {}\n", cp.where.str(), pi.name, created.error().message));
   Instance inst;
   inst.plan = &pi;
   inst.component = std::move(*created);
@@ -155,10 +153,11 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   core.hooks = this;
   core.fault_sink = &fault_manager_;
   core.profile_file = cp.file;
-  if (ProcessHost* host = options_.host) {
-    if (!host_sink_) host_sink_ = std::make_unique<HostFaultSink>(fault_manager_, *host);
+  if (supervision::ProcessHost* host = options_.host) {
+    if (!host_sink_) host_sink_ = std::make_unique<supervision::HostFaultSink>(fault_manager_, *host);
     core.fault_sink = host_sink_.get();
-    if (auto i = checkpointIndex(planned_.plan, pi.name)) core.checkpoints.shared = &host->session().checkpoint(*i);
+    if (auto i = supervision::checkpointIndex(planned_.plan, pi.name))
+      core.checkpoints.shared = &host->session().checkpoint(*i);
   }
   for (const auto& [k, v] : pi.properties) core.properties[k] = v;
   if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
@@ -185,7 +184,7 @@ Result<void> Engine::configurePorts(Instance& inst) {
       errors += fmt::format(
           "{}: component '{}': <validity> on port '{}' of type '{}': only numbers and "
           "arrays of numbers can be range-checked\n",
-          at(d.validity->where), inst.plan->name, d.name, port->typeName());
+          d.validity->where.str(), inst.plan->name, d.name, port->typeName());
       continue;
     }
     rules_.push_back(std::make_unique<detail::ValidityRule>(detail::ValidityRule{d.validity->min, d.validity->max}));
@@ -219,7 +218,7 @@ void Engine::configureQueue(const Instance& inst, const profile::DataPort& d, de
     warn(
         fmt::format("{}: component '{}': port '{}': the profile asks for {} of {}, the code constructs {} of {}; "
                     "as in OPRoS, the code's queue is used",
-                    at(d.where), inst.plan->name, d.name, policyName(queuePolicy(d.queue_policy)), d.queue_size,
+                    d.where.str(), inst.plan->name, d.name, policyName(queuePolicy(d.queue_policy)), d.queue_size,
                     policyName(policy), size));
   port.configureQueue(policy, size);
 }
@@ -233,14 +232,14 @@ Result<void> Engine::checkPorts(const Instance& inst) {
     detail::PortBase* p = core.findPort(e.name);
     if (!p) {
       errors += fmt::format("{}: component '{}': the profile declares {} '{}' but class '{}' has no such port\n",
-                            at(e.where), inst.plan->name, describe(e.kind, e.direction), e.name, cp.name);
+                            e.where.str(), inst.plan->name, describe(e.kind, e.direction), e.name, cp.name);
     } else if (p->kind() != e.kind || p->direction() != e.direction) {
       errors += fmt::format("{}: component '{}': port '{}' is an {} in the profile but an {} in class '{}'\n",
-                            at(e.where), inst.plan->name, e.name, describe(e.kind, e.direction),
+                            e.where.str(), inst.plan->name, e.name, describe(e.kind, e.direction),
                             describe(p->kind(), p->direction()), cp.name);
     } else if (!e.type.empty() && canonicalTypeName(e.type) != canonicalTypeName(p->typeName())) {
       errors += fmt::format("{}: component '{}': port '{}' carries '{}' in the profile but '{}' in class '{}'\n",
-                            at(e.where), inst.plan->name, e.name, e.type, p->typeName(), cp.name);
+                            e.where.str(), inst.plan->name, e.name, e.type, p->typeName(), cp.name);
     }
   }
   for (const detail::PortBase* p : core.ports) {
@@ -251,7 +250,7 @@ Result<void> Engine::checkPorts(const Instance& inst) {
                                                                           : fmt::format(" ({})", p->typeName());
     if (!declared)
       errors += fmt::format("{}: component '{}': class '{}' has {} '{}'{} that the profile does not declare\n",
-                            at(cp.where), inst.plan->name, cp.name, describe(p->kind(), p->direction()), p->name(),
+                            cp.where.str(), inst.plan->name, cp.name, describe(p->kind(), p->direction()), p->name(),
                             type);
   }
   if (errors.empty()) return {};
@@ -275,7 +274,7 @@ Result<void> Engine::connect() {
     return c ? runtime::coreOf(*c).findPort(e.port) : nullptr;
   };
   std::string errors;
-  const std::vector<std::size_t> crossing = crossingConnections(planned_.plan);
+  const std::vector<std::size_t> crossing = supervision::crossingConnections(planned_.plan);
   for (std::size_t i = 0; i < planned_.plan.connections.size(); ++i) {
     const plan::PlannedConnection& pc = planned_.plan.connections[i];
     if (std::find(crossing.begin(), crossing.end(), i) != crossing.end()) continue;  // below
@@ -284,7 +283,7 @@ Result<void> Engine::connect() {
     detail::PortBase* src = port(pc.source);
     detail::PortBase* dst = port(pc.target);
     if (!src || !dst) {
-      errors += fmt::format("{}: port_connection {}.{} -> {}.{}: no such port\n", at(pc.where), pc.source.component,
+      errors += fmt::format("{}: port_connection {}.{} -> {}.{}: no such port\n", pc.where.str(), pc.source.component,
                             pc.source.port, pc.target.component, pc.target.port);
       continue;
     }
@@ -302,7 +301,7 @@ Result<void> Engine::connect() {
       }
     }
     if (!ok)
-      errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n", at(pc.where),
+      errors += fmt::format("{}: port_connection {}.{} ({} {}) -> {}.{} ({} {}): types do not match\n", pc.where.str(),
                             pc.source.component, pc.source.port, toString(src->kind()), src->typeName(),
                             pc.target.component, pc.target.port, toString(dst->kind()), dst->typeName());
   }
@@ -310,12 +309,12 @@ Result<void> Engine::connect() {
     runtime::ipc::Session& session = options_.host ? options_.host->session() : *session_;
     auto fds = options_.host ? options_.host->takeRingDescriptors() : supervisor_->ringDescriptors();
     // A writer fenced by a takeover is a host that was declared dead: it leaves at once.
-    auto fenced = [] { ::_exit(kExitFenced); };
+    auto fenced = [] { ::_exit(supervision::kExitFenced); };
     auto made = crossings_.connect(
         planned_.plan, myProcess(), session, std::move(fds), [this](std::string_view n) { return find(n); },
         options_.host_start_timeout, fenced, [this](const std::string& m) { warn(m); });
     if (!made) errors += made.error().message + '\n';
-    for (const Crossings::End& end : crossings_.ends())
+    for (const supervision::Crossings::End& end : crossings_.ends())
       wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
   }
   // DDS topics (<dds>): the bindings of this process's components, made here, in the process

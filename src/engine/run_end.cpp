@@ -1,6 +1,6 @@
 #include "engine/run_end.hpp"
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 #include <fmt/format.h>
 
@@ -50,12 +50,12 @@ nlohmann::json runEndRecord(const RunEnd& end, std::int64_t t_ns) {
   if (auto* members = std::get_if<nlohmann::json>(&parsed)) {
     record = std::move(*members);
   } else {
-    record[fault::schema::field::kFieldsError] = fmt::format("fields_json '{}' is not the members of a JSON object: {}",
-                                                             end.fields, std::get<std::string>(parsed));
+    record[log::schema::field::kFieldsError] = fmt::format("fields_json '{}' is not the members of a JSON object: {}",
+                                                           end.fields, std::get<std::string>(parsed));
   }
-  record[fault::schema::field::kTime] = t_ns;
-  record[fault::schema::field::kEvent] = end.event;
-  record[fault::schema::field::kComponent] = end.component;
+  record[log::schema::field::kTime] = t_ns;
+  record[log::schema::field::kEvent] = end.event;
+  record[log::schema::field::kComponent] = end.component;
   return record;
 }
 

@@ -3,25 +3,16 @@
 #include <chrono>
 #include <memory>
 
-#include "fault/log_schema.hpp"
 #include "fault/on_thread.hpp"
+#include "log/schema.hpp"
 #include "plan/fault_manager_profile.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/invoke.hpp"
 
 namespace keel::fault {
-namespace {
-
 using runtime::coreOf;
 using namespace std::chrono_literals;
-
-// How long a fault stop waits for a hung callback to come back after it was interrupted.
-constexpr auto kInterruptBound = 200ms;
-
-ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).fault.handling); }
-
-}  // namespace
 
 void Containment::markStopped(const std::set<std::string>& targets, std::vector<std::string>& components,
                               std::vector<std::string>& applications) {
@@ -49,7 +40,7 @@ bool Containment::interruptHung(Component* faulty) {
 }
 
 Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
-  FaultLog& log = records_.log();
+  log::FaultLog& log = records_.log();
   records_.logReport(r);  // what happened so far goes first
   const std::string name(r.event.componentName());
   const profile::Scope scope = h.rules.scope;  // `component` without a policy
@@ -73,36 +64,36 @@ Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
   // The faulty component's own callback may be the hung one: interrupt it so that its executor
   // comes back for the components it still runs.
   const bool hung = !interruptHung(faulty);
-  const std::int64_t t = steadyNs();
+  const std::int64_t t = runtime::steadyNs();
   r.add(ActionKind::Stop, !hung, t, "scope {}: {} components, {} applications", toString(scope), components.size(),
         applications.size());
   r.logged_actions = r.n_actions;  // written here, with the lists
-  nlohmann::json rec = schema::action(r.id, name, "stop", !hung, log.sinceStart(t));
-  rec[schema::field::kScope] = toString(scope);
-  rec[schema::field::kComponents] = components;
-  rec[schema::field::kApplications] = applications;
-  if (hung) rec[schema::field::kDetail] = "the hung callback did not return when interrupted";
+  nlohmann::json rec = log::schema::action(r.id, name, "stop", !hung, log.sinceStart(t));
+  rec[log::schema::field::kScope] = toString(scope);
+  rec[log::schema::field::kComponents] = components;
+  rec[log::schema::field::kApplications] = applications;
+  if (hung) rec[log::schema::field::kDetail] = "the hung callback did not return when interrupted";
   log.write(std::move(rec));
   for (const auto& a : applications)
-    log.write(schema::applicationState(a, "running", "stopped", r.id, log.sinceStart(t)));
+    log.write(log::schema::applicationState(a, "running", "stopped", r.id, log.sinceStart(t)));
   if (!hung || host_ == nullptr) return Outcome::Done;
   // Its executor cannot come back: the others move to a new thread.
   auto moved = host_->abandonExecutor(*faulty, nullptr);
-  r.add(ActionKind::Stop, static_cast<bool>(moved), steadyNs(), "executor abandoned{}{}",
+  r.add(ActionKind::Stop, static_cast<bool>(moved), runtime::steadyNs(), "executor abandoned{}{}",
         moved ? "; its other components now run on " : ": ", moved ? *moved : moved.error().message);
   return moved ? Outcome::Done : Outcome::Failed;
 }
 
 std::vector<std::string> Containment::emergencyStop(std::string_view by, std::uint64_t fault_id,
                                                     std::string_view component) {
-  FaultLog& log = records_.log();
+  log::FaultLog& log = records_.log();
   std::lock_guard guard(emergency_mutex_);
   emergency_.store(true, std::memory_order_release);
   std::vector<Component*> all = host_ ? host_->components() : std::vector<Component*>{};
   for (Component* c : all) coreOf(*c).fault.emergency.store(true, std::memory_order_release);
-  const std::int64_t t0 = steadyNs();
-  nlohmann::json latched = schema::emergency("latched", by);
-  latched[schema::field::kTime] = log.sinceStart(t0);
+  const std::int64_t t0 = runtime::steadyNs();
+  nlohmann::json latched = log::schema::emergency("latched", by);
+  latched[log::schema::field::kTime] = log.sinceStart(t0);
   log.write(std::move(latched));
   std::vector<std::string> ran, direct, late;
   for (Component* c : all) {
@@ -126,13 +117,13 @@ std::vector<std::string> Containment::emergencyStop(std::string_view by, std::ui
     }
     ran.push_back(c->instanceName());
   }
-  const std::int64_t t = steadyNs();
-  nlohmann::json rec = schema::action(fault_id, component, "emergency_stop", late.empty(), log.sinceStart(t));
-  rec[schema::field::kBy] = by;
-  rec[schema::field::kComponents] = ran;
-  rec[schema::field::kLatencyUs] = (t - t0) / 1e3;
-  if (!direct.empty()) rec[schema::field::kOnFaultManagerThread] = direct;
-  if (!late.empty()) rec[schema::field::kNotFinished] = late;
+  const std::int64_t t = runtime::steadyNs();
+  nlohmann::json rec = log::schema::action(fault_id, component, "emergency_stop", late.empty(), log.sinceStart(t));
+  rec[log::schema::field::kBy] = by;
+  rec[log::schema::field::kComponents] = ran;
+  rec[log::schema::field::kLatencyUs] = (t - t0) / 1e3;
+  if (!direct.empty()) rec[log::schema::field::kOnFaultManagerThread] = direct;
+  if (!late.empty()) rec[log::schema::field::kNotFinished] = late;
   log.write(std::move(rec));
   return ran;
 }
@@ -142,11 +133,11 @@ bool Containment::clearEmergency(std::string_view by) {
   if (!emergency_.exchange(false, std::memory_order_acq_rel)) return false;
   if (host_)
     for (Component* c : host_->components()) coreOf(*c).fault.emergency.store(false, std::memory_order_release);
-  FaultLog& log = records_.log();
-  log.write(schema::emergency("cleared", by));
+  log::FaultLog& log = records_.log();
+  log.write(log::schema::emergency("cleared", by));
   // The operator's step, as an emergency stop's is: an `action` a fault timeline shows.
-  nlohmann::json rec = schema::action(0, {}, "clear", true, log.now());
-  rec[schema::field::kBy] = by;
+  nlohmann::json rec = log::schema::action(0, {}, "clear", true, log.now());
+  rec[log::schema::field::kBy] = by;
   log.write(std::move(rec));
   return true;
 }

@@ -11,7 +11,8 @@ using profile::Scope;
 namespace {
 
 /// "file:line: " of a profile element, empty when unknown.
-std::string at(const profile::Where& w) { return w.file.empty() ? "" : fmt::format("{}:{}: ", w.file, w.line); }
+/// `file:line: ` before a message, or nothing for what no profile line says.
+std::string at(const profile::Where& w) { return w.file.empty() ? "" : w.str() + ": "; }
 
 }  // namespace
 

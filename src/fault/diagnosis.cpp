@@ -4,7 +4,7 @@
 #include <mutex>
 
 #include "fault/escalation.hpp"
-#include "fault/fault_log.hpp"
+#include "log/fault_log.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
 
@@ -50,7 +50,7 @@ Component* named(const Component& reporter, std::string_view name,
 
 FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_view detector,
                      const std::function<Component*(std::string_view)>& find, FaultIds& ids, bool recoverable) {
-  const std::int64_t detected = fault.t_ns ? fault.t_ns : steadyNs();
+  const std::int64_t detected = fault.t_ns ? fault.t_ns : runtime::steadyNs();
   Component* accused = &reporter;
   if (fault.component[0] != '\0' && fault.componentName() != reporter.instanceName()) {
     if (Component* c = named(reporter, fault.componentName(), find)) accused = c;

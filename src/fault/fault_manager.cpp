@@ -10,19 +10,10 @@
 #include "runtime/invoke.hpp"
 
 namespace keel::fault {
-namespace {
-
 using runtime::coreOf;
 using namespace std::chrono_literals;
 
-// How long a fault stop waits for a hung callback to come back after it was interrupted.
-constexpr auto kInterruptBound = 200ms;
-
-ComponentHandling* handlingOf(Component& c) { return static_cast<ComponentHandling*>(coreOf(c).fault.handling); }
-
-}  // namespace
-
-FaultManager::FaultManager(FaultLog& log, std::function<Component*(std::string_view)> find)
+FaultManager::FaultManager(log::FaultLog& log, std::function<Component*(std::string_view)> find)
     : find_(std::move(find)), records_(log), containment_(records_, [this](std::string_view n) { return find_(n); }),
       queue_([this](HandlingItem& item) { process(item); }) {}
 
@@ -51,7 +42,7 @@ std::uint64_t FaultManager::onFault(Component& reporter, const FaultEvent& fault
     r.add(ActionKind::Stop, true, r.event.t_ns, "contained: the component stays in Error");
     r.next = Step::Done;
   }
-  r.diagnosed_ns = steadyNs();
+  r.diagnosed_ns = runtime::steadyNs();
   unsigned where = onManagerThread() || !queue_.running() ? kManager : 0;
   if (runtime::Executor* ex = coreOf(*accused).executor.load(std::memory_order_acquire);
       ex && ex->onThisThread() && runtime::runningComponent() != accused)
@@ -73,7 +64,7 @@ void FaultManager::escalate(FaultReport& r, Step step, Outcome outcome, std::str
   facts.emergency_done = r.emergency_done;
   const Decision d = decide(step, outcome, facts);
   if (d.escalates)
-    r.add(ActionKind::Escalate, true, steadyNs(), "{} → {}: {}", toString(step), toString(d.next),
+    r.add(ActionKind::Escalate, true, runtime::steadyNs(), "{} → {}: {}", toString(step), toString(d.next),
           detail.empty() ? d.why : detail);
   r.next = d.next;
 }
@@ -83,14 +74,14 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
   for (;;) {
     switch (r.next) {
       case Step::Ignore:
-        r.add(ActionKind::Ignore, true, steadyNs(), "{}",
+        r.add(ActionKind::Ignore, true, runtime::steadyNs(), "{}",
               h && h->rules.has_policy ? "severity ignore: logged only" : "no fault_policy: logged only");
         r.next = Step::Done;
         break;
       case Step::Done: finish(r, where); return;
       case Step::Reset: {
         if (!(where & kLocal)) return handOverLocal(r, where);
-        if (recovery_.intensityAt(*h, steadyNs()) == Outcome::IntensityExceeded) {
+        if (recovery_.intensityAt(*h, runtime::steadyNs()) == Outcome::IntensityExceeded) {
           escalate(r, Step::Reset, Outcome::IntensityExceeded,
                    fmt::format("more than {} recoveries within {} ms", h->rules.intensity,
                                h->rules.period_ns / 1'000'000));
@@ -139,7 +130,7 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
         records_.logReport(r);  // what happened so far goes first
         const auto ran = containment_.emergencyStop(fmt::format("fault {} of {}", r.id, r.event.componentName()), r.id,
                                                     r.event.componentName());
-        r.add(ActionKind::EmergencyStop, true, steadyNs(), "onEmergencyStop ran in {} components", ran.size());
+        r.add(ActionKind::EmergencyStop, true, runtime::steadyNs(), "onEmergencyStop ran in {} components", ran.size());
         r.logged_actions = r.n_actions;  // emergencyStop wrote its own record
         r.emergency_done = true;
         escalate(r, Step::Emergency, Outcome::Done);
@@ -230,7 +221,7 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
   // A passive component has no next step of its own: it is back as soon as it is Active.
   if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr) {
     const std::int64_t at = coreOf(*recovering).fault.recovered_at_ns.exchange(0, std::memory_order_acq_rel);
-    recovered(*recovering, at != 0 ? at : steadyNs());
+    recovered(*recovering, at != 0 ? at : runtime::steadyNs());
   }
 }
 

@@ -33,7 +33,6 @@
 #include "fault/dependency_graph.hpp"
 #include "fault/diagnosis.hpp"
 #include "fault/escalation.hpp"
-#include "fault/fault_log.hpp"
 #include "fault/fault_records.hpp"
 #include "fault/handling_host.hpp"
 #include "fault/handling_queue.hpp"
@@ -41,6 +40,7 @@
 #include "fault/report.hpp"
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
+#include "log/fault_log.hpp"
 #include "runtime/component_core.hpp"
 
 namespace keel::fault {
@@ -48,7 +48,7 @@ namespace keel::fault {
 class FaultManager final : public runtime::FaultSink {
  public:
   /// `find` maps an instance name to its component (null when unknown); used until attach().
-  FaultManager(FaultLog& log, std::function<Component*(std::string_view)> find);
+  FaultManager(log::FaultLog& log, std::function<Component*(std::string_view)> find);
   ~FaultManager() override;
   FaultManager(const FaultManager&) = delete;
   FaultManager& operator=(const FaultManager&) = delete;

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "runtime/component_core.hpp"
 
 namespace keel::fault {
@@ -12,20 +12,21 @@ void FaultRecords::writeChanges(const FaultReport& r, std::uint8_t action) {
   for (std::size_t i = 0; i < r.n_changes; ++i) {
     const FaultReport::Change& c = r.changes[i];
     if (c.action != action) continue;
-    log_.write(schema::componentState(who, toString(c.change.from), toString(c.change.to), r.id,
-                                      log_.sinceStart(c.change.t_ns)));
+    log_.write(log::schema::componentState(who, toString(c.change.from), toString(c.change.to), r.id,
+                                           log_.sinceStart(c.change.t_ns)));
   }
 }
 
 void FaultRecords::logDetection(const FaultReport& r) {
   const std::string who(r.event.componentName());
   const std::string kind(toString(r.event.kind));
-  if (r.injected_ns != 0) log_.write(schema::injected(r.id, who, log_.sinceStart(r.injected_ns)));
-  log_.write(schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(), log_.sinceStart(r.event.t_ns)));
+  if (r.injected_ns != 0) log_.write(log::schema::injected(r.id, who, log_.sinceStart(r.injected_ns)));
+  log_.write(
+      log::schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(), log_.sinceStart(r.event.t_ns)));
   writeChanges(r, FaultReport::kWithDetection);
-  log_.write(schema::diagnosed(r.id, who, toString(r.severity),
-                               r.has_policy ? "fault_policy" : "none (contained, not recovered)", toString(r.scope),
-                               toString(r.first), log_.sinceStart(r.diagnosed_ns)));
+  log_.write(log::schema::diagnosed(r.id, who, toString(r.severity),
+                                    r.has_policy ? "fault_policy" : "none (contained, not recovered)",
+                                    toString(r.scope), toString(r.first), log_.sinceStart(r.diagnosed_ns)));
   detections_.push_back({r.id, who, r.event.kind, r.event.t_ns, r.injected_ns});
   detection_count_.store(detections_.size(), std::memory_order_release);
   auto fc = std::find_if(counts_.begin(), counts_.end(),
@@ -45,10 +46,10 @@ void FaultRecords::logReport(FaultReport& r) {
   }
   for (std::size_t i = r.logged_actions; i < r.n_actions; ++i) {  // what is new since last time
     const Action& a = r.actions[i];
-    nlohmann::json rec = schema::action(r.id, who, toString(a.kind), a.ok, log_.sinceStart(a.t_ns));
-    rec[schema::field::kDetail] = a.detail.data();
+    nlohmann::json rec = log::schema::action(r.id, who, toString(a.kind), a.ok, log_.sinceStart(a.t_ns));
+    rec[log::schema::field::kDetail] = a.detail.data();
     if (a.kind == ActionKind::Replace && a.ok && r.alternative)
-      rec[schema::field::kReplacement] = runtime::coreOf(*r.alternative).class_name;
+      rec[log::schema::field::kReplacement] = runtime::coreOf(*r.alternative).class_name;
     log_.write(std::move(rec));
     writeChanges(r, static_cast<std::uint8_t>(i));
   }
@@ -72,10 +73,10 @@ void FaultRecords::logReport(FaultReport& r) {
 void FaultRecords::logRecovered(std::uint64_t id, std::string_view component, std::int64_t t_ns) {
   std::lock_guard lock(mutex_);
   auto hd = std::find_if(handlings_.rbegin(), handlings_.rend(), [&](const Handling& x) { return x.fault_id == id; });
-  nlohmann::json rec = schema::recovered(id, component, log_.sinceStart(t_ns));
+  nlohmann::json rec = log::schema::recovered(id, component, log_.sinceStart(t_ns));
   if (hd != handlings_.rend()) {
     hd->recovered_ns = t_ns;
-    rec[schema::field::kLatencyUs] = (t_ns - hd->detected_ns) / 1e3;
+    rec[log::schema::field::kLatencyUs] = (t_ns - hd->detected_ns) / 1e3;
   }
   log_.write(std::move(rec));
   recovered_count_.fetch_add(1, std::memory_order_release);
@@ -83,8 +84,8 @@ void FaultRecords::logRecovered(std::uint64_t id, std::string_view component, st
 }
 
 void FaultRecords::logUndetected(std::uint64_t id, std::string_view component, std::int64_t injected_ns) {
-  nlohmann::json rec = schema::injected(id, component, log_.sinceStart(injected_ns));
-  rec[schema::field::kDetected] = false;
+  nlohmann::json rec = log::schema::injected(id, component, log_.sinceStart(injected_ns));
+  rec[log::schema::field::kDetected] = false;
   log_.write(std::move(rec));
 }
 

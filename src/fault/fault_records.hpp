@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "fault/fault_log.hpp"
 #include "fault/report.hpp"
+#include "log/fault_log.hpp"
 
 namespace keel::fault {
 
@@ -50,9 +50,9 @@ struct Handling {
 
 class FaultRecords {
  public:
-  explicit FaultRecords(FaultLog& log) : log_(log) {}
+  explicit FaultRecords(log::FaultLog& log) : log_(log) {}
 
-  FaultLog& log() { return log_; }
+  log::FaultLog& log() { return log_; }
   /// Called after each report or recovery is logged (on the thread that logged it): the
   /// run's health changed (keel's /diagnostics). Set before the run starts.
   void onChange(std::function<void()> changed) { changed_ = std::move(changed); }
@@ -77,7 +77,7 @@ class FaultRecords {
   /// The state changes of `r` that go with its detection or with action `action`.
   void writeChanges(const FaultReport& r, std::uint8_t action);
 
-  FaultLog& log_;
+  log::FaultLog& log_;
   std::function<void()> changed_;
   mutable std::mutex mutex_;  // guards the records below
   std::vector<FaultCount> counts_;

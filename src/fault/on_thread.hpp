@@ -12,6 +12,9 @@
 
 namespace keel::fault {
 
+/// How long a fault stop waits for a hung callback to come back after it was interrupted.
+inline constexpr std::chrono::milliseconds kInterruptBound{200};
+
 /// Polls `done` every 50 µs until it is true (true) or `bound` has passed (false).
 template <class Pred>
 bool waitFor(std::chrono::nanoseconds bound, Pred done) {

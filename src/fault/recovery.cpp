@@ -3,7 +3,7 @@
 #include <mutex>
 #include <string>
 
-#include "fault/fault_log.hpp"
+#include "log/fault_log.hpp"
 #include "runtime/checkpoint.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
@@ -38,7 +38,7 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
   const std::int64_t checkpoint_t = runtime::restoreCheckpoint(core);
   core.injection.stalled_until_ns.store(0, std::memory_order_relaxed);
   if (failed.ok()) failed = runtime::invokeRecovery(c, runtime::Callback::Recover);
-  const std::int64_t t = steadyNs();
+  const std::int64_t t = runtime::steadyNs();
   if (!failed.ok()) {
     FaultEvent why;
     failed.describe(why, "recovery");
@@ -64,7 +64,7 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
 Outcome Recovery::load(FaultReport& r, ComponentHandling& h) {
   auto alt = host_ ? host_->createAlternative(h, *r.accused) : Result<Component*>(fail("no runtime"));
   if (!alt) {
-    r.add(ActionKind::Replace, false, steadyNs(), "loading the alternative failed: {}", alt.error().message);
+    r.add(ActionKind::Replace, false, runtime::steadyNs(), "loading the alternative failed: {}", alt.error().message);
     return Outcome::Failed;
   }
   std::lock_guard lock(h.mutex);
@@ -87,7 +87,7 @@ Outcome Recovery::replace(FaultReport& r, ComponentHandling& h) {
   host_->switchTo(failed, *alt);
   r.alternative = alt;
   runtime::GuardOutcome out = runtime::invokeRecovery(*alt, runtime::Callback::Start);
-  const std::int64_t t = steadyNs();
+  const std::int64_t t = runtime::steadyNs();
   if (!out.ok()) {
     r.noteState(runtime::setStateQuiet(*alt, State::Error));
     FaultEvent why;
@@ -119,14 +119,16 @@ void Recovery::abandon(FaultReport& r, ComponentHandling& h) {
   if (facts.has_alternative && !facts.replaced && alt == nullptr && host_) {
     auto made = host_->createAlternative(h, hung);
     if (made) alt = *made;
-    else r.add(ActionKind::Replace, false, steadyNs(), "loading the alternative failed: {}", made.error().message);
+    else
+      r.add(ActionKind::Replace, false, runtime::steadyNs(), "loading the alternative failed: {}",
+            made.error().message);
   }
   if (alt) runtime::copyCheckpoint(coreOf(hung), coreOf(*alt));
   facts.alternative_ready = alt != nullptr;
   const Decision d = decide(from, Outcome::Hung, facts);
-  r.add(ActionKind::Escalate, true, steadyNs(), "{} → {}: {}", toString(from), toString(d.next), d.why);
+  r.add(ActionKind::Escalate, true, runtime::steadyNs(), "{} → {}: {}", toString(from), toString(d.next), d.why);
   auto moved = host_ ? host_->abandonExecutor(hung, alt) : Result<std::string>(fail("no runtime"));
-  const std::int64_t t = steadyNs();
+  const std::int64_t t = runtime::steadyNs();
   if (!moved) {
     r.add(ActionKind::Stop, false, t, "executor not abandoned: {}", moved.error().message);
     r.next = Step::Stop;

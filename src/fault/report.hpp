@@ -103,4 +103,9 @@ struct ComponentHandling : runtime::FaultSlot {
   RoleFacts facts() const { return {rules.alternative != nullptr, replaced, ready_alternative != nullptr, false}; }
 };
 
+/// The handling of `c`'s role (null before the engine set the rules up).
+inline ComponentHandling* handlingOf(Component& c) {
+  return static_cast<ComponentHandling*>(runtime::coreOf(c).fault.handling);
+}
+
 }  // namespace keel::fault

@@ -2,7 +2,7 @@
 // the run's own arguments (the profile, --set, --inject, --log, --log-tee) and the host's: which <process>
 // it runs, its slot, the session and ring descriptors it inherited, whether it is a standby.
 // It plans the same run, loads and initialises only the components of its process, and runs
-// them as the active host, or waits as a standby to take over (src/engine/process_host.hpp).
+// them as the active host, or waits as a standby to take over (src/supervision/process_host.hpp).
 // Not meant to be started by hand.
 //
 // Exit status: 0 stopped by keel run; 1 could not start (the reason is in its slot, which keel
@@ -17,16 +17,16 @@
 #include <vector>
 
 #include "engine/engine.hpp"
-#include "engine/process_host.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 #include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
+#include "supervision/process_host.hpp"
 
 namespace {
 
 using keel::engine::Engine;
-using keel::engine::HostRole;
-using keel::engine::ProcessHost;
+using keel::supervision::HostRole;
+using keel::supervision::ProcessHost;
 
 struct Args {
   std::string profile;
@@ -76,7 +76,7 @@ int run(Args& a) {
     return 2;
   }
   ProcessHost& host = **opened;
-  host.setHeartbeat(keel::engine::processHeartbeatNs(planned->plan, a.role.process) / 4);
+  host.setHeartbeat(keel::supervision::processHeartbeatNs(planned->plan, a.role.process) / 4);
   std::atomic<Engine*> running{nullptr};
   auto entered = host.enter([&running] {
     // keel run's unfinished line, if it died writing one, was written again first (ProcessHost).
@@ -91,7 +91,7 @@ int run(Args& a) {
     ::_exit(1);
   };
   if (!a.inject.empty()) {
-    auto scenario = keel::fault::loadScenario(a.inject);
+    auto scenario = keel::injection::loadScenario(a.inject);
     if (!scenario) {
       std::string why;
       for (const auto& d : scenario.error()) why += d.str() + '\n';

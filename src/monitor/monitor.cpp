@@ -5,8 +5,6 @@
 
 #include <atomic>
 #include <chrono>
-#include <condition_variable>
-#include <deque>
 #include <functional>
 #include <mutex>
 #include <thread>
@@ -22,6 +20,7 @@
 #include "monitor/server.hpp"
 #include "monitor/token.hpp"
 #include "runtime/component_core.hpp"
+#include "runtime/job_thread.hpp"
 #include "runtime/port_access.hpp"
 
 namespace keel::monitor {
@@ -120,16 +119,11 @@ struct Monitor::Impl {
   Clock::time_point last_state{};  // the hub's: when /keel/state was last sent
 
   // The control thread: an emergency stop may take its containment bound; never the io thread's.
-  std::thread control;
-  std::mutex control_mutex;
-  std::condition_variable control_wake;
-  std::deque<std::function<void()>> control_jobs;
-  bool control_done = false;
+  runtime::JobThread control;
 
   Impl(engine::Engine& e, MonitorOptions o) : engine(e), options(std::move(o)), model(topologyOf(e)) {}
 
   void onServiceCall(const foxglove::ServiceCall& call, std::function<void(ServiceReply)> reply);
-  void runControl();
   void runHub();
   void handle(const std::vector<std::string>& lines);
   void publishState();
@@ -209,7 +203,6 @@ Result<std::unique_ptr<Monitor>> Monitor::start(engine::Engine& engine, MonitorO
                                           {kFaultsChannel, "/keel/faults", "keel.FaultLogRecord", faultRecordSchema()}};
   for (const auto& p : impl->ports) channels.push_back(p.channel);
   impl->server->advertise(std::move(channels));
-  impl->control = std::thread([raw = impl.get()] { raw->runControl(); });
   impl->hub = std::thread([raw = impl.get()] { raw->runHub(); });
   return std::unique_ptr<Monitor>(new Monitor(std::move(impl)));
 }
@@ -227,12 +220,7 @@ std::string Monitor::url() const {
 Result<void> Monitor::stop() {
   if (impl_->stopping.exchange(true)) return impl_->record_result;
   if (impl_->hub.joinable()) impl_->hub.join();
-  {
-    std::lock_guard lock(impl_->control_mutex);
-    impl_->control_done = true;
-  }
-  impl_->control_wake.notify_all();
-  if (impl_->control.joinable()) impl_->control.join();
+  impl_->control.stop();
   impl_->server.reset();
   if (impl_->recording) {
     if (auto closed = impl_->recording->close(); !closed && impl_->record_result)
@@ -248,8 +236,7 @@ void Monitor::Impl::onServiceCall(const foxglove::ServiceCall& call, std::functi
     return reply({false, "token required: open the address keel run printed (with ?token=)"});
   if (!tokenMatches(token, given->get_ref<const std::string&>())) return reply({false, "bad token"});
   const bool emergency = call.service_id == kEmergencyService;
-  std::lock_guard lock(control_mutex);
-  control_jobs.emplace_back([this, emergency, reply = std::move(reply)] {
+  control.post([this, emergency, reply = std::move(reply)] {
     if (emergency) {
       const auto stopped = engine.emergencyStop("monitor");
       reply({true,
@@ -262,20 +249,6 @@ void Monitor::Impl::onServiceCall(const foxglove::ServiceCall& call, std::functi
           {true, json{{"ok", cleared}, {"detail", cleared ? "emergency cleared" : "no emergency was latched"}}.dump()});
     }
   });
-  control_wake.notify_one();
-}
-
-void Monitor::Impl::runControl() {
-  std::unique_lock lock(control_mutex);
-  for (;;) {
-    control_wake.wait(lock, [&] { return control_done || !control_jobs.empty(); });
-    if (control_jobs.empty()) return;
-    auto job = std::move(control_jobs.front());
-    control_jobs.pop_front();
-    lock.unlock();
-    job();
-    lock.lock();
-  }
 }
 
 void Monitor::Impl::publishState() {

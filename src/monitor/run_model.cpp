@@ -1,12 +1,12 @@
 #include "monitor/run_model.hpp"
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 namespace keel::monitor {
 namespace {
 
-namespace event = fault::schema::event;
-namespace field = fault::schema::field;
+namespace event = log::schema::event;
+namespace field = log::schema::field;
 using nlohmann::json;
 
 std::string text(const json& record, const char* key) {

@@ -21,6 +21,8 @@ namespace keel::profile {
 struct Where {
   std::string file;
   int line = 0;
+  /// `file:line`, as every message about a profile element begins.
+  std::string str() const { return file + ":" + std::to_string(line); }
 };
 
 enum class ExecutionType { Periodic, Aperiodic, Passive };

@@ -29,7 +29,7 @@
 
 namespace keel::runtime {
 
-/// Values that reach an executor's members from another process (engine/crossing.hpp's rings).
+/// Values that reach an executor's members from another process (supervision/crossing.hpp's rings).
 /// The executor sleeps on them along with its own wake-ups and moves what arrived into the
 /// ports itself, on its own thread, before its members run: one wake from the writer's push to
 /// the component's step. Its calls come from the executor's thread only.

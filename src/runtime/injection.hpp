@@ -1,6 +1,6 @@
 // Fault injection, the runtime side (docs/faults.md): an injection armed on a component fires
 // inside its next guarded onExecute, without the component's cooperation, so that detection is
-// exercised exactly as for a real fault. The injector (src/fault/injector) arms them at the
+// exercised exactly as for a real fault. The injector (src/injection/injector) arms them at the
 // scenario's times. The manifestation time is recorded on the component for the log.
 // Thread-safety: arm() from any thread; fire() on the component's executor thread.
 #pragma once

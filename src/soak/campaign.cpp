@@ -13,9 +13,9 @@
 #include <thread>
 
 #include "engine/engine.hpp"
-#include "fault/log_schema.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 #include "keel/hardware_driver.hpp"
+#include "log/schema.hpp"
 #include "plan/property_settings.hpp"
 #include "profile/loader.hpp"
 #include "soak/fault_menu.hpp"
@@ -166,7 +166,7 @@ class Campaign {
     const double length_s = std::min(o_.round_s, left_s);
     const std::string scenario_file = (scratch_.path / fmt::format("round-{}.xml", n)).string();
     std::ofstream(scenario_file) << randomScenario(menu_, rng_, 1000, o_.fault_every_ms, length_s * 1000);
-    auto scenario = fault::loadScenario(scenario_file);
+    auto scenario = injection::loadScenario(scenario_file);
     if (!scenario) return fail(joined(scenario.error()));
     std::vector<plan::PropertySetting> settings;
     auto p = planned(o_, settings);
@@ -189,8 +189,8 @@ class Campaign {
         return started.error();
       }
       const std::string reason = drive(engine, n, length_s);
-      nlohmann::json stopping = fault::schema::engine("stopping");
-      stopping[fault::schema::field::kReason] = reason;
+      nlohmann::json stopping = log::schema::engine("stopping");
+      stopping[log::schema::field::kReason] = reason;
       engine.log().write(std::move(stopping));
       engine.shutdown();
     }

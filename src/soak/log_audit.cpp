@@ -6,13 +6,13 @@
 
 #include <algorithm>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 namespace keel::soak {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 
 /// What the log says of one fault id.
 struct Fault {
@@ -85,7 +85,7 @@ RoundAudit auditRound(std::string_view text, std::size_t first_line) {
       auto& open = latches[r.value(fd::kPid, std::int64_t{0})];
       if (!open.empty()) {
         open.erase(open.begin());
-        if (str(r, fd::kOutcome) == fault::schema::kOk) ++a.emergencies_reached;
+        if (str(r, fd::kOutcome) == log::schema::kOk) ++a.emergencies_reached;
         else
           a.violations.push_back(fmt::format("line {}: emergency stop not reached: not finished in {}", no,
                                              r.value(fd::kNotFinished, nlohmann::json::array()).dump()));

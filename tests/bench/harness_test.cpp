@@ -2,8 +2,13 @@
 // really loads the machine, and goes away), the JSON cells and the Table 3 rendering.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <fstream>
 #include <sstream>
+#include <string>
+#include <thread>
 
 #include "floor.hpp"
 #include "load.hpp"
@@ -42,6 +47,44 @@ TEST(BenchLoad, TheInternalLoadKeepsTheCpusBusyAndIsReapedWhenDestroyed) {
   // 60% asked on every CPU: whatever else runs only adds to it.
   EXPECT_GT(busy, 0.40);
   EXPECT_NE(::kill(pid, 0), 0) << "the load's process is still there after its destructor";
+}
+
+/// Whether `pid` still runs (a zombie waiting for its reaper does not).
+bool runs(pid_t pid) {
+  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return false;
+  const auto state = line.rfind(") ");
+  return state != std::string::npos && line[state + 2] != 'Z';
+}
+
+// keel-bench killed with kill -9 (or crashed) while a load runs: the load goes with it, instead
+// of loading the machine for the hours of its timeout.
+TEST(BenchLoad, TheLoadEndsWhenKeelBenchIsKilled) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  const pid_t bench = ::fork();
+  if (bench == 0) {  // stands for keel-bench: starts a load, says its pid, waits to be killed
+    ::close(fds[0]);
+    BackgroundLoad load(30, LoadSource::Internal, KEEL_BENCH);
+    const pid_t pid = load.pid();
+    if (::write(fds[1], &pid, sizeof pid) != sizeof pid) ::_exit(1);
+    for (;;) ::pause();
+  }
+  ::close(fds[1]);
+  pid_t load = -1;
+  ASSERT_EQ(::read(fds[0], &load, sizeof load), static_cast<ssize_t>(sizeof load));
+  ::close(fds[0]);
+  ASSERT_TRUE(runs(load));
+  ::kill(bench, SIGKILL);
+  ::waitpid(bench, nullptr, 0);
+  bool gone = false;
+  for (int i = 0; i < 100 && !gone; ++i) {  // 5 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    gone = !runs(load);
+  }
+  EXPECT_TRUE(gone) << "the load (pid " << load << ") outlived keel-bench";
+  if (!gone) ::kill(load, SIGKILL);
 }
 
 TEST(BenchLoad, NoLoadStartsNothing) {

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <string>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -18,8 +18,8 @@
 namespace keel {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 
 std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/" + name; }
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <regex>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -17,8 +17,8 @@
 namespace keel {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using namespace std::chrono_literals;
 
 std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/" + name; }
@@ -129,7 +129,7 @@ TEST_F(Cli, AnAlternativeThatFailsToInitializeIsDestroyedAndTheReplacementSaysWh
   bool failed_with_reason = false;
   for (const auto& a : test::eventsOf(test::readLog(log_), ev::kAction))
     if (a[fd::kAction] == "replace")
-      failed_with_reason = a[fd::kOutcome] == fault::schema::kFailed &&
+      failed_with_reason = a[fd::kOutcome] == log::schema::kFailed &&
                            a.value(fd::kDetail, "") ==
                                "loading the alternative failed: Unplugged: exception in onInitialize: no device at "
                                "/dev/spare";

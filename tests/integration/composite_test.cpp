@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -15,8 +15,8 @@
 namespace keel {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 
 std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/" + name; }
 

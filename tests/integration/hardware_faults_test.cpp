@@ -8,7 +8,7 @@
 #include <regex>
 #include <set>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -71,7 +71,7 @@ TEST_F(HardwareFaults, AreLoggedAsInjectedHardwareFaults) {
   std::set<std::uint64_t> ids;
   for (const auto& rec : injected) {
     EXPECT_EQ(rec["component"], "driver");
-    EXPECT_EQ(rec[fault::schema::field::kHardware], true);
+    EXPECT_EQ(rec[log::schema::field::kHardware], true);
     EXPECT_FALSE(rec.contains("outcome")) << rec.dump();
     ids.insert(rec["fault_id"].get<std::uint64_t>());
   }
@@ -114,7 +114,7 @@ TEST_F(HardwareFaults, NotTakenGiveAWarningAndTheOutcome) {
   EXPECT_EQ(injected[0]["outcome"], "unsupported");
   EXPECT_EQ(injected[1]["outcome"], "bad input");
   EXPECT_EQ(injected[2]["outcome"], "exception: board unreachable");
-  for (const auto& rec : injected) EXPECT_EQ(rec[fault::schema::field::kHardware], true);
+  for (const auto& rec : injected) EXPECT_EQ(rec[log::schema::field::kHardware], true);
   // the driver got the two it could not apply; the run went on
   ASSERT_EQ(received(r.out).size(), 2u) << r.out;
   EXPECT_TRUE(test::eventsOf(test::readLog(log_), "detected").empty());

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/pipe_reader.hpp"
@@ -24,8 +24,8 @@
 namespace keel {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using namespace std::chrono_literals;
 
 std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/" + name; }

@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -42,7 +42,7 @@ TEST_F(SetOption, TheValueReachesTheComponentAfterTheProfilesOverride) {
   ASSERT_FALSE(log.empty());
   EXPECT_EQ(log.back()["executions"], 7);
   EXPECT_EQ(log.front()["phase"], "load");
-  EXPECT_EQ(log.front()[fault::schema::field::kSet], nlohmann::json({"finisher.end_after=30", "finisher.end_after=7"}));
+  EXPECT_EQ(log.front()[log::schema::field::kSet], nlohmann::json({"finisher.end_after=30", "finisher.end_after=7"}));
 }
 
 TEST_F(SetOption, NamesAnInstanceOfAnApplicationInASystem) {

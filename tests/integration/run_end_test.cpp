@@ -6,7 +6,7 @@
 #include <chrono>
 #include <filesystem>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -101,8 +101,8 @@ TEST_F(RunEnd, MalformedFieldsGiveAFieldsErrorInsteadOfACrash) {
   EXPECT_EQ(last["event"], "mission");
   EXPECT_EQ(last["component"], "finisher");
   EXPECT_FALSE(last.contains("goal_reached"));
-  ASSERT_TRUE(last.contains(fault::schema::field::kFieldsError)) << last.dump();
-  EXPECT_EQ(last[fault::schema::field::kFieldsError].get<std::string>().rfind(
+  ASSERT_TRUE(last.contains(log::schema::field::kFieldsError)) << last.dump();
+  EXPECT_EQ(last[log::schema::field::kFieldsError].get<std::string>().rfind(
                 "fields_json '\"goal_reached\":tru,\"executions\":5' is not the members of a JSON object: ", 0),
             0u)
       << last.dump();

@@ -7,7 +7,7 @@
 #include <regex>
 #include <string>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -16,8 +16,8 @@
 namespace keel {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 
 std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROFILES) + "/soak/" + name; }
 

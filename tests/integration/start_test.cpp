@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -23,7 +23,7 @@ TEST(Start, AFirstCycleFindsEveryOtherComponentStarted) {
     auto r = test::runProcess(
         {KEEL_CLI, "run", std::string(KEEL_TEST_PROFILES) + "/first_cycle.xml", "--duration", "0.1", "--log", log});
     ASSERT_EQ(r.status, 0) << r.out << r.err;
-    EXPECT_TRUE(test::eventsOf(test::readLog(log), fault::schema::event::kDetected).empty()) << "run " << run << r.out;
+    EXPECT_TRUE(test::eventsOf(test::readLog(log), log::schema::event::kDetected).empty()) << "run " << run << r.out;
   }
   std::filesystem::remove(log);
 }

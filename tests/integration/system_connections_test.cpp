@@ -2,7 +2,9 @@
 // application's component to another's at run time, and `keel graph` draws the edge.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
 
 #include "engine/engine.hpp"
 #include "runtime/component_core.hpp"
@@ -58,9 +60,34 @@ TEST_F(SystemConnections, AreDrawnByKeelGraph) {
       << r.out;
 }
 
+// keel validate checks a system's own connections against the applications' components: the
+// good one passes, and the same system joining a port one application's component lacks is
+// refused with the connection's line and the ports it has.
 TEST_F(SystemConnections, AreValidatedByKeelValidate) {
-  auto r = test::runProcess({KEEL_CLI, "validate", linked()});
-  EXPECT_EQ(r.status, 0) << r.err;
+  auto good = test::runProcess({KEEL_CLI, "validate", linked()});
+  EXPECT_EQ(good.status, 0) << good.err;
+  EXPECT_EQ(good.out, linked() + ": ok\n");
+
+  std::string text = test::slurp(linked());
+  const std::string dir = std::filesystem::path(linked()).parent_path().string();
+  for (const std::string app : {"producer", "consumer"}) {  // the copy elsewhere names them whole
+    const std::string ref = "reference=\"" + app + ".xml\"";
+    text.replace(text.find(ref), ref.size(), "reference=\"" + dir + "/" + app + ".xml\"");
+  }
+  const std::string port = "port_name=\"in\"";
+  text.replace(text.find(port), port.size(), "port_name=\"inn\"");
+  const auto line = std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(text.find("<port_connection ")),
+                               '\n') +
+                    1;
+  const std::string bad = log_ + ".system.xml";
+  std::ofstream(bad) << text;
+  auto refused = test::runProcess({KEEL_CLI, "validate", bad});
+  std::filesystem::remove(bad);
+  EXPECT_EQ(refused.status, 2);
+  EXPECT_EQ(refused.err,
+            bad + ":" + std::to_string(line) +
+                ": port_connection: component 'consumer.summer' has no port 'inn' (ports: in, milestones)\n");
+  EXPECT_EQ(refused.out, "");
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -21,8 +21,8 @@
 namespace keel::test {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using nlohmann::json;
 namespace fs = std::filesystem;
 

@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "engine/engine.hpp"
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/guard.hpp"
 #include "support/log_reader.hpp"
@@ -21,7 +21,7 @@
 namespace keel {
 namespace {
 
-namespace schema = fault::schema;
+namespace schema = log::schema;
 namespace ev = schema::event;
 namespace fd = schema::field;
 using namespace std::chrono_literals;

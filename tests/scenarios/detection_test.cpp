@@ -11,8 +11,8 @@
 #include <thread>
 
 #include "engine/engine.hpp"
-#include "fault/log_schema.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
+#include "log/schema.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
@@ -21,8 +21,8 @@
 namespace keel {
 namespace {
 
-namespace ev = fault::schema::event;
-namespace fd = fault::schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using namespace std::chrono_literals;
 using nlohmann::json;
 
@@ -42,7 +42,7 @@ class Detection : public ::testing::Test {
                 const std::string& package = "app.xml") {
     auto set = profile::load(here(package));
     EXPECT_TRUE(set);
-    auto sc = fault::loadScenario(here(scenario));
+    auto sc = injection::loadScenario(here(scenario));
     EXPECT_TRUE(sc) << (sc ? "" : sc.error().front().str());
     engine::EngineOptions eo;
     eo.log_path = log_;

@@ -18,8 +18,8 @@
 #include <thread>
 
 #include "engine/engine.hpp"
-#include "fault/log_schema.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
+#include "log/schema.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
 #include "support/log_reader.hpp"
@@ -29,7 +29,7 @@
 namespace keel {
 namespace {
 
-namespace schema = fault::schema;
+namespace schema = log::schema;
 namespace ev = schema::event;
 namespace fd = schema::field;
 using namespace std::chrono_literals;
@@ -69,7 +69,7 @@ class Handling : public ::testing::Test {
     eo.search_path = {KEEL_TEST_COMPONENTS, KEEL_STOCK_COMPONENTS};
     eo.warn = [](const std::string&) {};
     if (!scenario.empty()) {
-      auto sc = fault::loadScenario(here(scenario));
+      auto sc = injection::loadScenario(here(scenario));
       EXPECT_TRUE(sc) << (sc ? "" : sc.error().front().str());
       if (!sc) throw std::runtime_error("scenario not loaded");
       eo.scenario = std::move(*sc);

@@ -1,5 +1,5 @@
 // Test support: reads a keel fault log (JSON lines) and finds records in it, by the names of
-// the log's schema (src/fault/log_schema.hpp).
+// the log's schema (src/log/schema.hpp).
 #pragma once
 
 #include <fstream>
@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 namespace keel::test {
 
@@ -65,16 +65,16 @@ inline LogLines readLogLines(const std::string& path) {
 inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log, const std::string& component) {
   std::vector<std::string> out;
   for (const auto& r : log)
-    if (r.value(fault::schema::field::kEvent, "") == fault::schema::event::kState &&
-        r.value(fault::schema::field::kComponent, "") == component)
-      out.push_back(r.value(fault::schema::field::kTo, ""));
+    if (r.value(log::schema::field::kEvent, "") == log::schema::event::kState &&
+        r.value(log::schema::field::kComponent, "") == component)
+      out.push_back(r.value(log::schema::field::kTo, ""));
   return out;
 }
 
 inline std::vector<nlohmann::json> eventsOf(const std::vector<nlohmann::json>& log, const std::string& event) {
   std::vector<nlohmann::json> out;
   for (const auto& r : log)
-    if (r.value(fault::schema::field::kEvent, "") == event) out.push_back(r);
+    if (r.value(log::schema::field::kEvent, "") == event) out.push_back(r);
   return out;
 }
 

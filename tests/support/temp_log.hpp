@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "fault/fault_log.hpp"
+#include "log/fault_log.hpp"
 #include "support/log_reader.hpp"
 
 namespace keel::test {
@@ -33,7 +33,7 @@ struct TempLog {
   std::vector<nlohmann::json> read() const { return readLog(path); }
 
   std::string path;
-  fault::FaultLog log;
+  log::FaultLog log;
 };
 
 }  // namespace keel::test

@@ -7,7 +7,7 @@
 // THE RULE: the kernel tracks robust locks per *thread* (each thread's robust list, walked when
 // that thread exits). A lock whose release is to signal a process's death must therefore be held
 // by a thread that never ends while the process lives — its main thread, which must never
-// pthread_exit, or a thread that parks rather than end (a standby's role, engine/process_host.hpp):
+// pthread_exit, or a thread that parks rather than end (a standby's role, supervision/process_host.hpp):
 // a lock held by a thread is released, as if the process died, when that thread ends. Keep the
 // memory mapped while holding it: the kernel cannot mark a lock it can no longer reach, and its
 // waiters then sleep forever.

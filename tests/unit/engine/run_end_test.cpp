@@ -1,7 +1,7 @@
 // RunEndLatch and the record of a run's end (runtime/run_end): the first request wins and
 // wakes a waiter; the record holds keel's keys and the component's fields, or why not.
 #include "engine/run_end.hpp"
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 #include <gtest/gtest.h>
 
@@ -58,8 +58,8 @@ TEST(RunEndRecord, EmptyFieldsGiveJustKeelsKeys) {
 TEST(RunEndRecord, MalformedFieldsGiveAFieldsErrorNamingThem) {
   for (const char* bad : {R"("a":1,)", R"("a":1}, {"b":2)", R"({"a":1})", "a:1", R"("a":1 "b":2)"}) {
     const auto r = runEndRecord({"referee", "s", "mission", bad}, 7);
-    ASSERT_TRUE(r.contains(fault::schema::field::kFieldsError)) << bad;
-    EXPECT_EQ(r[fault::schema::field::kFieldsError].get<std::string>().rfind(
+    ASSERT_TRUE(r.contains(log::schema::field::kFieldsError)) << bad;
+    EXPECT_EQ(r[log::schema::field::kFieldsError].get<std::string>().rfind(
                   std::string("fields_json '") + bad + "' is not the members of a JSON object: ", 0),
               0u)
         << r.dump();

@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "plan/fault_manager_profile.hpp"
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
@@ -24,8 +24,8 @@
 namespace keel::fault {
 namespace {
 
-namespace ev = schema::event;
-namespace fd = schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using namespace std::chrono_literals;
 using nlohmann::json;
 using runtime::coreOf;
@@ -89,7 +89,7 @@ TEST(Containment, AnEmergencyStopRunsEveryComponentsOnEmergencyStopAndLatches) {
   EXPECT_EQ(log[0][fd::kBy], "operator");
   EXPECT_EQ(log[1][fd::kEvent], ev::kAction);
   EXPECT_EQ(log[1][fd::kAction], "emergency_stop");
-  EXPECT_EQ(log[1][fd::kOutcome], schema::kOk);
+  EXPECT_EQ(log[1][fd::kOutcome], log::schema::kOk);
   EXPECT_EQ(log[1][fd::kBy], "operator");
   EXPECT_EQ(log[1][fd::kComponents], json::array({"left", "right"}));
   EXPECT_FALSE(log[1].contains(fd::kFaultId)) << "no fault caused it";
@@ -224,7 +224,7 @@ TEST(Containment, WithoutADependencyGraphAFaultStopStopsTheFaultyComponentAlone)
   ASSERT_EQ(actions.size(), 2u) << "the escalation, then the stop";
   EXPECT_EQ(actions[0][fd::kAction], "escalate");
   EXPECT_EQ(actions[1][fd::kAction], "stop");
-  EXPECT_EQ(actions[1][fd::kOutcome], schema::kOk);
+  EXPECT_EQ(actions[1][fd::kOutcome], log::schema::kOk);
   EXPECT_EQ(actions[1][fd::kFaultId], 9u);
   EXPECT_EQ(actions[1][fd::kComponent], "arm");
   EXPECT_EQ(actions[1][fd::kScope], "component");

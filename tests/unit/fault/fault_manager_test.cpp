@@ -11,7 +11,7 @@
 #include <thread>
 #include <vector>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
 #include "support/fake_host.hpp"
@@ -21,8 +21,8 @@
 namespace keel::fault {
 namespace {
 
-namespace ev = schema::event;
-namespace fd = schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using nlohmann::json;
 using profile::Severity;
 using runtime::coreOf;

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
 #include "support/log_reader.hpp"
@@ -17,8 +17,8 @@
 namespace keel::fault {
 namespace {
 
-namespace ev = schema::event;
-namespace fd = schema::field;
+namespace ev = log::schema::event;
+namespace fd = log::schema::field;
 using nlohmann::json;
 using profile::Severity;
 
@@ -126,7 +126,7 @@ TEST(FaultRecords, TheDetectionIsWrittenOnceAndEachCallWritesOnlyTheNewActions) 
   const auto actions = test::eventsOf(log, ev::kAction);
   ASSERT_EQ(actions.size(), 2u);
   EXPECT_EQ(actions[0][fd::kAction], "reset");
-  EXPECT_EQ(actions[0][fd::kOutcome], schema::kOk);
+  EXPECT_EQ(actions[0][fd::kOutcome], log::schema::kOk);
   EXPECT_EQ(actions[0][fd::kDetail], "onError → onReset → onRecover");
   EXPECT_EQ(actions[0][fd::kFaultId], 5u);
   EXPECT_EQ(actions[1][fd::kAction], "restore");
@@ -151,7 +151,7 @@ TEST(FaultRecords, AFailedResetLeavesTheComponentInError) {
   EXPECT_TRUE(test::eventsOf(log, ev::kState).empty());
   const auto actions = test::eventsOf(log, ev::kAction);
   ASSERT_EQ(actions.size(), 1u);
-  EXPECT_EQ(actions[0][fd::kOutcome], schema::kFailed);
+  EXPECT_EQ(actions[0][fd::kOutcome], log::schema::kFailed);
 }
 
 TEST(FaultRecords, ASuccessfulReplacementNamesTheAlternativesClass) {

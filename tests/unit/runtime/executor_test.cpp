@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include <sched.h>
 
+#include <array>
 #include <atomic>
 #include <mutex>
 #include <thread>
@@ -373,22 +374,32 @@ TEST_F(ExecutorTest, AFaultingMemberGoesToErrorAndTheOthersKeepRunning) {
   EXPECT_EQ(std::string(faults[0].componentName()), "bad");
 }
 
-TEST_F(ExecutorTest, AnOverrunIsCounted) {
+// One cycle that overruns by several periods is one overrun, and the releases it missed are
+// skipped, not run back to back to catch up: the next cycles keep the period.
+TEST_F(ExecutorTest, AnOverrunIsCountedOnceAndTheMissedReleasesAreSkipped) {
+  constexpr auto kPeriod = 50ms;
   class Slow : public Component {
    public:
     ReturnCode onExecute() override {
-      if (++n == 2) std::this_thread::sleep_for(30ms);
+      starts[n] = std::chrono::steady_clock::now();
+      if (++n == 2) std::this_thread::sleep_for(175ms);  // 3.5 periods: three releases missed
       return ReturnCode::Ok;
     }
-    int n = 0;
+    std::atomic<int> n{0};
+    std::array<std::chrono::steady_clock::time_point, 64> starts{};
   } slow;
   ready(slow, "slow");
-  Executor ex({"p", ExecutorKind::Periodic, 5ms, 0, Policy::Other});
+  Executor ex({"p", ExecutorKind::Periodic, kPeriod, 0, Policy::Other});
   ex.add(slow);
   ex.start();
-  ASSERT_TRUE(eventually([&] { return ex.stats().overruns >= 1; }));
+  ASSERT_TRUE(eventually([&] { return slow.n.load() >= 5; }));
   ex.requestStop();
   ASSERT_TRUE(ex.join(5s));
+  EXPECT_EQ(ex.stats().overruns, 1u) << "the slow cycle once, not once per missed release";
+  // Caught up, cycles 3 and 4 would start back to back; skipped, a period apart (generous: a
+  // busy machine may wake late, never early).
+  EXPECT_GE(slow.starts[3] - slow.starts[2], kPeriod / 2);
+  EXPECT_GE(slow.starts[4] - slow.starts[3], kPeriod / 2);
 }
 
 TEST_F(ExecutorTest, CountsDeadlineOverrunsOfAMember) {

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 #include "support/temp_log.hpp"
 
 namespace keel::soak {
@@ -95,7 +95,7 @@ TEST(SoakFaultMenu, ARandomScenarioReadsBackWithEveryKindAtTheRequestedPace) {
   const std::string xml = randomScenario(menu, rng, 1000, 100, 61000);
   const std::string path = test::tempPath("keel_soak_scenario", ".xml");
   std::ofstream(path) << xml;
-  auto scenario = fault::loadScenario(path);
+  auto scenario = injection::loadScenario(path);
   std::filesystem::remove(path);
   ASSERT_TRUE(scenario) << scenario.error().front().str() << "\n" << xml;
   const auto& faults = scenario->faults;

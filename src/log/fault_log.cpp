@@ -1,4 +1,4 @@
-#include "fault/fault_log.hpp"
+#include "log/fault_log.hpp"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -14,9 +14,9 @@
 #include <system_error>
 #include <thread>
 
-namespace keel::fault {
+namespace keel::log {
 
-FaultLog::FaultLog() : epoch_ns_(steadyNs()) {}
+FaultLog::FaultLog() : epoch_ns_(runtime::steadyNs()) {}
 
 FaultLog::~FaultLog() {
   if (fd_ >= 0) ::close(fd_);
@@ -195,7 +195,7 @@ void FaultLog::quiesce(std::chrono::milliseconds within) {
   }
 }
 
-std::int64_t FaultLog::now() const { return steadyNs() - epoch_ns_; }
+std::int64_t FaultLog::now() const { return runtime::steadyNs() - epoch_ns_; }
 
 void FaultLog::write(nlohmann::json record) {
   if (fd_ < 0) return;
@@ -209,4 +209,4 @@ void FaultLog::write(nlohmann::json record) {
   if (written) writeTee(line);  // after the log: what the tee shows, the log has
 }
 
-}  // namespace keel::fault
+}  // namespace keel::log

@@ -1,6 +1,6 @@
-#include "fault/injector.hpp"
+#include "injection/injector.hpp"
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 
 #include <fmt/format.h>
 
@@ -11,9 +11,9 @@
 #include "runtime/component_core.hpp"
 #include "runtime/injection.hpp"
 
-namespace keel::fault {
+namespace keel::injection {
 
-Injector::Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log, Warn warn)
+Injector::Injector(Scenario scenario, Find find, fault::FaultManager& manager, log::FaultLog& log, Warn warn)
     : scenario_(std::move(scenario)), find_(std::move(find)), manager_(manager), log_(log), warn_(std::move(warn)) {
   if (!warn_) warn_ = runtime::warnOnStderr;
 }
@@ -91,10 +91,10 @@ void Injector::run(std::int64_t t0_ns) {
       continue;
     }
     runtime::InjectArgs args{s.fault->port, s.fault->value, static_cast<std::int64_t>(s.fault->duration_ms * 1e6)};
-    log_.write({{schema::field::kEvent, schema::event::kArmed},
-                {schema::field::kFaultId, id},
-                {schema::field::kComponent, s.fault->component},
-                {schema::field::kKind, s.fault->kind_name}});
+    log_.write({{log::schema::field::kEvent, log::schema::event::kArmed},
+                {log::schema::field::kFaultId, id},
+                {log::schema::field::kComponent, s.fault->component},
+                {log::schema::field::kKind, s.fault->kind_name}});
     if (runtime::arm(*c, s.fault->kind, id, args)) continue;
     if (s.fault->kind == runtime::InjectKind::Kill)
       warn_(fmt::format(
@@ -119,15 +119,15 @@ void Injector::injectHardware(Component& c, const ScheduledFault& f, std::uint64
   } catch (...) {
     outcome = "exception: unknown";
   }
-  nlohmann::json record = schema::injected(id, f.component, t_ns);
-  record[schema::field::kKind] = f.kind_name;
-  record[schema::field::kDetail] = command;
-  record[schema::field::kHardware] = true;
-  if (!outcome.empty()) record[schema::field::kOutcome] = outcome;
+  nlohmann::json record = log::schema::injected(id, f.component, t_ns);
+  record[log::schema::field::kKind] = f.kind_name;
+  record[log::schema::field::kDetail] = command;
+  record[log::schema::field::kHardware] = true;
+  if (!outcome.empty()) record[log::schema::field::kOutcome] = outcome;
   log_.write(std::move(record));
   if (!outcome.empty())
     warn_(fmt::format("{}:{}: hardware fault '{}' not taken by '{}': {}", f.where.file, f.where.line, command,
                       f.component, outcome));
 }
 
-}  // namespace keel::fault
+}  // namespace keel::injection

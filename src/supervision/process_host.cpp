@@ -1,4 +1,4 @@
-#include "engine/process_host.hpp"
+#include "supervision/process_host.hpp"
 
 #include <fmt/format.h>
 #include <signal.h>
@@ -11,11 +11,11 @@
 #include <cstring>
 #include <mutex>
 
-#include "engine/crossing.hpp"
 #include "runtime/clock.hpp"
 #include "runtime/futex.hpp"
+#include "supervision/crossing.hpp"
 
-namespace keel::engine {
+namespace keel::supervision {
 namespace {
 
 namespace ipc = runtime::ipc;
@@ -140,7 +140,7 @@ Result<void> ProcessHost::enter(std::function<void()> supervisor_lost) {
   return {};
 }
 
-void ProcessHost::setLog(fault::FaultLog* log) {
+void ProcessHost::setLog(log::FaultLog* log) {
   std::lock_guard lock(log_mutex_);
   log_ = log;
 }
@@ -262,4 +262,4 @@ void ProcessHost::leave() {
   has_life_ = false;
 }
 
-}  // namespace keel::engine
+}  // namespace keel::supervision

@@ -1,4 +1,4 @@
-#include "engine/process_supervisor.hpp"
+#include "supervision/process_supervisor.hpp"
 
 #include <fcntl.h>
 #include <fmt/format.h>
@@ -17,15 +17,15 @@
 #include <system_error>
 #include <utility>
 
-#include "engine/crossing.hpp"
-#include "engine/process_host.hpp"
-#include "fault/log_schema.hpp"
 #include "fault/rules.hpp"
+#include "log/schema.hpp"
 #include "runtime/clock.hpp"
 #include "runtime/futex.hpp"
 #include "runtime/injection.hpp"
+#include "supervision/crossing.hpp"
+#include "supervision/process_host.hpp"
 
-namespace keel::engine {
+namespace keel::supervision {
 namespace {
 
 namespace ipc = runtime::ipc;
@@ -131,7 +131,7 @@ struct ProcessSupervisor::Proxy final : Component, runtime::ProcessTarget {
 
 ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& session,
                                      std::vector<ipc::SharedMemory> rings, HostLaunch launch, Warn warn,
-                                     fault::FaultLog& log)
+                                     log::FaultLog& log)
     : session_(session), rings_(std::move(rings)), launch_(std::move(launch)), warn_(std::move(warn)), log_(log) {
   const std::vector<std::size_t> crossing = crossingConnections(plan);
   for (std::size_t i = 0; i < plan.processes.size(); ++i) {
@@ -159,28 +159,11 @@ ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& sessi
                       g->plan->where.file, g->plan->where.line, g->plan->name, g->plan->standby));
     groups_.push_back(std::move(g));
   }
-  spawner_ = std::thread([this] {
-    std::unique_lock lock(spawn_mutex_);
-    for (;;) {
-      spawn_cv_.wait(lock, [this] { return spawner_done_ || !spawn_jobs_.empty(); });
-      if (spawn_jobs_.empty()) return;  // done, and nothing left to start
-      auto job = std::move(spawn_jobs_.front());
-      spawn_jobs_.pop_front();
-      lock.unlock();
-      job();
-      lock.lock();
-    }
-  });
 }
 
 ProcessSupervisor::~ProcessSupervisor() {
   stop(std::chrono::seconds(2));
-  {
-    std::lock_guard lock(spawn_mutex_);
-    spawner_done_ = true;
-  }
-  spawn_cv_.notify_all();
-  if (spawner_.joinable()) spawner_.join();
+  spawner_.stop();
 }
 
 std::unique_ptr<Component> ProcessSupervisor::makeProxy(const plan::PlannedInstance& instance) {
@@ -254,14 +237,10 @@ pid_t ProcessSupervisor::spawnNow(Group& g, std::size_t slot, bool standby, bool
 }
 
 pid_t ProcessSupervisor::spawn(Group& g, std::size_t slot, bool standby, bool respawn) {
-  if (std::this_thread::get_id() == spawner_.get_id()) return spawnNow(g, slot, standby, respawn);
+  if (spawner_.isCurrent()) return spawnNow(g, slot, standby, respawn);
   std::promise<pid_t> started;
   auto result = started.get_future();
-  {
-    std::lock_guard lock(spawn_mutex_);
-    spawn_jobs_.emplace_back([&] { started.set_value(spawnNow(g, slot, standby, respawn)); });
-  }
-  spawn_cv_.notify_all();
+  spawner_.post([&] { started.set_value(spawnNow(g, slot, standby, respawn)); });
   return result.get();
 }
 
@@ -337,12 +316,12 @@ void ProcessSupervisor::died(Group& g, std::size_t slot, HostState was, std::int
   const pid_t pid = s.pid.load(std::memory_order_acquire);
   const bool clean = was == HostState::Exited;
   log_.repair(ipc::logParticipant(g.index, slot));  // a line it had not finished writing
-  nlohmann::json rec = fault::schema::host(g.plan->name, pid,
-                                           clean                      ? "exited"
-                                           : was == HostState::Failed ? "failed"
-                                                                      : "died");
-  rec[fault::schema::field::kDetail] = was == HostState::Failed ? ipc::messageOf(s) : detail;
-  rec[fault::schema::field::kTime] = log_.sinceStart(t_ns);
+  nlohmann::json rec = log::schema::host(g.plan->name, pid,
+                                         clean                      ? "exited"
+                                         : was == HostState::Failed ? "failed"
+                                                                    : "died");
+  rec[log::schema::field::kDetail] = was == HostState::Failed ? ipc::messageOf(s) : detail;
+  rec[log::schema::field::kTime] = log_.sinceStart(t_ns);
   log_.write(std::move(rec));
   if (!clean && was != HostState::Failed) ipc::publishState(*g.block, s, HostState::Failed);
   {
@@ -489,11 +468,7 @@ Result<std::int64_t> ProcessSupervisor::recover(Group& g) {
 }
 
 void ProcessSupervisor::queueTopUp(Group& g) {
-  {
-    std::lock_guard lock(spawn_mutex_);
-    spawn_jobs_.emplace_back([this, &g] { topUpStandbys(g); });
-  }
-  spawn_cv_.notify_all();
+  spawner_.post([this, &g] { topUpStandbys(g); });
 }
 
 void ProcessSupervisor::emergency(Group& g) const {
@@ -551,4 +526,4 @@ void ProcessSupervisor::stop(std::chrono::milliseconds within) {
   }
 }
 
-}  // namespace keel::engine
+}  // namespace keel::supervision

@@ -30,13 +30,13 @@
 #include <thread>
 #include <utility>
 
-#include "fault/fault_log.hpp"
 #include "keel/result.hpp"
+#include "log/fault_log.hpp"
 #include "plan/plan.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/ipc/session.hpp"
 
-namespace keel::engine {
+namespace keel::supervision {
 
 /// A host's exit status when keel run died (after the emergency stop of what it hosts), and
 /// when a standby took over the rings it writes (it was declared dead: it leaves at once).
@@ -85,7 +85,7 @@ class ProcessHost {
   /// dies, before the host exits, whatever its role: keel run's unfinished line is written
   /// again, and the host's own line in flight is finished (FaultLog::quiesce), so that the
   /// lines the others write on leave no hole of a line never written.
-  void setLog(fault::FaultLog* log);
+  void setLog(log::FaultLog* log);
   /// The host could not start: `message` goes to keel run, which prints it.
   void failed(const std::string& message);
   /// The active takes the role lock; a standby says Standby and sleeps on it. True when its last
@@ -131,7 +131,7 @@ class ProcessHost {
   std::function<void()> supervisor_lost_;
   std::once_flag lost_once_;
   std::mutex log_mutex_;  // held from an exit's start to its end: the log is not destroyed meanwhile
-  fault::FaultLog* log_ = nullptr;
+  log::FaultLog* log_ = nullptr;
   std::atomic<pid_t> role_tid_{0};  // the thread holding the role lock (0: none)
   bool has_life_ = false;
   std::atomic<bool> active_{false};
@@ -159,4 +159,4 @@ class HostFaultSink final : public runtime::FaultSink {
   ProcessHost& host_;
 };
 
-}  // namespace keel::engine
+}  // namespace keel::supervision

@@ -1,4 +1,4 @@
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include "profile/values.hpp"
 #include "profile/xml_reader.hpp"
 
-namespace keel::fault {
+namespace keel::injection {
 namespace {
 
 using profile::Diagnostic;
@@ -154,4 +154,4 @@ Result<Scenario, Diagnostics> loadScenario(const std::string& path) {
   return s;
 }
 
-}  // namespace keel::fault
+}  // namespace keel::injection

@@ -16,7 +16,7 @@
 #include "profile/loader.hpp"
 #include "runtime/injection.hpp"
 
-namespace keel::fault {
+namespace keel::injection {
 
 struct ScheduledFault {
   double at_ms = 0;
@@ -46,4 +46,4 @@ struct Scenario {
 
 Result<Scenario, profile::Diagnostics> loadScenario(const std::string& path);
 
-}  // namespace keel::fault
+}  // namespace keel::injection

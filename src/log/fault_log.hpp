@@ -16,7 +16,7 @@
 #include "runtime/clock.hpp"
 #include "runtime/ipc/session.hpp"
 
-namespace keel::fault {
+namespace keel::log {
 
 class FaultLog {
  public:
@@ -80,7 +80,4 @@ class FaultLog {
   mutable std::mutex mutex_;
 };
 
-/// keel's one clock (runtime/clock.hpp), for the fault layer's own code.
-using runtime::steadyNs;
-
-}  // namespace keel::fault
+}  // namespace keel::log

@@ -1,9 +1,9 @@
-// The fault log's schema (src/fault/log_schema.hpp) pinned to its reference, docs/fault-log.md:
+// The fault log's schema (src/log/schema.hpp) pinned to its reference, docs/fault-log.md:
 // every event name is the heading of its record's section (### `name`), every field name and
 // `outcome` value is written in the reference as code (`name`, or a member of an example
 // record), and the table below holds every constant of the header — so a constant renamed,
 // added or removed without the reference (and this table) following fails here.
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/paths.hpp"
 
 #include <gtest/gtest.h>
@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace keel::fault {
+namespace keel::log {
 namespace {
 
 namespace fs = std::filesystem;
@@ -30,7 +30,7 @@ namespace fd = schema::field;
 const fs::path kSource = fs::path(KEEL_EXAMPLES).parent_path();
 
 struct Constant {
-  const char* name;      // as declared in log_schema.hpp
+  const char* name;      // as declared in schema.hpp
   const char* spelling;  // its value, as the log writes it
 };
 
@@ -150,15 +150,15 @@ Reference readReference() {
   return ref;
 }
 
-/// The constants log_schema.hpp declares in `namespace <ns> { ... }` ("" for those outside
+/// The constants schema.hpp declares in `namespace <ns> { ... }` ("" for those outside
 /// event and field), by name.
 std::map<std::string, std::string> declaredIn(const std::string& ns) {
-  const std::string header = readFile(kSource / "src" / "fault" / "log_schema.hpp");
+  const std::string header = readFile(kSource / "src" / "log" / "schema.hpp");
   const std::regex constant(R"re(inline constexpr char (k\w+)\[\] = "([^"]*)";)re");
   const std::regex opening(R"re(^namespace (\w+) \{)re"), closing(R"re(^\}  // namespace (\w+)$)re");
   std::map<std::string, std::string> out;
   std::istringstream in(header);
-  std::string current;  // the namespace the line is in, below keel::fault::schema
+  std::string current;  // the namespace the line is in, below keel::log::schema
   std::smatch m;
   for (std::string line; std::getline(in, line);) {
     if (std::regex_search(line, m, opening)) current = m[1];
@@ -225,4 +225,4 @@ TEST(LogSchema, TheExampleRecordsUseOnlyTheSchemasNames) {
 }
 
 }  // namespace
-}  // namespace keel::fault
+}  // namespace keel::log

@@ -1,4 +1,4 @@
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 
 #include "support/temp_log.hpp"
 
-namespace keel::fault {
+namespace keel::injection {
 namespace {
 
 class ScenarioFile : public ::testing::Test {
@@ -157,4 +157,4 @@ TEST_F(ScenarioFile, SoftwareKindsTakeNoArgsAndHardwareKindsNothingElse) {
 }
 
 }  // namespace
-}  // namespace keel::fault
+}  // namespace keel::injection

@@ -1,4 +1,4 @@
-#include "engine/crossing.hpp"
+#include "supervision/crossing.hpp"
 
 #include <fmt/format.h>
 
@@ -10,12 +10,10 @@
 #include "runtime/executor.hpp"
 #include "runtime/futex.hpp"
 
-namespace keel::engine {
+namespace keel::supervision {
 namespace {
 
 namespace ipc = runtime::ipc;
-
-std::string at(const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); }
 
 std::string what(const plan::PlannedConnection& c) {
   return fmt::format("port_connection {}.{} -> {}.{}", c.source.component, c.source.port, c.target.component,
@@ -47,6 +45,18 @@ std::size_t ringSlots(const plan::Plan& plan, const plan::PlannedConnection& c) 
       if (e.name == c.target.port) queue = e.queue_size;
   }
   return std::bit_ceil(std::max<std::size_t>({queue, 64}));
+}
+
+std::optional<std::string> crossingProblem(const plan::Plan& plan, const plan::PlannedConnection& c,
+                                           const detail::PortBase& port) {
+  if (port.byteSize() != 0) return std::nullopt;
+  return fmt::format(
+      "{}: {}: a value of type '{}' cannot cross processes ('{}' runs in {}, '{}' in {}): values are copied "
+      "between processes as bytes, so the type must be trivially copyable (no pointers, std::string or "
+      "std::vector inside)",
+      c.where.str(), what(c), port.typeName(), c.source.component,
+      plan::describeProcess(plan.processOf(c.source.component)), c.target.component,
+      plan::describeProcess(plan.processOf(c.target.component)));
 }
 
 struct Crossings::Writer final : detail::ByteSink {
@@ -121,7 +131,7 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
       auto fd = fds.find(k);
       if (!writes && !reads) continue;
       if (fd == fds.end()) {
-        errors += fmt::format("{}: {}: no ring was handed to this process\n", at(c.where), what(c));
+        errors += fmt::format("{}: {}: no ring was handed to this process\n", c.where.str(), what(c));
         continue;
       }
       ipc::SharedMemory region = ipc::SharedMemory::adoptUnmapped(fd->second, fmt::format("keel-ring-{}", k));
@@ -130,16 +140,11 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
       Component* comp = find(mine.component);
       detail::PortBase* port = comp ? runtime::coreOf(*comp).findPort(mine.port) : nullptr;
       if (!port) {
-        errors += fmt::format("{}: {}: no port '{}' on '{}'\n", at(c.where), what(c), mine.port, mine.component);
+        errors += fmt::format("{}: {}: no port '{}' on '{}'\n", c.where.str(), what(c), mine.port, mine.component);
         continue;
       }
-      if (port->byteSize() == 0) {
-        errors += fmt::format(
-            "{}: {}: a value of type '{}' cannot cross processes ('{}' runs in {}, '{}' in {}): values are copied "
-            "between processes as bytes, so the type must be trivially copyable (no pointers, std::string or "
-            "std::vector inside)\n",
-            at(c.where), what(c), port->typeName(), c.source.component, plan::describeProcess(from), c.target.component,
-            plan::describeProcess(to));
+      if (auto problem = crossingProblem(plan, c, *port)) {
+        errors += *problem + "\n";
         continue;
       }
       const std::size_t size = port->byteSize();
@@ -169,7 +174,7 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
           ring = mapped.error();
         }
         if (!ring) {
-          errors += fmt::format("{}: {}: {}\n", at(c.where), what(c), ring.error().message);
+          errors += fmt::format("{}: {}: {}\n", c.where.str(), what(c), ring.error().message);
           continue;
         }
         w->ring.emplace(std::move(*ring));
@@ -184,12 +189,12 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
                std::chrono::steady_clock::now() < deadline)
           runtime::futexWait(ready, ipc::kRingPending, &deadline, runtime::FutexScope::Shared);
         if (ready.load(std::memory_order_acquire) == ipc::kRingAbandoned) {
-          errors += fmt::format("{}: {}: the run stopped before its writer '{}' ({}) set up the ring\n", at(c.where),
+          errors += fmt::format("{}: {}: the run stopped before its writer '{}' ({}) set up the ring\n", c.where.str(),
                                 what(c), c.source.component, plan::describeProcess(from));
           continue;
         }
         if (ready.load(std::memory_order_acquire) == ipc::kRingPending) {
-          errors += fmt::format("{}: {}: its writer '{}' ({}) did not set up the ring within {} ms\n", at(c.where),
+          errors += fmt::format("{}: {}: its writer '{}' ({}) did not set up the ring within {} ms\n", c.where.str(),
                                 what(c), c.source.component, plan::describeProcess(from), wait.count());
           continue;
         }
@@ -197,7 +202,7 @@ Result<void> Crossings::connect(const plan::Plan& plan, const std::string& proce
         if (auto mapped = region.map(); mapped) ring = ipc::RingBuffer::attach(std::move(region), size);
         else ring = mapped.error();
         if (!ring) {
-          errors += fmt::format("{}: {}: {}\n", at(c.where), what(c), ring.error().message);
+          errors += fmt::format("{}: {}: {}\n", c.where.str(), what(c), ring.error().message);
           continue;
         }
         auto r = std::make_unique<Reader>();
@@ -274,4 +279,4 @@ std::uint64_t Crossings::dropped() const {
   return n;
 }
 
-}  // namespace keel::engine
+}  // namespace keel::supervision

@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace keel::fault::schema {
+namespace keel::log::schema {
 
 /// The `event` of a record.
 namespace event {
@@ -191,4 +191,4 @@ inline nlohmann::json warning(std::string_view message) {
   return {{field::kEvent, event::kWarning}, {field::kMessage, message}};
 }
 
-}  // namespace keel::fault::schema
+}  // namespace keel::log::schema

@@ -13,13 +13,13 @@
 #include <thread>
 #include <vector>
 
-#include "fault/fault_log.hpp"
 #include "fault/fault_manager.hpp"
-#include "fault/scenario.hpp"
+#include "injection/scenario.hpp"
+#include "log/fault_log.hpp"
 #include "runtime/wake_signal.hpp"
 #include "runtime/warning.hpp"
 
-namespace keel::fault {
+namespace keel::injection {
 
 class Injector {
  public:
@@ -27,7 +27,7 @@ class Injector {
   using Warn = runtime::Warn;
 
   /// `warn` reports a hardware fault its component did not take (default: stderr).
-  Injector(Scenario scenario, Find find, FaultManager& manager, FaultLog& log, Warn warn = {});
+  Injector(Scenario scenario, Find find, fault::FaultManager& manager, log::FaultLog& log, Warn warn = {});
   ~Injector();
   Injector(const Injector&) = delete;
   Injector& operator=(const Injector&) = delete;
@@ -47,12 +47,12 @@ class Injector {
 
   Scenario scenario_;
   Find find_;
-  FaultManager& manager_;
-  FaultLog& log_;
+  fault::FaultManager& manager_;
+  log::FaultLog& log_;
   Warn warn_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   runtime::WakeSignal signal_;
 };
 
-}  // namespace keel::fault
+}  // namespace keel::injection

@@ -21,6 +21,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -30,8 +31,9 @@
 #include "plan/plan.hpp"
 #include "runtime/ipc/ring.hpp"
 #include "runtime/ipc/session.hpp"
+#include "runtime/warning.hpp"
 
-namespace keel::engine {
+namespace keel::supervision {
 
 /// The data and event connections of `plan` whose ends run in different processes, as indices
 /// into plan.connections: index i of this list is the connection's ring index in the session.
@@ -41,11 +43,18 @@ std::vector<std::size_t> crossingConnections(const plan::Plan& plan);
 /// two, at least 64 (the reader drains the ring into the queue, which applies the policy).
 std::size_t ringSlots(const plan::Plan& plan, const plan::PlannedConnection& c);
 
+/// Why `port` (one end of the crossing connection `c`) cannot cross processes, as
+/// `file:line: message`, or nothing: values cross as bytes, so a type that is not trivially
+/// copyable (a std::string inside) cannot. A component process refuses such a connection when
+/// it connects; keel validate --load, which loads every process's code, at load.
+std::optional<std::string> crossingProblem(const plan::Plan& plan, const plan::PlannedConnection& c,
+                                           const detail::PortBase& port);
+
 class Crossings {
  public:
   using Find = std::function<Component*(std::string_view instance)>;
   using Fenced = std::function<void()>;  // this process's writer was fenced by a takeover
-  using Warn = std::function<void(const std::string&)>;
+  using Warn = runtime::Warn;
 
   Crossings();
   ~Crossings();
@@ -91,4 +100,4 @@ class Crossings {
   std::vector<std::unique_ptr<Reader>> readers_;
 };
 
-}  // namespace keel::engine
+}  // namespace keel::supervision

@@ -1,8 +1,8 @@
-// The fault log's tee (src/fault/fault_log.hpp, keel run --log-tee): each line goes to the tee
+// The fault log's tee (src/log/fault_log.hpp, keel run --log-tee): each line goes to the tee
 // right after the log has it. A file gets every line; a pipe gets each line whole or not at
 // all, and a reader that is behind, or gone, never holds the writer up nor kills it: the lines
 // it missed are counted.
-#include "fault/fault_log.hpp"
+#include "log/fault_log.hpp"
 
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -14,12 +14,12 @@
 #include <string>
 #include <vector>
 
-#include "fault/log_schema.hpp"
+#include "log/schema.hpp"
 #include "support/pipe_reader.hpp"
 #include "support/process.hpp"
 #include "support/temp_log.hpp"
 
-namespace keel::fault {
+namespace keel::log {
 namespace {
 
 /// A pipe whose ends close with the test.
@@ -133,4 +133,4 @@ TEST(FaultLog, AFifoWithoutAReaderIsRefusedWithWhy) {
 }
 
 }  // namespace
-}  // namespace keel::fault
+}  // namespace keel::log

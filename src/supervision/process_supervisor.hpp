@@ -18,7 +18,6 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <map>
 #include <memory>
@@ -27,14 +26,16 @@
 #include <thread>
 #include <vector>
 
-#include "fault/fault_log.hpp"
 #include "keel/component.hpp"
 #include "keel/result.hpp"
+#include "log/fault_log.hpp"
 #include "plan/plan.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/ipc/session.hpp"
+#include "runtime/job_thread.hpp"
+#include "runtime/warning.hpp"
 
-namespace keel::engine {
+namespace keel::supervision {
 
 /// How keel run starts a host: the executable and the arguments that make it plan the same
 /// run (the profile, --set, --inject, --log); the supervisor adds the host's own.
@@ -48,12 +49,12 @@ std::string defaultHostExecutable();
 
 class ProcessSupervisor {
  public:
-  using Warn = std::function<void(const std::string&)>;
+  using Warn = runtime::Warn;
 
   /// `rings`: every crossing connection's memfd, by ring index (crossing.hpp); `log` gets a
   /// `host` record per host that ends.
   ProcessSupervisor(const plan::Plan& plan, runtime::ipc::Session& session,
-                    std::vector<runtime::ipc::SharedMemory> rings, HostLaunch launch, Warn warn, fault::FaultLog& log);
+                    std::vector<runtime::ipc::SharedMemory> rings, HostLaunch launch, Warn warn, log::FaultLog& log);
   ~ProcessSupervisor();
   ProcessSupervisor(const ProcessSupervisor&) = delete;
   ProcessSupervisor& operator=(const ProcessSupervisor&) = delete;
@@ -99,7 +100,7 @@ class ProcessSupervisor {
   std::vector<runtime::ipc::SharedMemory> rings_;
   HostLaunch launch_;
   Warn warn_;
-  fault::FaultLog& log_;
+  log::FaultLog& log_;
   Report report_;
   std::vector<std::unique_ptr<Group>> groups_;
   std::atomic<bool> stopping_{false};
@@ -110,12 +111,7 @@ class ProcessSupervisor {
   std::condition_variable beat_cv_;
   std::vector<std::thread> beat_watchers_;
 
-  // The spawner thread and its queue of jobs.
-  std::mutex spawn_mutex_;
-  std::condition_variable spawn_cv_;
-  std::deque<std::function<void()>> spawn_jobs_;
-  bool spawner_done_ = false;
-  std::thread spawner_;
+  runtime::JobThread spawner_;  // every host is started from it
 };
 
-}  // namespace keel::engine
+}  // namespace keel::supervision

@@ -1,0 +1,41 @@
+#include "runtime/job_thread.hpp"
+
+#include <utility>
+
+namespace keel::runtime {
+
+JobThread::JobThread() : thread_([this] { run(); }) {}
+
+JobThread::~JobThread() { stop(); }
+
+void JobThread::post(std::function<void()> job) {
+  {
+    std::lock_guard lock(mutex_);
+    jobs_.push_back(std::move(job));
+  }
+  wake_.notify_one();
+}
+
+void JobThread::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    done_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable() && !isCurrent()) thread_.join();
+}
+
+void JobThread::run() {
+  std::unique_lock lock(mutex_);
+  for (;;) {
+    wake_.wait(lock, [this] { return done_ || !jobs_.empty(); });
+    if (jobs_.empty()) return;  // stopped, and nothing left to run
+    auto job = std::move(jobs_.front());
+    jobs_.pop_front();
+    lock.unlock();
+    job();
+    lock.lock();
+  }
+}
+
+}  // namespace keel::runtime
