@@ -97,7 +97,7 @@ long rssKib() {
 
 std::size_t activeComponents(const engine::Engine& engine) {
   return static_cast<std::size_t>(std::count_if(engine.instances().begin(), engine.instances().end(),
-                                                [](const auto& i) { return i.active()->state() == State::Active; }));
+                                                [](const auto& i) { return i.serving()->state() == State::Active; }));
 }
 
 double median(std::vector<double> v) {

@@ -162,7 +162,7 @@ Result<void> Engine::setUpProcesses() {
 
 Component* Engine::find(std::string_view instance) const {
   const auto it = by_name_.find(instance);
-  return it == by_name_.end() ? nullptr : it->second->active();
+  return it == by_name_.end() ? nullptr : it->second->serving();
 }
 
 void Engine::warn(const std::string& message) {
@@ -351,7 +351,7 @@ Result<void> Engine::start() {
   }
   if (options_.host && options_.host->role().standby) {
     // A standby's components serve only if it takes over: their `state` records wait for it
-    // (the log's records of a name are the lifecycle of the one in service).
+    // (the log's records of a name are the lifecycle of its serving component).
     std::lock_guard lock(held_mutex_);
     hold_records_ = true;
   }
@@ -424,7 +424,7 @@ void Engine::startDetectors() {
     std::int64_t period = inst.executor && inst.executor->config().kind == runtime::ExecutorKind::Periodic
                               ? inst.executor->config().period.count()
                               : 0;
-    watched.push_back({inst.current.get(), core.watch.heartbeat_ns, period});
+    watched.push_back({inst.serving_slot.get(), core.watch.heartbeat_ns, period});
   }
   watchdog_ = std::make_unique<fault::Watchdog>(std::move(watched), fault_manager_,
                                                 [this](const std::string& m) { warn(m); });
@@ -441,7 +441,7 @@ void Engine::shutdown() {
   fault_manager_.stop();           // handles and logs what is queued; adds no executor after this
   for (auto& inst : instances_) {  // injected hangs, of replaced components too
     runtime::coreOf(*inst.component).injection.release_hang.store(true);
-    runtime::coreOf(*inst.active()).injection.release_hang.store(true);
+    runtime::coreOf(*inst.serving()).injection.release_hang.store(true);
   }
   for (auto& ex : executors_) ex->requestStop();
   crossings_.stop();  // no more values from other processes into components that stop
@@ -461,13 +461,13 @@ void Engine::shutdown() {
   };
   for (auto& inst : instances_) {
     if (inst.executor) continue;
-    Component& c = *inst.active();
+    Component& c = *inst.serving();
     std::lock_guard lock(runtime::coreOf(c).passive_mutex);
     runtime::transition(c, Transition::Stop);
   }
   fault_manager_.flushUndetected(components());
   if (started_) logCounts();
-  // The log's `state` records of a name are the lifecycle of the one in service: a primary it
+  // The log's `state` records of a name are the lifecycle of its serving component: a primary it
   // replaced and an alternative standing by get onDestroy without records of their own.
   auto destroyQuietly = [](Component& c) {
     detail::ComponentCore& core = runtime::coreOf(c);
@@ -476,8 +476,8 @@ void Engine::shutdown() {
     runtime::transition(c, Transition::Destroy);
   };
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
-    if (!stuck(*it->active())) runtime::transition(*it->active(), Transition::Destroy);
-    if (it->active() != it->component.get() && !stuck(*it->component)) destroyQuietly(*it->component);  // replaced
+    if (!stuck(*it->serving())) runtime::transition(*it->serving(), Transition::Destroy);
+    if (it->serving() != it->component.get() && !stuck(*it->component)) destroyQuietly(*it->component);  // replaced
   }
   {
     std::lock_guard lock(alternatives_mutex_);
@@ -491,7 +491,7 @@ void Engine::shutdown() {
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
-    it->current->store(nullptr, std::memory_order_release);
+    it->serving_slot->store(nullptr, std::memory_order_release);
     if (stuck(*it->component)) (void)it->component.release();
     else it->component.reset();
   }
@@ -515,7 +515,7 @@ void Engine::logCounts() {
   };
   for (const auto& inst : instances_) {
     if (!isLocal(*inst.plan)) continue;
-    const Component& c = *inst.active();
+    const Component& c = *inst.serving();
     const auto& core = runtime::coreOf(c);
     std::uint64_t executions = core.executions.load();
     std::uint64_t misses = core.deadline_overruns.load();
@@ -600,7 +600,7 @@ std::vector<const runtime::Executor*> Engine::executors() const {
 std::vector<Component*> Engine::components() const {
   std::vector<Component*> out;
   for (const auto& i : instances_)
-    if (Component* c = i.active()) out.push_back(c);
+    if (Component* c = i.serving()) out.push_back(c);
   return out;
 }
 

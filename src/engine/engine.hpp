@@ -80,11 +80,12 @@ struct Instance {
   const plan::PlannedInstance* plan = nullptr;
   std::unique_ptr<Component> component;   // as created from the plan
   runtime::Executor* executor = nullptr;  // null: passive
-  /// The component in service under this name: `component`, or the alternative that replaced it.
-  std::unique_ptr<std::atomic<Component*>> current = std::make_unique<std::atomic<Component*>>(nullptr);
+  /// The serving component: the one this name stands for now, `component` or the alternative
+  /// that replaced it (an atomic of its own: the address stays put while instances_ grows).
+  std::unique_ptr<std::atomic<Component*>> serving_slot = std::make_unique<std::atomic<Component*>>(nullptr);
   std::unique_ptr<fault::ComponentHandling> handling;  // its compiled rules (src/fault/rules.hpp)
 
-  Component* active() const { return current->load(std::memory_order_acquire); }
+  Component* serving() const { return serving_slot->load(std::memory_order_acquire); }
 };
 
 /// A connection as made: the fault manager's replacement re-points it (engine_recovery.cpp).
@@ -94,7 +95,7 @@ struct Wire {
   detail::PortBase* target = nullptr;            // input port, or provided service port
 };
 
-class Engine final : public runtime::RunHooks, public fault::HandlingHost, public dds::PeerWatch {
+class Engine final : public runtime::RunHooks, public fault::RecoveryActions, public dds::PeerWatch {
  public:
   /// Plans `set` with options.property_settings applied, then as below.
   static Result<std::unique_ptr<Engine>> create(profile::ProfileSet set, EngineOptions options);
@@ -111,7 +112,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   /// reverse order. Idempotent; called by the destructor if not before.
   void shutdown();
 
-  /// The component in service under `instance` (a replacement after a replacement).
+  /// The serving component of `instance` (an alternative, once one replaced it).
   Component* find(std::string_view instance) const override;
   const plan::Plan& plan() const { return planned_.plan; }
   const std::vector<Instance>& instances() const { return instances_; }
@@ -121,7 +122,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   fault::FaultManager& faultManager() { return fault_manager_; }
   const fault::FaultManager& faultManager() const { return fault_manager_; }
   std::vector<fault::FaultCount> faultCounts() const { return fault_manager_.counts(); }
-  /// Every component in service, for detectors that scan them and the fault manager.
+  /// Every serving component, for detectors that scan them and the fault manager.
   std::vector<Component*> components() const override;
   const fault::DependencyGraph* graph() const { return graph_ ? &*graph_ : nullptr; }
   /// keel run's supervisor of the component processes; null without <process>.
@@ -144,7 +145,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   void stateChanged(Component& c, State from, State to) override;
   void endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) override;
 
-  // fault::HandlingHost (engine_recovery.cpp)
+  // fault::RecoveryActions (engine_recovery.cpp)
   Result<Component*> createAlternative(fault::ComponentHandling& h, Component& failed) override;
   void switchTo(Component& failed, Component& alternative) override;
   Result<std::string> abandonExecutor(Component& hung, Component* alternative) override;
@@ -235,7 +236,7 @@ class Engine final : public runtime::RunHooks, public fault::HandlingHost, publi
   std::mutex create_mutex_;                               // one alternative created at a time (any thread)
   std::mutex alternatives_mutex_;                         // guards the two below
   std::deque<plan::PlannedInstance> alternative_plans_;   // the alternatives' plans (stable addresses)
-  std::vector<std::unique_ptr<Component>> alternatives_;  // alternatives created: standing by or in service
+  std::vector<std::unique_ptr<Component>> alternatives_;  // alternatives created: standing by or serving
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
   std::map<std::string, std::unique_ptr<runtime::ExecutionGate>> gates_;  // by instance: OPRoS's depends
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_

@@ -94,7 +94,7 @@ Result<void> Engine::instantiate() {
       core.hooks = this;
       core.fault_sink = &fault_manager_;
       (void)configurePorts(inst);  // its one port has no validity: cannot fail
-      inst.current->store(inst.component.get(), std::memory_order_release);
+      inst.serving_slot->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
       continue;
     }
@@ -108,7 +108,7 @@ Result<void> Engine::instantiate() {
       core.class_name = cp.name;
       core.hooks = nullptr;  // its component's states are logged by the process that runs it
       core.fault_sink = &fault_manager_;
-      inst.current->store(inst.component.get(), std::memory_order_release);
+      inst.serving_slot->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
       continue;
     }
@@ -117,7 +117,7 @@ Result<void> Engine::instantiate() {
       errors += inst.error().message;
       continue;
     }
-    inst->current->store(inst->component.get(), std::memory_order_release);
+    inst->serving_slot->store(inst->component.get(), std::memory_order_release);
     instances_.push_back(std::move(*inst));
   }
   for (const auto& inst : instances_) by_name_.emplace(inst.plan->name, &inst);

@@ -1,4 +1,4 @@
-// Engine: what the fault manager needs to handle faults (fault::HandlingHost) — the compiled
+// Engine: what the fault manager needs to handle faults (fault::RecoveryActions) — the compiled
 // rules and the dependency graph set up at load, alternatives created ahead of time
 // (preload="true") or at fault time, and the switch that puts an alternative in a failed
 // component's place: its input connections re-pointed, its provided services rebound, its
@@ -115,7 +115,7 @@ void Engine::switchTo(Component& failed, Component& alternative) {
     ex->replaceMember(failed, alternative);
   redirectInputs(failed, alternative);
   for (auto& inst : instances_)
-    if (inst.active() == &failed) inst.current->store(&alternative, std::memory_order_release);
+    if (inst.serving() == &failed) inst.serving_slot->store(&alternative, std::memory_order_release);
 }
 
 Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternative) {
@@ -138,9 +138,9 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
     }
   }
   for (auto& inst : instances_) {
-    if (inst.executor == old && inst.active() != &hung) inst.executor = fresh.get();
-    if (alternative && inst.active() == &hung) {
-      inst.current->store(alternative, std::memory_order_release);
+    if (inst.executor == old && inst.serving() != &hung) inst.executor = fresh.get();
+    if (alternative && inst.serving() == &hung) {
+      inst.serving_slot->store(alternative, std::memory_order_release);
       inst.executor = fresh.get();
     }
   }
@@ -174,7 +174,7 @@ std::vector<dds::Health> Engine::health() const {
   const std::vector<fault::Handling> handlings = fault_manager_.handlings();
   const std::set<std::string> stopped = fault_manager_.stoppedComponents();
   for (const Instance& inst : instances_) {
-    const Component* c = inst.active();
+    const Component* c = inst.serving();
     if (c == nullptr) continue;
     dds::Health h;
     const plan::PlannedInstance& pi = *inst.plan;

@@ -76,9 +76,9 @@ Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
   log.write(std::move(rec));
   for (const auto& a : applications)
     log.write(log::schema::applicationState(a, "running", "stopped", r.id, log.sinceStart(t)));
-  if (!hung || host_ == nullptr) return Outcome::Done;
+  if (!hung || actions_ == nullptr) return Outcome::Done;
   // Its executor cannot come back: the others move to a new thread.
-  auto moved = host_->abandonExecutor(*faulty, nullptr);
+  auto moved = actions_->abandonExecutor(*faulty, nullptr);
   r.add(ActionKind::Stop, static_cast<bool>(moved), runtime::steadyNs(), "executor abandoned{}{}",
         moved ? "; its other components now run on " : ": ", moved ? *moved : moved.error().message);
   return moved ? Outcome::Done : Outcome::Failed;
@@ -89,7 +89,7 @@ std::vector<std::string> Containment::emergencyStop(std::string_view by, std::ui
   log::FaultLog& log = records_.log();
   std::lock_guard guard(emergency_mutex_);
   emergency_.store(true, std::memory_order_release);
-  std::vector<Component*> all = host_ ? host_->components() : std::vector<Component*>{};
+  std::vector<Component*> all = actions_ ? actions_->components() : std::vector<Component*>{};
   for (Component* c : all) coreOf(*c).fault.emergency.store(true, std::memory_order_release);
   const std::int64_t t0 = runtime::steadyNs();
   nlohmann::json latched = log::schema::emergency("latched", by);
@@ -131,8 +131,8 @@ std::vector<std::string> Containment::emergencyStop(std::string_view by, std::ui
 bool Containment::clearEmergency(std::string_view by) {
   std::lock_guard guard(emergency_mutex_);
   if (!emergency_.exchange(false, std::memory_order_acq_rel)) return false;
-  if (host_)
-    for (Component* c : host_->components()) coreOf(*c).fault.emergency.store(false, std::memory_order_release);
+  if (actions_)
+    for (Component* c : actions_->components()) coreOf(*c).fault.emergency.store(false, std::memory_order_release);
   log::FaultLog& log = records_.log();
   log.write(log::schema::emergency("cleared", by));
   // The operator's step, as an emergency stop's is: an `action` a fault timeline shows.

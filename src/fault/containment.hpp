@@ -18,19 +18,19 @@
 #include "fault/dependency_graph.hpp"
 #include "fault/escalation.hpp"
 #include "fault/fault_records.hpp"
-#include "fault/handling_host.hpp"
+#include "fault/recovery_actions.hpp"
 #include "fault/report.hpp"
 
 namespace keel::fault {
 
 class Containment {
  public:
-  /// `find` maps an instance name to the component in service (null when unknown).
+  /// `find` maps an instance name to its serving component (null when unknown).
   Containment(FaultRecords& records, std::function<Component*(std::string_view)> find)
       : records_(records), find_(std::move(find)) {}
 
-  void attach(HandlingHost* host, const DependencyGraph* graph) {
-    host_ = host;
+  void attach(RecoveryActions* actions, const DependencyGraph* graph) {
+    actions_ = actions;
     graph_ = graph;
   }
 
@@ -64,7 +64,7 @@ class Containment {
 
   FaultRecords& records_;
   std::function<Component*(std::string_view)> find_;
-  HandlingHost* host_ = nullptr;
+  RecoveryActions* actions_ = nullptr;
   const DependencyGraph* graph_ = nullptr;
 
   std::atomic<bool> emergency_{false};

@@ -19,10 +19,10 @@ FaultManager::FaultManager(log::FaultLog& log, std::function<Component*(std::str
 
 FaultManager::~FaultManager() { stop(); }
 
-void FaultManager::attach(HandlingHost* host, const DependencyGraph* graph) {
-  host_ = host;
-  recovery_.attach(host);
-  containment_.attach(host, graph);
+void FaultManager::attach(RecoveryActions* actions, const DependencyGraph* graph) {
+  actions_ = actions;
+  recovery_.attach(actions);
+  containment_.attach(actions, graph);
 }
 
 void FaultManager::start() { queue_.start(); }

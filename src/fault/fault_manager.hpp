@@ -34,9 +34,9 @@
 #include "fault/diagnosis.hpp"
 #include "fault/escalation.hpp"
 #include "fault/fault_records.hpp"
-#include "fault/handling_host.hpp"
 #include "fault/handling_queue.hpp"
 #include "fault/recovery.hpp"
+#include "fault/recovery_actions.hpp"
 #include "fault/report.hpp"
 #include "keel/component.hpp"
 #include "keel/fault_event.hpp"
@@ -54,7 +54,7 @@ class FaultManager final : public runtime::FaultSink {
   FaultManager& operator=(const FaultManager&) = delete;
 
   /// Connects the manager to the runtime and the plan's dependency graph (may be null).
-  void attach(HandlingHost* host, const DependencyGraph* graph);
+  void attach(RecoveryActions* actions, const DependencyGraph* graph);
   /// `changed` is called after each fault report or recovery is logged (FaultRecords::onChange).
   void onChange(std::function<void()> changed) { records_.onChange(std::move(changed)); }
   /// Starts the manager's thread. Without it, reports are handled on the reporting thread.
@@ -126,7 +126,7 @@ class FaultManager final : public runtime::FaultSink {
   bool onManagerThread() const { return queue_.onThread(); }
 
   std::function<Component*(std::string_view)> find_;
-  HandlingHost* host_ = nullptr;
+  RecoveryActions* actions_ = nullptr;
   FaultIds ids_;
   FaultRecords records_;
   Recovery recovery_;

@@ -62,7 +62,7 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
 }
 
 Outcome Recovery::load(FaultReport& r, ComponentHandling& h) {
-  auto alt = host_ ? host_->createAlternative(h, *r.accused) : Result<Component*>(fail("no runtime"));
+  auto alt = actions_ ? actions_->createAlternative(h, *r.accused) : Result<Component*>(fail("no runtime"));
   if (!alt) {
     r.add(ActionKind::Replace, false, runtime::steadyNs(), "loading the alternative failed: {}", alt.error().message);
     return Outcome::Failed;
@@ -84,7 +84,7 @@ Outcome Recovery::replace(FaultReport& r, ComponentHandling& h) {
   }
   Component& failed = *r.accused;
   const std::size_t copied = runtime::copyCheckpoint(coreOf(failed), coreOf(*alt));
-  host_->switchTo(failed, *alt);
+  actions_->switchTo(failed, *alt);
   r.alternative = alt;
   runtime::GuardOutcome out = runtime::invokeRecovery(*alt, runtime::Callback::Start);
   const std::int64_t t = runtime::steadyNs();
@@ -116,8 +116,8 @@ void Recovery::abandon(FaultReport& r, ComponentHandling& h) {
     facts = h.facts();
     alt = h.ready_alternative;
   }
-  if (facts.has_alternative && !facts.replaced && alt == nullptr && host_) {
-    auto made = host_->createAlternative(h, hung);
+  if (facts.has_alternative && !facts.replaced && alt == nullptr && actions_) {
+    auto made = actions_->createAlternative(h, hung);
     if (made) alt = *made;
     else
       r.add(ActionKind::Replace, false, runtime::steadyNs(), "loading the alternative failed: {}",
@@ -127,7 +127,7 @@ void Recovery::abandon(FaultReport& r, ComponentHandling& h) {
   facts.alternative_ready = alt != nullptr;
   const Decision d = decide(from, Outcome::Hung, facts);
   r.add(ActionKind::Escalate, true, runtime::steadyNs(), "{} → {}: {}", toString(from), toString(d.next), d.why);
-  auto moved = host_ ? host_->abandonExecutor(hung, alt) : Result<std::string>(fail("no runtime"));
+  auto moved = actions_ ? actions_->abandonExecutor(hung, alt) : Result<std::string>(fail("no runtime"));
   const std::int64_t t = runtime::steadyNs();
   if (!moved) {
     r.add(ActionKind::Stop, false, t, "executor not abandoned: {}", moved.error().message);

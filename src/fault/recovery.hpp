@@ -8,7 +8,7 @@
 #pragma once
 
 #include "fault/escalation.hpp"
-#include "fault/handling_host.hpp"
+#include "fault/recovery_actions.hpp"
 #include "fault/report.hpp"
 #include "keel/result.hpp"
 
@@ -16,7 +16,7 @@ namespace keel::fault {
 
 class Recovery {
  public:
-  void attach(HandlingHost* host) { host_ = host; }
+  void attach(RecoveryActions* actions) { actions_ = actions; }
 
   /// Whether a reset now is within the restart intensity (Outcome::Done) or not.
   Outcome intensityAt(ComponentHandling& h, std::int64_t now_ns) const;
@@ -36,7 +36,7 @@ class Recovery {
   void noteRecovery(ComponentHandling& h, std::int64_t t);
   static void markRecovering(const FaultReport& r, Component& c);
 
-  HandlingHost* host_ = nullptr;
+  RecoveryActions* actions_ = nullptr;
 };
 
 }  // namespace keel::fault

@@ -23,7 +23,7 @@
 namespace keel::fault {
 
 struct WatchedComponent {
-  const std::atomic<Component*>* component = nullptr;  // the one in service (a replacement too)
+  const std::atomic<Component*>* component = nullptr;  // the serving component (an alternative too)
   std::int64_t timeout_ns = 0;
   std::int64_t period_ns = 0;  // 0: aperiodic or passive (only callbacks are timed)
 };

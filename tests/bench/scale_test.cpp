@@ -63,7 +63,7 @@ TEST_F(ScaleProfiles, ThePackageRunsEveryComponentOnTasksOfTen) {
   EXPECT_EQ(engine->find("c24")->state(), State::Active);
   EXPECT_EQ(engine->find("c25"), nullptr);
   EXPECT_EQ(engine->executors().size(), 3u);  // 10 + 10 + 5
-  for (const auto& inst : engine->instances()) EXPECT_EQ(inst.active()->state(), State::Active) << inst.plan->name;
+  for (const auto& inst : engine->instances()) EXPECT_EQ(inst.serving()->state(), State::Active) << inst.plan->name;
 }
 
 TEST_F(ScaleProfiles, TheSystemChainsItsApplicationsSoAFaultOfTheFirstStopsAll) {

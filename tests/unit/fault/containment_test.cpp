@@ -17,7 +17,7 @@
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
 #include "runtime/invoke.hpp"
-#include "support/fake_host.hpp"
+#include "support/fake_recovery_actions.hpp"
 #include "support/log_reader.hpp"
 #include "support/temp_log.hpp"
 
@@ -64,7 +64,7 @@ struct Rig {
 
   test::TempLog file{"keel_containment"};
   FaultRecords records{file.log};
-  test::FakeHost host;
+  test::FakeRecoveryActions host;
   Containment containment{records, host.lookup()};
 };
 

@@ -14,7 +14,7 @@
 #include "log/schema.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/invoke.hpp"
-#include "support/fake_host.hpp"
+#include "support/fake_recovery_actions.hpp"
 #include "support/log_reader.hpp"
 #include "support/temp_log.hpp"
 
@@ -132,7 +132,7 @@ struct Rig {
   test::TempLog file{"keel_fault_manager"};
   Joint arm{"arm"};
   ComponentHandling handling{Rules{}, "arm"};
-  test::FakeHost host;
+  test::FakeRecoveryActions host;
   FaultManager manager{file.log, host.lookup()};
 };
 

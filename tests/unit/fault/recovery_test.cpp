@@ -63,7 +63,7 @@ class Worker : public Component {
 };
 
 /// The runtime side, faked: records what recovery asks of it.
-class Host : public HandlingHost {
+class Host : public RecoveryActions {
  public:
   explicit Host(std::vector<std::string>& trace) : trace_(trace) {}
   Component* find(std::string_view) const override { return nullptr; }

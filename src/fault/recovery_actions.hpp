@@ -16,10 +16,10 @@ namespace keel::fault {
 
 struct ComponentHandling;
 
-class HandlingHost {
+class RecoveryActions {
  public:
-  virtual ~HandlingHost() = default;
-  /// The component in service under `instance` (null: unknown). Any thread.
+  virtual ~RecoveryActions() = default;
+  /// The serving component of `instance` (null: unknown). Any thread.
   virtual Component* find(std::string_view instance) const = 0;
   /// Every running component (replacements in place of what they replaced). Any thread.
   virtual std::vector<Component*> components() const = 0;

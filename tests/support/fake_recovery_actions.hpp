@@ -1,4 +1,4 @@
-// Test support: the engine's side of fault handling (fault::HandlingHost), faked over a list of
+// Test support: the engine's side of fault handling (fault::RecoveryActions), faked over a list of
 // components for the fault manager's parts without an engine. It finds the components by
 // instance name; it has no alternative to create and no executor to abandon.
 #pragma once
@@ -8,11 +8,11 @@
 #include <string_view>
 #include <vector>
 
-#include "fault/handling_host.hpp"
+#include "fault/recovery_actions.hpp"
 
 namespace keel::test {
 
-class FakeHost : public fault::HandlingHost {
+class FakeRecoveryActions : public fault::RecoveryActions {
  public:
   std::vector<Component*> all;  // the running components
 
