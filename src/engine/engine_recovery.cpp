@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <optional>
 #include <set>
 
 #include "engine/engine.hpp"
@@ -169,7 +170,18 @@ void Engine::peerBack(const std::string& instance, std::uint64_t id, std::int64_
 // OK: running, no fault within kRecentFault. WARN: running, with a remote fault whose writer
 // has not come back, or a fault within kRecentFault. ERROR: in Error, or stopped by fault
 // handling. STALE: not running (not started yet, stopped, destroyed).
+//
+// A fault is diagnosed (counted in the accused's core, the accused set to Error) on the thread
+// that detected it, and recorded later on the fault manager's: a fault the records do not have
+// yet is taken from the core, so that an Error is never reported without its fault.
 std::vector<dds::Health> Engine::health() const {
+  struct Last {
+    FaultKind kind = FaultKind::User;
+    std::uint64_t id = 0;
+    std::int64_t detected_ns = 0;
+    std::string actions;
+    bool recovered = false;
+  };
   std::vector<dds::Health> out;
   const std::vector<fault::Handling> handlings = fault_manager_.handlings();
   const std::set<std::string> stopped = fault_manager_.stoppedComponents();
@@ -181,30 +193,40 @@ std::vector<dds::Health> Engine::health() const {
     const std::string app = pi.application.empty() ? planned_.plan.name : pi.application;
     const std::string name = pi.application.empty() ? pi.name : pi.name.substr(pi.application.size() + 1);
     h.name = fmt::format("keel/{}/{}", app, name);
-    const State state = c->state();
+    const State state = c->state();  // first: what made it Error is counted before
+    const auto& core = runtime::coreOf(*c);
+    const std::uint64_t diagnosed = core.faults.load(std::memory_order_acquire);
     h.state = std::string(toString(state));
-    const fault::Handling* last = nullptr;
-    for (const fault::Handling& x : handlings)
-      if (x.component == pi.name) {
-        ++h.faults;
-        last = &x;
-      }
+    std::optional<Last> last;
+    std::uint64_t recorded = 0;  // of these, of `c` itself
+    for (const fault::Handling& x : handlings) {
+      if (x.component != pi.name) continue;
+      ++h.faults;
+      recorded += x.accused == c ? 1 : 0;
+      last = Last{x.kind, x.fault_id, x.detected_ns, x.actions, x.recovered_ns != 0};
+    }
+    if (diagnosed > recorded) {  // being handled, not recorded yet
+      h.faults += diagnosed - recorded;
+      last = Last{static_cast<FaultKind>(core.fault.last_kind.load(std::memory_order_relaxed)),
+                  core.fault.last_id.load(std::memory_order_relaxed),
+                  core.fault.last_ns.load(std::memory_order_relaxed), "being handled", false};
+    }
     if (last)
-      h.last_fault = fmt::format("{} (fault {}): {}{}", toString(last->kind), last->fault_id, last->actions,
-                                 last->recovered_ns ? ", recovered" : "");
+      h.last_fault = fmt::format("{} (fault {}): {}{}", toString(last->kind), last->id, last->actions,
+                                 last->recovered ? ", recovered" : "");
     if (state == State::Error || stopped.count(pi.name)) {
       h.level = dds::Health::Error;
       h.message = state == State::Error ? "in Error after a fault" : "stopped by fault handling";
     } else if (state != State::Active) {
       h.level = dds::Health::Stale;
       h.message = fmt::format("not running ({})", h.state);
-    } else if (last && last->recovered_ns == 0 && last->kind == FaultKind::Remote) {
+    } else if (last && !last->recovered && last->kind == FaultKind::Remote) {
       h.level = dds::Health::Warn;
       h.message = "running; the writer of a topic it subscribes to is lost";
     } else if (last && runtime::steadyNs() - last->detected_ns < kRecentFault.count()) {
       h.level = dds::Health::Warn;
       h.message = fmt::format("running; a {} fault within the last {} s ({})", toString(last->kind),
-                              kRecentFault.count() / 1'000'000'000, last->recovered_ns ? "recovered" : "handled");
+                              kRecentFault.count() / 1'000'000'000, last->recovered ? "recovered" : "handled");
     } else {
       h.message = last ? "running; its faults recovered" : "running";
     }

@@ -56,7 +56,6 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
     if (Component* c = named(reporter, fault.componentName(), find)) accused = c;
   }
   auto& core = coreOf(*accused);
-  core.faults.fetch_add(1, std::memory_order_relaxed);
 
   FaultReport r;
   r.event = fault;
@@ -67,6 +66,12 @@ FaultReport diagnose(Component& reporter, const FaultEvent& fault, std::string_v
   FaultEvent::copyInto(r.detector, detector.empty() ? std::string_view(reporter.instanceName()) : detector);
   r.accused = accused;
   attributeInjection(r, core, ids);
+  // Counted before the accused goes to Error, so that whoever sees the Error (keel's
+  // /diagnostics) sees its fault too, before the records are written.
+  core.fault.last_id.store(r.id, std::memory_order_relaxed);
+  core.fault.last_kind.store(static_cast<std::uint8_t>(fault.kind), std::memory_order_relaxed);
+  core.fault.last_ns.store(detected, std::memory_order_relaxed);
+  core.faults.fetch_add(1, std::memory_order_release);
 
   auto* h = static_cast<ComponentHandling*>(core.fault.handling);
   const Rules no_rules;

@@ -46,6 +46,7 @@ struct Handling {
   std::int64_t detected_ns = 0;
   std::int64_t injected_ns = 0;   // 0: not injected
   std::int64_t recovered_ns = 0;  // 0: not (yet) recovered
+  const Component* accused = nullptr;  // the component object (an alternative has the name too)
 };
 
 class FaultRecords {

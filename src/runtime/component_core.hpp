@@ -107,6 +107,11 @@ struct FaultCell {
   // A passive stand-in for a component running in another process (keel run's proxy): when
   // that component ran again after its reset (steady ns), the `recovered` moment; 0: on return.
   std::atomic<std::int64_t> recovered_at_ns{0};
+  // The newest fault accusing this component, as diagnosed (before its records are written on
+  // the fault manager's thread): stored before `ComponentCore::faults` counts it.
+  std::atomic<std::uint64_t> last_id{0};
+  std::atomic<std::uint8_t> last_kind{0};  // a FaultKind
+  std::atomic<std::int64_t> last_ns{0};    // its detection, steady ns
 };
 }  // namespace keel::runtime
 
@@ -159,7 +164,7 @@ class ComponentCore {
 
   // Counters, read by the run's summary and the watchdog.
   std::atomic<std::uint64_t> executions{0};         // the executor's
-  std::atomic<std::uint64_t> faults{0};             // the fault manager's, for the accused
+  std::atomic<std::uint64_t> faults{0};             // diagnosed accusing it (fault.last_*: the newest)
   std::atomic<std::uint64_t> deadline_overruns{0};  // the executor's
 
   PortBase* findPort(std::string_view name) const {

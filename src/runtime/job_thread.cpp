@@ -26,6 +26,7 @@ void JobThread::stop() {
 }
 
 void JobThread::run() {
+  id_.store(std::this_thread::get_id(), std::memory_order_release);
   std::unique_lock lock(mutex_);
   for (;;) {
     wake_.wait(lock, [this] { return done_ || !jobs_.empty(); });

@@ -4,6 +4,7 @@
 // Thread-safety: post() and isCurrent() from any thread; stop() once, from one thread.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <functional>
@@ -23,7 +24,7 @@ class JobThread {
   /// Queues `job` behind those posted before it.
   void post(std::function<void()> job);
   /// Whether the caller is this thread (a job that must not wait for a later one).
-  bool isCurrent() const { return std::this_thread::get_id() == thread_.get_id(); }
+  bool isCurrent() const { return std::this_thread::get_id() == id_.load(std::memory_order_acquire); }
   /// Runs what was posted, then ends the thread and joins it. Idempotent.
   void stop();
 
@@ -33,6 +34,8 @@ class JobThread {
   std::condition_variable wake_;
   std::deque<std::function<void()>> jobs_;
   bool done_ = false;
+  // The thread's id, stored by the thread itself: thread_.get_id() would race with a join.
+  std::atomic<std::thread::id> id_{};
   std::thread thread_;  // last: started once the members it uses are
 };
 
