@@ -33,8 +33,16 @@ void FaultRecords::logDetection(const FaultReport& r) {
                          [&](const FaultCount& c) { return c.component == who && c.kind == kind; });
   if (fc != counts_.end()) ++fc->count;
   else counts_.push_back({who, kind, std::string(r.event.detailText()), 1});
-  handlings_.push_back(
-      {r.id, who, r.event.kind, std::string(toString(r.severity)), {}, false, r.event.t_ns, r.injected_ns, 0, r.accused});
+  handlings_.push_back({r.id,
+                        who,
+                        r.event.kind,
+                        std::string(toString(r.severity)),
+                        {},
+                        false,
+                        r.event.t_ns,
+                        r.injected_ns,
+                        0,
+                        r.accused});
 }
 
 void FaultRecords::logReport(FaultReport& r) {

@@ -44,8 +44,8 @@ struct Handling {
   std::string actions;  // "reset", "escalate, replace", ...
   bool failed = false;  // an action failed (the last word is then the outcome)
   std::int64_t detected_ns = 0;
-  std::int64_t injected_ns = 0;   // 0: not injected
-  std::int64_t recovered_ns = 0;  // 0: not (yet) recovered
+  std::int64_t injected_ns = 0;        // 0: not injected
+  std::int64_t recovered_ns = 0;       // 0: not (yet) recovered
   const Component* accused = nullptr;  // the component object (an alternative has the name too)
 };
 
