@@ -1,5 +1,8 @@
 #include "engine/engine.hpp"
 
+#include "engine/host_side.hpp"
+#include "engine/run_side.hpp"
+
 #include "log/schema.hpp"
 #include "runtime/clock.hpp"
 
@@ -25,9 +28,7 @@ Engine::Engine(EngineOptions options)
 
 Engine::~Engine() {
   shutdown();
-  if (options_.host) options_.host->setLog(nullptr);
-  supervisor_.reset();  // its threads report to the fault manager: gone before it is
-  if (holds_supervisor_lock_) (void)session_->supervisor().unlock();
+  if (side_) side_->close();  // the supervisor's threads report to the fault manager: gone before it is
 }
 
 Result<std::unique_ptr<Engine>> Engine::create(profile::ProfileSet set, EngineOptions options) {
@@ -41,39 +42,12 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
   std::unique_ptr<Engine> engine(new Engine(std::move(options)));
   Engine* e = engine.get();
   e->planned_ = std::move(planned);
-  supervision::ProcessHost* host = e->options_.host;
-  if (!e->options_.log_path.empty()) {
-    auto opened = host ? e->log_.join(e->options_.log_path, host->session().logEpoch().load())
-                       : e->log_.open(e->options_.log_path, e->options_.log_append);
-    if (!opened) return opened.error();
-  }
-  // Opened before the first record, so that the tee has them all. A host that cannot open it
-  // (keel run's pipe lost its reader) runs without: its warning waits for the log to be shared.
-  std::string tee_error;
-  if (!e->options_.log_tee.empty()) {
-    if (auto r = e->log_.openTee(e->options_.log_tee); !r) {
-      if (!host) return r.error();
-      tee_error = r.error().message;
-    } else if (!host) {
-      e->options_.host_launch.args.insert(e->options_.host_launch.args.end(),
-                                          {"--log-tee",
-                                           fmt::format("/proc/{}/fd/{}", ::getpid(), e->log_.teeDescriptor())});
-    }
-  }
-  if (!host) {
-    nlohmann::json load = log::schema::engine("load");
-    load[log::schema::field::kProfile] = e->set().root;
-    load[log::schema::field::kName] = e->planned_.plan.name;
-    nlohmann::json& names = load[log::schema::field::kComponents] = nlohmann::json::array();
-    for (const auto& pi : e->planned_.plan.instances) names.push_back(pi.name);
-    load[log::schema::field::kInstances] = e->planned_.plan.instances.size();
-    for (const auto& s : e->options_.property_settings) load[log::schema::field::kSet].push_back(s.text);
-    e->log_.write(std::move(load));
-  }
+  if (supervision::ProcessHost* host = e->options_.host) e->side_ = std::make_unique<HostSide>(*e, *host);
+  else e->side_ = std::make_unique<RunSide>(*e);
+  if (auto r = e->side_->openLog(); !r) return r.error();
   if (!e->options_.check_only) {
-    if (auto r = e->setUpProcesses(); !r) return r.error();
+    if (auto r = e->side_->setUpProcesses(); !r) return r.error();
   }
-  if (!tee_error.empty()) e->warn(tee_error + "; this process's records are in the log only");
   if (auto r = e->instantiate(); !r) return r.error();
   if (e->options_.check_only) {
     if (auto r = e->checkCrossings(); !r) return r.error();
@@ -83,10 +57,7 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
     // Each process injects into its own components; keel run also kills component processes.
     auto& faults = e->options_.scenario->faults;
     std::erase_if(faults, [e](const injection::ScheduledFault& f) {
-      const plan::PlannedInstance* pi = e->planned_.plan.find(f.component);
-      if (pi == nullptr) return e->options_.host != nullptr;  // keel run reports it
-      const bool kill = !f.hardware && f.kind == runtime::InjectKind::Kill;
-      return e->options_.host ? (!e->isLocal(*pi) || kill) : (!e->isLocal(*pi) && !kill);
+      return !e->side_->injects(f, e->planned_.plan.find(f.component));
     });
     e->injector_ = std::make_unique<injection::Injector>(
         *e->options_.scenario, [e](std::string_view n) { return e->find(n); }, e->fault_manager_, e->log_,
@@ -101,12 +72,9 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
   return engine;
 }
 
-const std::string& Engine::myProcess() const {
-  static const std::string keel_run;
-  return options_.host ? options_.host->role().process : keel_run;
+bool Engine::isLocal(const plan::PlannedInstance& pi) const {
+  return options_.check_only || pi.process == side_->process();
 }
-
-bool Engine::isLocal(const plan::PlannedInstance& pi) const { return options_.check_only || pi.process == myProcess(); }
 
 Result<void> Engine::checkCrossings() const {
   const plan::Plan& plan = planned_.plan;
@@ -126,38 +94,6 @@ Result<void> Engine::checkCrossings() const {
   if (errors.empty()) return {};
   errors.pop_back();
   return fail(errors);
-}
-
-Result<void> Engine::setUpProcesses() {
-  const plan::Plan& plan = planned_.plan;
-  if (supervision::ProcessHost* host = options_.host) {
-    fault_manager_.shareIds(&host->session().faultIds());
-    log_.tag(log::schema::field::kPid, ::getpid());  // one log for the run: whose record
-    log_.share(host->session().log(), runtime::ipc::logParticipant(host->processIndex(), host->role().slot),
-               supervision::logParticipants(plan));
-    host->setLog(&log_);  // should keel run die: its line repaired, this one's finished (process_host.hpp)
-    return {};
-  }
-  if (plan.processes.empty()) return {};
-  auto session = runtime::ipc::Session::create(supervision::sessionShape(plan));
-  if (!session) return session.error();
-  session_.emplace(std::move(*session));
-  // Held by this (the main) thread for the whole run: its release by death tells every host.
-  if (auto locked = session_->supervisor().lock(); !locked) return locked.error();
-  holds_supervisor_lock_ = true;
-  session_->logEpoch().store(log_.epoch(), std::memory_order_release);
-  log_.share(session_->log(), runtime::ipc::logParticipant(std::nullopt, 0), supervision::logParticipants(plan));
-  fault_manager_.shareIds(&session_->faultIds());
-  std::vector<runtime::ipc::SharedMemory> rings;
-  const std::vector<std::size_t> crossing = supervision::crossingConnections(plan);
-  for (std::size_t k = 0; k < crossing.size(); ++k) {
-    auto ring = runtime::ipc::SharedMemory::createUnsized(fmt::format("keel-ring-{}", k));
-    if (!ring) return ring.error();
-    rings.push_back(std::move(*ring));
-  }
-  supervisor_ = std::make_unique<supervision::ProcessSupervisor>(
-      plan, *session_, std::move(rings), options_.host_launch, [this](const std::string& m) { warn(m); }, log_);
-  return {};
 }
 
 Component* Engine::find(std::string_view instance) const {
@@ -195,43 +131,6 @@ void Engine::buildExecutors() {
   }
 }
 
-void Engine::raiseToProcessPriority() {
-  const plan::PlannedExecutor* top = nullptr;
-  for (const auto& pe : planned_.plan.executors) {
-    const plan::PlannedInstance* first = pe.members.empty() ? nullptr : planned_.plan.find(pe.members.front());
-    if (first == nullptr || !isLocal(*first) || pe.policy == profile::SchedPolicy::Other) continue;
-    if (top == nullptr || pe.priority > top->priority) top = &pe;
-  }
-  if (top != nullptr) {
-    sched_param sp{};
-    sp.sched_priority = top->priority;
-    const int policy = top->policy == profile::SchedPolicy::Fifo ? SCHED_FIFO : SCHED_RR;
-    if (int err = pthread_setschedparam(pthread_self(), policy, &sp); err != 0)
-      warn(
-          fmt::format("process '{}': its main thread cannot take task '{}''s priority {} ({}): it waits for its "
-                      "role at the default priority",
-                      myProcess(), top->name, top->priority, std::generic_category().message(err)));
-  }
-}
-
-Result<Engine::RoleTaken> Engine::takeRoleAsHost() {
-  supervision::ProcessHost& host = *options_.host;
-  auto died = host.takeRole();  // a standby sleeps here
-  if (!died) return died.error();
-  // The active host left because keel run is gone (it ran the emergency stop): the run is over,
-  // and taking over would drive the actuators again. Ends this process.
-  if (host.runLost()) host.supervisorLost();
-  if (host.stopRequested()) return RoleTaken{};
-  if (dds_) dds_->takeOver();  // samples into the ports from here, before the components start
-  RoleTaken taken{host.role().respawn ? "respawned" : *died ? "took_over" : "starting", 0};
-  if (*died || host.role().respawn) {
-    for (auto& inst : instances_)
-      taken.restored += runtime::restoreSharedCheckpoint(runtime::coreOf(*inst.component)) != 0;
-  }
-  if (auto r = crossings_.takeOver(); !r) return r.error();
-  return taken;
-}
-
 void Engine::runComponents(runtime::Executor* self) {
   crossings_.resume();
   for (auto& inst : instances_) {
@@ -254,87 +153,6 @@ void Engine::runComponents(runtime::Executor* self) {
   first_cycle_.notify_all();
 }
 
-runtime::Executor* Engine::roleExecutor() const {
-  // The task that runs first: the highest real-time priority (SCHED_OTHER below any), the first
-  // declared among equals.
-  runtime::Executor* best = nullptr;
-  auto rank = [](const runtime::ExecutorConfig& c) { return c.policy == runtime::Policy::Other ? -1 : c.priority; };
-  for (const auto& ex : executors_)
-    if (best == nullptr || rank(ex->config()) > rank(best->config())) best = ex.get();
-  return best;
-}
-
-void Engine::standBy(runtime::Executor& self) {
-  auto taken = takeRoleAsHost();  // this thread sleeps here, and holds the role from here
-  const bool runs = taken && taken->phase;
-  if (runs) runComponents(&self);
-  role_taken_ = std::move(taken);  // the main thread reads it once role_settled_ says so
-  role_settled_.store(1, std::memory_order_release);
-  if (!runs) {
-    role_alarm_.setIn(std::chrono::nanoseconds(0));
-    return;
-  }
-  // The main thread's part (records, detectors, telling keel run) waits for the first cycle:
-  // its wake-up would cost this thread a CPU-to-CPU interrupt before the step. The alarm is
-  // set for later in case the step hangs, and then to now between this thread's first cycles.
-  role_alarm_.setIn(kFirstStepWait);
-  self.post([this] { role_alarm_.setIn(std::chrono::nanoseconds(0)); });
-}
-
-void Engine::leaveRole(const runtime::Executor& self) const {
-  supervision::ProcessHost& host = *options_.host;
-  if (!host.holdsRole()) return;
-  // Abandoned in a hung callback and back, the process running on: its release would tell the
-  // standbys this process died while it still runs. It parks until the process ends.
-  if (self.abandoned() && !host.stopRequested())
-    for (;;) ::pause();
-  host.releaseRole();
-}
-
-Result<Engine::RoleTaken> Engine::startAsHost() {
-  supervision::ProcessHost& host = *options_.host;
-  // Its main thread holds the locks whose release tells of its death (its life; the role,
-  // unless a standby's task took it), and must get to die as promptly under load. Its
-  // executors' threads wait ready: a takeover starts none, and writes its records once the
-  // components run.
-  raiseToProcessPriority();
-  buildExecutors();
-  holdCpuLatency();     // before the executors' first sleep
-  crossings_.attach();  // values from other processes: read by the executors
-  runtime::Executor* self = host.role().standby ? roleExecutor() : nullptr;
-  for (auto& ex : executors_)
-    if (ex.get() != self) ex->prepare();
-  for (auto& inst : instances_) {
-    runtime::reserveCheckpoint(runtime::coreOf(*inst.component));
-    // The first good cycle of any of them tells keel run the process runs.
-    if (inst.executor)
-      runtime::coreOf(*inst.component).fault.recovering_id.store(supervision::HostFaultSink::kFirstRun);
-  }
-  {
-    std::lock_guard lock(held_mutex_);
-    hold_records_ = true;  // the log's lock and write off the way to the first step
-    held_.reserve(2 * instances_.size());
-  }
-  if (host.role().standby) log_.write(log::schema::host(host.role().process, ::getpid(), "standby"));
-  if (self == nullptr) {
-    auto taken = takeRoleAsHost();
-    if (!taken || !taken->phase) return taken;
-    runComponents(nullptr);
-    return taken;
-  }
-  // The standby's role is taken by the thread of the task that runs first: the thread its
-  // active's death wakes runs the takeover and then the component, with no second wake. Made
-  // last: it may take the role at once (its active already dead).
-  auto alarm = runtime::Alarm::create();
-  if (!alarm) return alarm.error();
-  role_alarm_ = std::move(*alarm);
-  self->prepare([this, self] { standBy(*self); }, [this, self] { leaveRole(*self); });
-  while (role_settled_.load(std::memory_order_acquire) == 0) role_alarm_.wait();
-  if (*role_taken_ && (*role_taken_)->phase)
-    for (auto& ex : executors_) ex->waitStarted();
-  return *role_taken_;
-}
-
 void Engine::holdCpuLatency() {
   if (!options_.cpu_dma_latency_us) return;
   auto held = runtime::CpuLatencyRequest::hold(*options_.cpu_dma_latency_us);
@@ -344,17 +162,7 @@ void Engine::holdCpuLatency() {
 
 Result<void> Engine::start() {
   runtime::installSignalHandlers();
-  if (supervisor_) {
-    supervisor_->setReport(
-        [this](Component& proxy, const FaultEvent& fault) { fault_manager_.onFault(proxy, fault, "supervisor"); });
-    if (auto r = supervisor_->launch(); !r) return r;
-  }
-  if (options_.host && options_.host->role().standby) {
-    // A standby's components serve only if it takes over: their `state` records wait for it
-    // (the log's records of a name are the lifecycle of its serving component).
-    std::lock_guard lock(held_mutex_);
-    hold_records_ = true;
-  }
+  if (auto r = side_->launch(); !r) return r;
   for (auto& inst : instances_) {
     if (runtime::transition(*inst.component, Transition::Initialize)) continue;
     const auto& w = inst.plan->where;
@@ -363,57 +171,10 @@ Result<void> Engine::start() {
                             why.empty() ? "onInitialize returned an error" : why));
   }
   if (auto r = connect(); !r) return r;
-  if (supervisor_) {
-    if (auto r = supervisor_->waitReady(options_.host_start_timeout); !r) return r;
-  }
+  if (auto r = side_->waitReady(); !r) return r;
   if (auto r = preloadAlternatives(); !r) return r;
   fault_manager_.start();
-  if (options_.host) {
-    auto taken = startAsHost();
-    if (!taken) return taken.error();
-    if (taken->phase) {
-      crossings_.start();  // pumps for components without an executor, from here
-      nlohmann::json rec = log::schema::host(options_.host->role().process, ::getpid(), taken->phase);
-      rec["restored"] = taken->restored;
-      log_.write(std::move(rec));
-    }
-    std::vector<HeldState> held;
-    {
-      std::lock_guard lock(held_mutex_);
-      if (!taken->phase) {  // stopped while standing by: its components never served, and the
-        held_.clear();      // log's `state` records of their names stay the active host's
-        return {};          // (hold_records_ stays set: their onDestroy goes unrecorded too)
-      }
-      hold_records_ = false;
-      held.swap(held_);
-    }
-    for (const auto& h : held)
-      log_.write(log::schema::componentState(h.component->instanceName(), toString(h.from), toString(h.to), 0, h.t));
-    started_ = true;
-    startDetectors();
-    options_.host->becameActive();
-    log_.write(log::schema::host(myProcess(), ::getpid(), "active"));
-    if (dds_) dds_->reportHeldOutages();  // a writer lost while it stood by: its fault now
-    return {};
-  }
-  if (auto r = crossings_.takeOver(); !r) return r;
-  buildExecutors();
-  holdCpuLatency();  // before the executors' first sleep
-  std::size_t executors = 0;
-  {
-    std::lock_guard lock(executors_mutex_);
-    crossings_.attach();  // values from other processes: read by the executors
-    executors = executors_.size();
-  }
-  runComponents(nullptr);
-  crossings_.start();  // and by pumps for components without one, from here
-  started_ = true;
-  startDetectors();
-  nlohmann::json started = log::schema::engine("started");
-  started[log::schema::field::kExecutors] = executors;
-  if (cpu_latency_.held()) started[log::schema::field::kCpuDmaLatencyUs] = cpu_latency_.microseconds();
-  log_.write(std::move(started));
-  return {};
+  return side_->run();
 }
 
 void Engine::startDetectors() {
@@ -484,10 +245,10 @@ void Engine::shutdown() {
     for (auto& alt : alternatives_)  // alternatives still standing by
       if (alt->state() != State::Destroyed && !stuck(*alt)) destroyQuietly(*alt);
   }
-  if (supervisor_) supervisor_->stop(options_.stop_timeout);  // hosts the proxies' onStop did not stop
-  cpu_latency_ = runtime::CpuLatencyRequest();                // the CPUs may sleep again
+  side_->stopProcesses();
+  cpu_latency_ = runtime::CpuLatencyRequest();  // the CPUs may sleep again
   warnTeeDropped();
-  if (started_ && !options_.host) log_.write(log::schema::engine("stopped"));
+  side_->stopped();
   if (auto end = run_end_.get(); end && !end->event.empty()) log_.write(runEndRecord(*end, log_.now()));
   // A stuck thread still uses its components: they are left allocated (the process is ending).
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
@@ -510,7 +271,7 @@ void Engine::warnTeeDropped() {
 
 void Engine::logCounts() {
   auto tagged = [this](nlohmann::json r) {
-    if (options_.host) r[log::schema::field::kProcess] = myProcess();
+    if (!side_->process().empty()) r[log::schema::field::kProcess] = side_->process();
     log_.write(std::move(r));
   };
   for (const auto& inst : instances_) {
@@ -535,44 +296,10 @@ void Engine::logCounts() {
 }
 
 void Engine::stateChanged(Component& c, State from, State to) {
-  {
-    std::lock_guard lock(held_mutex_);
-    if (hold_records_) {  // a takeover's first step waits for no JSON (engine.hpp)
-      held_.push_back({&c, from, to, log_.now()});
-      return;
-    }
-  }
+  if (side_->holdsState(c, from, to)) return;
   log_.write(log::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
-  compositeStates(c.instanceName());
+  side_->stateLogged(c.instanceName());
   if (dds_) dds_->pokeDiagnostics();
-}
-
-// A composite's state, derived from its members': Error as soon as one is in Error, otherwise
-// the state they all share; while they are between states (one started, the next not yet), the
-// last one holds. Logged by keel run only (a component process sees part of its members).
-void Engine::compositeStates(std::string_view instance) {
-  if (options_.host) return;
-  const auto of = composites_of_.find(instance);
-  if (of == composites_of_.end()) return;
-  std::lock_guard lock(composite_mutex_);
-  for (std::size_t i : of->second) {
-    const plan::PlannedComposite& comp = planned_.plan.composites[i];
-    std::optional<State> shared;
-    bool error = false, agree = true;
-    for (const auto& m : comp.members) {
-      const Component* member = find(m);
-      if (!member) continue;
-      const State s = member->state();
-      error |= s == State::Error;
-      if (!shared) shared = s;
-      agree &= *shared == s;
-    }
-    if (!shared) continue;
-    const State derived = error ? State::Error : agree ? *shared : composite_states_[i];
-    if (derived == composite_states_[i]) continue;
-    log_.write(log::schema::compositeState(comp.name, toString(composite_states_[i]), toString(derived), log_.now()));
-    composite_states_[i] = derived;
-  }
 }
 
 void Engine::endRun(Component& c, std::string_view summary, std::string_view event, std::string_view fields) {
@@ -586,7 +313,7 @@ void Engine::endRun(Component& c, std::string_view summary, std::string_view eve
 
 bool Engine::clearEmergency(std::string_view by) {
   const bool cleared = fault_manager_.clearEmergency(by);
-  if (cleared && supervisor_) supervisor_->clearEmergency();
+  if (cleared) side_->emergencyCleared();
   return cleared;
 }
 

@@ -3,6 +3,8 @@
 // executors; at the end stop and destroy everything in reverse order. It is the runtime's
 // runtime::RunHooks (state changes reach the fault log from here, endRun ends the run); the
 // runtime's faults go straight to the fault manager, which is the runtime's runtime::FaultSink.
+// What differs between keel run's engine and a component process's is the engine's side
+// (side.hpp): one engine, no mode.
 // Thread-safety: build/start/stop from one thread; hooks are called from executor threads.
 #pragma once
 
@@ -22,6 +24,7 @@
 
 #include "dds/dds_ports.hpp"
 #include "engine/run_end.hpp"
+#include "engine/side.hpp"
 #include "fault/dependency_graph.hpp"
 #include "fault/fault_manager.hpp"
 #include "fault/watchdog.hpp"
@@ -42,7 +45,7 @@
 #include "runtime/warning.hpp"
 #include "supervision/crossing.hpp"
 #include "supervision/process_host.hpp"
-#include "supervision/process_supervisor.hpp"
+#include "supervision/process_supervisor.hpp"  // HostLaunch
 
 namespace keel::engine {
 
@@ -125,8 +128,6 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   /// Every serving component, for detectors that scan them and the fault manager.
   std::vector<Component*> components() const override;
   const fault::DependencyGraph* graph() const { return graph_ ? &*graph_ : nullptr; }
-  /// keel run's supervisor of the component processes; null without <process>.
-  supervision::ProcessSupervisor* supervisor() const { return supervisor_.get(); }
 
   /// Emergency stop from outside (an operator, `keel run`'s console): logged with `by`.
   std::vector<std::string> emergencyStop(std::string_view by) { return fault_manager_.emergencyStop(by); }
@@ -181,38 +182,14 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   /// check_only: what each component process checks when it connects its ends (a value that
   /// cannot cross processes), for every connection between processes.
   Result<void> checkCrossings() const;
-  const std::string& myProcess() const;
-  Result<void> setUpProcesses();  // create(): the session, the rings, the supervisor (keel run)
-  /// How a host came to run its components: its `host` record's phase (null: stopped while
-  /// standing by) and how many checkpoints it restored. The record is made and written once the
-  /// components run (a JSON object costs ~12 µs, which the takeover does not wait for).
-  struct RoleTaken {
-    const char* phase = nullptr;
-    std::size_t restored = 0;
-  };
-  /// start(), in a host: the executors made and parked, the role taken (by the main thread, or
-  /// a standby's by its first task's thread: standBy), the components running.
-  Result<RoleTaken> startAsHost();
-  /// The role lock (a standby sleeps here), a takeover's restore, the rings.
-  Result<RoleTaken> takeRoleAsHost();
-  /// Passive components started, the rings read from where they were left, the executors let
-  /// go: by the main thread (waiting for each onStart), or `self`'s (a standby's takeover).
-  void runComponents(runtime::Executor* self);
-  /// A standby's executor that takes the role (the task that runs first); null without any.
-  runtime::Executor* roleExecutor() const;
-  /// On `self`'s thread, before it parks: takes the role, and runs the components if it is
-  /// theirs; the main thread waits for the outcome (role_settled_).
-  void standBy(runtime::Executor& self);
-  /// On `self`'s thread, as it ends: releases the role if it holds it (see process_host.hpp).
-  void leaveRole(const runtime::Executor& self) const;
   /// Logs a `counts` record per component of this process and per executor (at shutdown).
   void logCounts();
   /// A warning of how many lines the log's tee dropped, if any (at shutdown).
   void warnTeeDropped();
   void holdCpuLatency();
-  /// In a host, the calling thread at the highest real-time priority of the process's tasks
-  /// (none: unchanged).
-  void raiseToProcessPriority();
+  /// Passive components started, the rings read from where they were left, the executors let
+  /// go: by the main thread (waiting for each onStart), or `self`'s (a standby's takeover).
+  void runComponents(runtime::Executor* self);
 
   EngineOptions options_;
   plan::PlannedProfiles planned_;  // the plan, and the profiles it points into
@@ -224,11 +201,8 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   // any thread): find() is on the fault manager's path, once per stopped component.
   std::unordered_map<std::string_view, const Instance*> by_name_;
   std::vector<std::unique_ptr<detail::ConnectionBase>> connections_;
-  // Process isolation (declared before what uses them: destroyed after).
-  std::optional<runtime::ipc::Session> session_;  // keel run's, when the plan has <process>es
-  bool holds_supervisor_lock_ = false;
-  std::unique_ptr<supervision::ProcessSupervisor> supervisor_;
-  std::unique_ptr<supervision::HostFaultSink> host_sink_;
+  // keel run's or a component process's (declared before what uses its session: destroyed after).
+  std::unique_ptr<Side> side_;
   supervision::Crossings crossings_;
   std::unique_ptr<dds::DdsPorts> dds_;  // this process's <publish>/<subscribe>; null: none
   std::vector<Wire> wires_;
@@ -249,26 +223,11 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   std::unique_ptr<injection::Injector> injector_;
   bool started_ = false;
   bool shut_down_ = false;
-  std::optional<Result<RoleTaken>> role_taken_;  // a standby's, set on its role executor's thread
-  std::atomic<std::uint32_t> role_settled_{0};   // 1 once role_taken_ is set
-  runtime::Alarm role_alarm_;                    // wakes the main thread once the role is settled
-  /// How long the main thread of a standby that took over waits for the first cycle at most.
-  static constexpr std::chrono::milliseconds kFirstStepWait{20};
-  std::mutex held_mutex_;      // guards the two below (any component's thread)
-  bool hold_records_ = false;  // a takeover under way: state records wait, in order
-  struct HeldState {           // a state record to write (no JSON made on the takeover's way)
-    const Component* component;
-    State from, to;
-    std::int64_t t;
-  };
-  std::vector<HeldState> held_;  // written once the components run
-  // Composites (plan().composites): OPRoS gives them no state; keel run logs one derived from
-  // their members' (compositeStates). Guarded by composite_mutex_ (any component's thread).
-  std::mutex composite_mutex_;
-  std::vector<State> composite_states_;                                         // as last logged, per composite
-  std::map<std::string, std::vector<std::size_t>, std::less<>> composites_of_;  // instance → composites
-  void compositeStates(std::string_view instance);
   RunEndLatch run_end_;  // RunControl::endRun, from any component's thread
+
+  // The two sides are parts of the engine, in files of their own.
+  friend class RunSide;
+  friend class HostSide;
 };
 
 }  // namespace keel::engine

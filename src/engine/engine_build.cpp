@@ -99,14 +99,14 @@ Result<void> Engine::instantiate() {
       continue;
     }
     if (!isLocal(pi)) {
-      if (options_.host) continue;  // runs in another component process
-      Instance inst;                // keel run: the proxy of a component in a process of its own
+      std::unique_ptr<Component> stand_in = side_->standIn(pi);
+      if (!stand_in) continue;  // runs in another component process
+      Instance inst;            // keel run: the proxy of a component in a process of its own
       inst.plan = &pi;
-      inst.component = supervisor_->makeProxy(pi);
+      inst.component = std::move(stand_in);
       detail::ComponentCore& core = runtime::coreOf(*inst.component);
       core.instance_name = pi.name;
       core.class_name = cp.name;
-      core.hooks = nullptr;  // its component's states are logged by the process that runs it
       core.fault_sink = &fault_manager_;
       inst.serving_slot->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
@@ -121,10 +121,6 @@ Result<void> Engine::instantiate() {
     instances_.push_back(std::move(*inst));
   }
   for (const auto& inst : instances_) by_name_.emplace(inst.plan->name, &inst);
-  const auto& composites = planned_.plan.composites;
-  composite_states_.assign(composites.size(), State::Created);
-  for (std::size_t i = 0; i < composites.size(); ++i)
-    for (const auto& m : composites[i].members) composites_of_[m].push_back(i);
   if (!errors.empty()) {
     errors.pop_back();
     return fail(errors);
@@ -153,12 +149,7 @@ Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   core.hooks = this;
   core.fault_sink = &fault_manager_;
   core.profile_file = cp.file;
-  if (supervision::ProcessHost* host = options_.host) {
-    if (!host_sink_) host_sink_ = std::make_unique<supervision::HostFaultSink>(fault_manager_, *host);
-    core.fault_sink = host_sink_.get();
-    if (auto i = supervision::checkpointIndex(planned_.plan, pi.name))
-      core.checkpoints.shared = &host->session().checkpoint(*i);
-  }
+  side_->adopt(pi, core);
   for (const auto& [k, v] : pi.properties) core.properties[k] = v;
   if (pi.policy && pi.policy->deadline_ms) core.deadline_ns = static_cast<std::int64_t>(*pi.policy->deadline_ms * 1e6);
   if (const auto gate = gates_.find(pi.name); gate != gates_.end()) core.gate = gate->second.get();
@@ -306,12 +297,12 @@ Result<void> Engine::connect() {
                             pc.target.component, pc.target.port, toString(dst->kind()), dst->typeName());
   }
   if (!crossing.empty()) {
-    runtime::ipc::Session& session = options_.host ? options_.host->session() : *session_;
-    auto fds = options_.host ? options_.host->takeRingDescriptors() : supervisor_->ringDescriptors();
+    runtime::ipc::Session& session = side_->session();
+    auto fds = side_->ringDescriptors();
     // A writer fenced by a takeover is a host that was declared dead: it leaves at once.
     auto fenced = [] { ::_exit(supervision::kExitFenced); };
     auto made = crossings_.connect(
-        planned_.plan, myProcess(), session, std::move(fds), [this](std::string_view n) { return find(n); },
+        planned_.plan, side_->process(), session, std::move(fds), [this](std::string_view n) { return find(n); },
         options_.host_start_timeout, fenced, [this](const std::string& m) { warn(m); });
     if (!made) errors += made.error().message + '\n';
     for (const supervision::Crossings::End& end : crossings_.ends())
@@ -325,16 +316,13 @@ Result<void> Engine::connect() {
       dds.push_back(d);
       dds.back().redundancy = pi->redundancy;
     }
-  // /diagnostics: keel run's, for every component; those of component processes as keel run
-  // knows them (their proxies' states, the faults it handles).
-  const bool diagnostics = !options_.host && planned_.plan.diagnostics_domain;
+  const bool diagnostics = side_->publishesDiagnostics();
   if (!dds.empty() || diagnostics)
     dds_ = std::make_unique<dds::DdsPorts>(*this, [this](const std::string& m) { warn(m); });
   if (!dds.empty()) {
     // A standby's endpoints are made now, so that its peers have matched them when it takes
     // over; its readers stand by until then (takeRoleAsHost).
-    const bool standby = options_.host && options_.host->role().standby;
-    const auto readers = standby ? dds::DdsPorts::Readers::StandingBy : dds::DdsPorts::Readers::Serving;
+    const auto readers = side_->standingBy() ? dds::DdsPorts::Readers::StandingBy : dds::DdsPorts::Readers::Serving;
     if (auto made = dds_->open(dds, port, readers); !made) errors += made.error().message + '\n';
     for (const dds::DdsPorts::End& end : dds_->ends())
       wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});

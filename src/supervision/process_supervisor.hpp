@@ -6,9 +6,7 @@
 // took over by itself, or a respawn), its stop stops the process's hosts, its emergency stop is
 // the hosts' emergency stop. A standby that dies is replaced; a fresh standby is started after
 // every takeover.
-// Hosts are started from one spawner thread that lives as long as the supervisor (their
-// PR_SET_PDEATHSIG fires when the thread that started them ends), in a process group of their
-// own (a terminal's ^C reaches keel run, which stops them in order).
+// Hosts are started by the supervisor's spawner (spawner.hpp), which lives as long as it.
 // Thread-safety: start/stop from the engine's thread; the rest from any thread.
 #pragma once
 
@@ -32,8 +30,8 @@
 #include "plan/plan.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/ipc/session.hpp"
-#include "runtime/job_thread.hpp"
 #include "runtime/warning.hpp"
+#include "supervision/spawner.hpp"
 
 namespace keel::supervision {
 
@@ -83,8 +81,7 @@ class ProcessSupervisor {
   struct Proxy;
   friend struct Proxy;
 
-  pid_t spawn(Group& g, std::size_t slot, bool standby, bool respawn);  // on the spawner thread
-  pid_t spawnNow(Group& g, std::size_t slot, bool standby, bool respawn);
+  pid_t spawn(Group& g, std::size_t slot, bool standby, bool respawn);   // 0: failed, said in its slot
   Result<std::size_t> launchHost(Group& g, bool standby, bool respawn);  // a free slot, spawned, watched
   void watch(Group& g, std::size_t slot, pid_t pid);
   void died(Group& g, std::size_t slot, runtime::ipc::HostState was, std::int64_t t_ns, const std::string& detail);
@@ -111,7 +108,7 @@ class ProcessSupervisor {
   std::condition_variable beat_cv_;
   std::vector<std::thread> beat_watchers_;
 
-  runtime::JobThread spawner_;  // every host is started from it
+  Spawner spawner_;  // every host is started from it
 };
 
 }  // namespace keel::supervision

@@ -1,0 +1,165 @@
+#include "engine/run_side.hpp"
+
+#include <fmt/format.h>
+
+#include <unistd.h>
+
+#include "engine/engine.hpp"
+#include "log/schema.hpp"
+#include "supervision/crossing.hpp"
+
+namespace keel::engine {
+
+RunSide::RunSide(Engine& engine) : e_(engine) {
+  const auto& composites = e_.planned_.plan.composites;
+  composite_states_.assign(composites.size(), State::Created);
+  for (std::size_t i = 0; i < composites.size(); ++i)
+    for (const auto& m : composites[i].members) composites_of_[m].push_back(i);
+}
+
+RunSide::~RunSide() {
+  if (holds_supervisor_lock_) (void)session_->supervisor().unlock();
+}
+
+Result<void> RunSide::openLog() {
+  EngineOptions& o = e_.options_;
+  if (!o.log_path.empty()) {
+    if (auto opened = e_.log_.open(o.log_path, o.log_append); !opened) return opened.error();
+  }
+  // Opened before the first record, so that the tee has them all; the component processes
+  // write to the same pipe.
+  if (!o.log_tee.empty()) {
+    if (auto r = e_.log_.openTee(o.log_tee); !r) return r.error();
+    o.host_launch.args.insert(o.host_launch.args.end(),
+                              {"--log-tee", fmt::format("/proc/{}/fd/{}", ::getpid(), e_.log_.teeDescriptor())});
+  }
+  namespace field = log::schema::field;
+  nlohmann::json load = log::schema::engine("load");
+  load[field::kProfile] = e_.set().root;
+  load[field::kName] = e_.planned_.plan.name;
+  nlohmann::json& names = load[field::kComponents] = nlohmann::json::array();
+  for (const auto& pi : e_.planned_.plan.instances) names.push_back(pi.name);
+  load[field::kInstances] = e_.planned_.plan.instances.size();
+  for (const auto& s : o.property_settings) load[field::kSet].push_back(s.text);
+  e_.log_.write(std::move(load));
+  return {};
+}
+
+Result<void> RunSide::setUpProcesses() {
+  const plan::Plan& plan = e_.planned_.plan;
+  if (plan.processes.empty()) return {};
+  auto session = runtime::ipc::Session::create(supervision::sessionShape(plan));
+  if (!session) return session.error();
+  session_.emplace(std::move(*session));
+  // Held by this (the main) thread for the whole run: its release by death tells every host.
+  if (auto locked = session_->supervisor().lock(); !locked) return locked.error();
+  holds_supervisor_lock_ = true;
+  session_->logEpoch().store(e_.log_.epoch(), std::memory_order_release);
+  e_.log_.share(session_->log(), runtime::ipc::logParticipant(std::nullopt, 0), supervision::logParticipants(plan));
+  e_.fault_manager_.shareIds(&session_->faultIds());
+  std::vector<runtime::ipc::SharedMemory> rings;
+  const std::vector<std::size_t> crossing = supervision::crossingConnections(plan);
+  for (std::size_t k = 0; k < crossing.size(); ++k) {
+    auto ring = runtime::ipc::SharedMemory::createUnsized(fmt::format("keel-ring-{}", k));
+    if (!ring) return ring.error();
+    rings.push_back(std::move(*ring));
+  }
+  supervisor_ = std::make_unique<supervision::ProcessSupervisor>(
+      plan, *session_, std::move(rings), e_.options_.host_launch, [this](const std::string& m) { e_.warn(m); },
+      e_.log_);
+  return {};
+}
+
+std::unique_ptr<Component> RunSide::standIn(const plan::PlannedInstance& pi) {
+  std::unique_ptr<Component> proxy = supervisor_ ? supervisor_->makeProxy(pi) : nullptr;
+  if (proxy) runtime::coreOf(*proxy).hooks = nullptr;  // its states are logged by the process that runs it
+  return proxy;
+}
+
+// /diagnostics: keel run's, for every component; those of component processes as keel run
+// knows them (their proxies' states, the faults it handles).
+bool RunSide::publishesDiagnostics() const { return e_.planned_.plan.diagnostics_domain.has_value(); }
+
+// keel run injects into its own components, reports a fault of no instance, and kills
+// component processes; the rest is injected by the process that runs the instance.
+bool RunSide::injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const {
+  if (pi == nullptr) return true;
+  const bool kill = !f.hardware && f.kind == runtime::InjectKind::Kill;
+  return e_.isLocal(*pi) || kill;
+}
+
+Result<void> RunSide::launch() {
+  if (!supervisor_) return {};
+  supervisor_->setReport(
+      [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.onFault(proxy, fault, "supervisor"); });
+  return supervisor_->launch();
+}
+
+Result<void> RunSide::waitReady() {
+  return supervisor_ ? supervisor_->waitReady(e_.options_.host_start_timeout) : Result<void>{};
+}
+
+Result<void> RunSide::run() {
+  if (auto r = e_.crossings_.takeOver(); !r) return r;
+  e_.buildExecutors();
+  e_.holdCpuLatency();  // before the executors' first sleep
+  std::size_t executors = 0;
+  {
+    std::lock_guard lock(e_.executors_mutex_);
+    e_.crossings_.attach();  // values from other processes: read by the executors
+    executors = e_.executors_.size();
+  }
+  e_.runComponents(nullptr);
+  e_.crossings_.start();  // and by pumps for components without one, from here
+  e_.started_ = true;
+  e_.startDetectors();
+  nlohmann::json started = log::schema::engine("started");
+  started[log::schema::field::kExecutors] = executors;
+  if (e_.cpu_latency_.held()) started[log::schema::field::kCpuDmaLatencyUs] = e_.cpu_latency_.microseconds();
+  e_.log_.write(std::move(started));
+  return {};
+}
+
+// A composite's state, derived from its members': Error as soon as one is in Error, otherwise
+// the state they all share; while they are between states (one started, the next not yet), the
+// last one holds. Logged by keel run only (a component process sees part of its members).
+void RunSide::stateLogged(std::string_view instance) {
+  const auto of = composites_of_.find(instance);
+  if (of == composites_of_.end()) return;
+  std::lock_guard lock(composite_mutex_);
+  for (std::size_t i : of->second) {
+    const plan::PlannedComposite& comp = e_.planned_.plan.composites[i];
+    std::optional<State> shared;
+    bool error = false, agree = true;
+    for (const auto& m : comp.members) {
+      const Component* member = e_.find(m);
+      if (!member) continue;
+      const State s = member->state();
+      error |= s == State::Error;
+      if (!shared) shared = s;
+      agree &= *shared == s;
+    }
+    if (!shared) continue;
+    const State derived = error ? State::Error : agree ? *shared : composite_states_[i];
+    if (derived == composite_states_[i]) continue;
+    e_.log_.write(
+        log::schema::compositeState(comp.name, toString(composite_states_[i]), toString(derived), e_.log_.now()));
+    composite_states_[i] = derived;
+  }
+}
+
+void RunSide::emergencyCleared() {
+  if (supervisor_) supervisor_->clearEmergency();
+}
+
+void RunSide::stopProcesses() {
+  if (supervisor_) supervisor_->stop(e_.options_.stop_timeout);  // hosts the proxies' onStop did not stop
+}
+
+void RunSide::stopped() {
+  if (e_.started_) e_.log_.write(log::schema::engine("stopped"));
+}
+
+void RunSide::close() { supervisor_.reset(); }  // its threads report to the fault manager
+
+}  // namespace keel::engine

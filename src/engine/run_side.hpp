@@ -1,0 +1,64 @@
+// keel run's side of the engine (side.hpp): it opens the run's log and writes its `load`,
+// `started` and `stopped` records and the composites' derived states; when the plan has
+// <process>es, it makes their shared session and rings, holds the supervisor lock for the
+// run (its release by death tells every component process), and has the supervisor start,
+// watch and stop them, with a proxy standing in for each instance they run.
+// Thread-safety: as Side's.
+#pragma once
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/side.hpp"
+#include "supervision/process_supervisor.hpp"
+
+namespace keel::engine {
+
+class Engine;
+
+class RunSide final : public Side {
+ public:
+  explicit RunSide(Engine& engine);
+  ~RunSide() override;
+  RunSide(const RunSide&) = delete;
+  RunSide& operator=(const RunSide&) = delete;
+
+  const std::string& process() const override { return process_; }
+  Result<void> openLog() override;
+  Result<void> setUpProcesses() override;
+  std::unique_ptr<Component> standIn(const plan::PlannedInstance& pi) override;
+  void adopt(const plan::PlannedInstance&, detail::ComponentCore&) override {}
+  runtime::ipc::Session& session() override { return *session_; }
+  std::map<std::size_t, int> ringDescriptors() override { return supervisor_->ringDescriptors(); }
+  bool publishesDiagnostics() const override;
+  bool standingBy() const override { return false; }
+  bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
+  Result<void> launch() override;
+  Result<void> waitReady() override;
+  Result<void> run() override;
+  bool holdsState(const Component&, State, State) override { return false; }
+  void stateLogged(std::string_view instance) override;
+  void emergencyCleared() override;
+  void stopProcesses() override;
+  void stopped() override;
+  void close() override;
+
+ private:
+  Engine& e_;
+  const std::string process_;  // keel run's own: ""
+  // Process isolation: the session before the supervisor, which uses it (destroyed after).
+  std::optional<runtime::ipc::Session> session_;
+  bool holds_supervisor_lock_ = false;
+  std::unique_ptr<supervision::ProcessSupervisor> supervisor_;
+  // Composites (plan().composites): OPRoS gives them no state; keel run logs one derived from
+  // their members' (compositeStates). Guarded by composite_mutex_ (any component's thread).
+  std::mutex composite_mutex_;
+  std::vector<State> composite_states_;                                         // as last logged, per composite
+  std::map<std::string, std::vector<std::size_t>, std::less<>> composites_of_;  // instance → composites
+};
+
+}  // namespace keel::engine

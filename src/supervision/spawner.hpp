@@ -1,0 +1,50 @@
+// Starting the programs keel supervises: a keel-host today, any executable alike. Each child is
+// started by posix_spawn from the spawner's one thread — a child's PR_SET_PDEATHSIG fires when
+// the thread that started it ends, so that thread lives as long as its owner — in a process group
+// of its own (a terminal's ^C reaches keel run, which stops its children in order), with only the
+// descriptors it is given and the signals keel run blocks or ignores back at their defaults.
+// Thread-safety: any thread.
+#pragma once
+
+#include <sys/types.h>
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "keel/result.hpp"
+#include "runtime/job_thread.hpp"
+
+namespace keel::supervision {
+
+/// One child to start.
+struct ChildSpec {
+  std::string executable;         // a path: not looked up in $PATH
+  std::vector<std::string> args;  // after argv[0], which is `executable`
+  /// Given to the child as descriptors 3, 4, ... (the caller's stay open); every other
+  /// descriptor above 2 is closed in the child, close-on-exec or not.
+  std::vector<int> fds;
+};
+
+/// The first descriptor a child gets from ChildSpec::fds.
+inline constexpr int kFirstChildFd = 3;
+
+/// How a child ended, from its wait status: "exited with status 3", "killed by signal 9
+/// (SIGKILL)".
+std::string describeExit(int status);
+
+class Spawner {
+ public:
+  /// Starts `spec` from the spawner's thread (at once, when called on it); its pid, or why not.
+  Result<pid_t> start(const ChildSpec& spec);
+  /// Runs `job` on the spawner's thread after what was posted before (work that starts children
+  /// and must not wait on the caller's thread).
+  void post(std::function<void()> job) { thread_.post(std::move(job)); }
+  /// Ends the thread once what was posted ran. Idempotent.
+  void stop() { thread_.stop(); }
+
+ private:
+  runtime::JobThread thread_;
+};
+
+}  // namespace keel::supervision
