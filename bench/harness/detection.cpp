@@ -65,7 +65,7 @@ DetectionCell measureDetection(runtime::InjectKind kind, bool fifo, int n) {
   detail::PortAccess::setValidity(victim.out, &rule);
   runtime::coreOf(victim).watch.heartbeat_ns = kDetectionHeartbeatNs;
   runtime::Executor ex({"victim", runtime::ExecutorKind::Periodic, 1ms, fifo ? 50 : 0,
-                        fifo ? runtime::Policy::Fifo : runtime::Policy::Other},
+                        fifo ? SchedPolicy::Fifo : SchedPolicy::Other},
                        warn);
   ex.add(victim);
   ex.add(bystander);

@@ -52,7 +52,7 @@ std::optional<profile::ProfileSet> loadPackage(Setup& setup, const std::string& 
   if (!set) return std::nullopt;
   for (auto& [path, pkg] : set->packages)
     for (auto& task : pkg.tasks) {
-      task.policy = fifo ? profile::SchedPolicy::Fifo : profile::SchedPolicy::Other;
+      task.policy = fifo ? SchedPolicy::Fifo : SchedPolicy::Other;
       task.priority = fifo ? kFifoPriority : 0;
     }
   return set;

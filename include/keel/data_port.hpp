@@ -17,7 +17,7 @@ template <class T>
 class InputDataPort final : public detail::QueuedInput<T, detail::InputPortBase> {
  public:
   InputDataPort(Component* owner, std::string name)
-      : detail::QueuedInput<T, detail::InputPortBase>(owner, std::move(name), detail::PortKind::Data, 16) {}
+      : detail::QueuedInput<T, detail::InputPortBase>(owner, std::move(name), PortKind::Data, 16) {}
 
   /// The next value by the queue policy, or nothing if the queue is empty.
   std::optional<T> pop() { return this->queue_.pop(); }
@@ -43,8 +43,7 @@ class InputDataPort final : public detail::QueuedInput<T, detail::InputPortBase>
 template <class T>
 class OutputDataPort final : public detail::Fanout<T> {
  public:
-  OutputDataPort(Component* owner, std::string name)
-      : detail::Fanout<T>(owner, std::move(name), detail::PortKind::Data) {}
+  OutputDataPort(Component* owner, std::string name) : detail::Fanout<T>(owner, std::move(name), PortKind::Data) {}
 
   /// Sends `value` to every connected input. A value that violates the port's validity rule
   /// is a `range` fault of this component and is not sent.

@@ -27,7 +27,7 @@ template <class T = Event>
 class InputEventPort final : public detail::QueuedInput<T, InputEventPortBase> {
  public:
   InputEventPort(Component* owner, std::string name)
-      : detail::QueuedInput<T, InputEventPortBase>(owner, std::move(name), detail::PortKind::Event, 64) {}
+      : detail::QueuedInput<T, InputEventPortBase>(owner, std::move(name), PortKind::Event, 64) {}
 
   /// The event being delivered (valid inside onEvent for this port).
   const T& current() const { return current_; }
@@ -49,8 +49,7 @@ class InputEventPort final : public detail::QueuedInput<T, InputEventPortBase> {
 template <class T = Event>
 class OutputEventPort final : public detail::Fanout<T> {
  public:
-  OutputEventPort(Component* owner, std::string name)
-      : detail::Fanout<T>(owner, std::move(name), detail::PortKind::Event) {}
+  OutputEventPort(Component* owner, std::string name) : detail::Fanout<T>(owner, std::move(name), PortKind::Event) {}
 
   /// Sends `event` to every connected input event port.
   void send(const T& event) { this->sendAll(event); }

@@ -65,8 +65,8 @@ template <class R, class... A>
 class ProvidedServicePort<R(A...)> final : public detail::ServicePortBase {
  public:
   ProvidedServicePort(Component* owner, std::string name, std::function<R(A...)> fn)
-      : ServicePortBase(owner, std::move(name), detail::PortKind::Service, detail::PortDirection::Input,
-                        typeid(R(A...)), detail::demangle(typeid(R(A...)).name())),
+      : ServicePortBase(owner, std::move(name), PortKind::Service, PortDirection::Input, typeid(R(A...)),
+                        detail::demangle(typeid(R(A...)).name())),
         fn_(std::move(fn)) {}
 
   R invoke(A... args) const { return fn_(std::forward<A>(args)...); }
@@ -81,8 +81,8 @@ class RequiredServicePort<R(A...)> final : public detail::ServicePortBase {
   using Value = detail::Returned<R>;
 
   RequiredServicePort(Component* owner, std::string name)
-      : ServicePortBase(owner, std::move(name), detail::PortKind::Service, detail::PortDirection::Output,
-                        typeid(R(A...)), detail::demangle(typeid(R(A...)).name())) {}
+      : ServicePortBase(owner, std::move(name), PortKind::Service, PortDirection::Output, typeid(R(A...)),
+                        detail::demangle(typeid(R(A...)).name())) {}
 
   /// Calls the connected provider with the profile's timeout.
   Result<Value> call(A... args) const { return callWithin(timeout_, std::move(args)...); }
@@ -101,7 +101,7 @@ class RequiredServicePort<R(A...)> final : public detail::ServicePortBase {
 
  private:
   bool bind(ServicePortBase& provided) override {
-    if (provided.type() != type() || provided.direction() != detail::PortDirection::Input) return false;
+    if (provided.type() != type() || provided.direction() != PortDirection::Input) return false;
     // atomic: a replacement provider is bound while this port's owner may be calling
     provider_.store(static_cast<ProvidedServicePort<R(A...)>*>(&provided), std::memory_order_release);
     return true;

@@ -146,9 +146,7 @@ std::string dot(const plan::Plan& plan, const profile::ProfileSet& set, const Ma
   if (set.system) out += applications(plan, *set.system, cluster, marks);
   out += components(plan, outside, cluster, marks, "  ");
   for (const auto& c : plan.connections) {
-    const char* style = c.type == profile::PortType::Data    ? "solid"
-                        : c.type == profile::PortType::Event ? "dashed"
-                                                             : "bold";
+    const char* style = c.type == PortKind::Data ? "solid" : c.type == PortKind::Event ? "dashed" : "bold";
     out += fmt::format("  {} -> {} [label={}, style={}];\n", quote(c.source.component), quote(c.target.component),
                        quote(c.source.port + " → " + c.target.port), style);
   }

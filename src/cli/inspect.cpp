@@ -22,9 +22,8 @@ struct InspectOptions {
 };
 
 std::string direction(const detail::PortBase& p) {
-  if (p.kind() == detail::PortKind::Service)
-    return p.direction() == detail::PortDirection::Input ? "provided" : "required";
-  return p.direction() == detail::PortDirection::Input ? "input" : "output";
+  if (p.kind() == PortKind::Service) return p.direction() == PortDirection::Input ? "provided" : "required";
+  return p.direction() == PortDirection::Input ? "input" : "output";
 }
 
 /// Component profiles in `dirs` whose class is `name` (best effort: unreadable files skipped).

@@ -116,9 +116,7 @@ void Engine::buildExecutors() {
     cfg.kind = pe.periodic ? runtime::ExecutorKind::Periodic : runtime::ExecutorKind::Aperiodic;
     cfg.period = std::chrono::nanoseconds(static_cast<std::int64_t>(pe.period_ms * 1e6));
     cfg.priority = pe.priority;
-    cfg.policy = pe.policy == profile::SchedPolicy::Fifo         ? runtime::Policy::Fifo
-                 : pe.policy == profile::SchedPolicy::RoundRobin ? runtime::Policy::RoundRobin
-                                                                 : runtime::Policy::Other;
+    cfg.policy = pe.policy;
     auto ex = std::make_unique<runtime::Executor>(cfg, [this](const std::string& m) { warn(m); });
     for (const auto& m : pe.members) {
       for (auto& inst : instances_) {

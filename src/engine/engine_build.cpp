@@ -15,9 +15,6 @@
 namespace keel::engine {
 namespace {
 
-using detail::PortDirection;
-using detail::PortKind;
-
 struct ExpectedPort {
   std::string name;
   PortKind kind;
@@ -28,7 +25,7 @@ struct ExpectedPort {
 
 std::vector<ExpectedPort> expectedPorts(const profile::ComponentProfile& p) {
   std::vector<ExpectedPort> out;
-  auto dir = [](profile::Usage u) { return u == profile::Usage::Input ? PortDirection::Input : PortDirection::Output; };
+  auto dir = [](PortDirection u) { return u == PortDirection::Input ? PortDirection::Input : PortDirection::Output; };
   for (const auto& d : p.data_ports) out.push_back({d.name, PortKind::Data, dir(d.usage), d.data_type, d.where});
   for (const auto& e : p.event_ports) out.push_back({e.name, PortKind::Event, dir(e.usage), e.data_type, e.where});
   for (const auto& s : p.service_ports)
@@ -43,22 +40,12 @@ std::string describe(PortKind k, PortDirection d) {
   return fmt::format("{} {} port", d == PortDirection::Input ? "input" : "output", toString(k));
 }
 
-detail::QueuePolicy queuePolicy(profile::QueuePolicy p) {
+std::string_view policyName(QueuePolicy p) {
   switch (p) {
-    case profile::QueuePolicy::Fifo: return detail::QueuePolicy::Fifo;
-    case profile::QueuePolicy::UFifo: return detail::QueuePolicy::UFifo;
-    case profile::QueuePolicy::Lifo: return detail::QueuePolicy::Lifo;
-    case profile::QueuePolicy::Last: return detail::QueuePolicy::Last;
-  }
-  return detail::QueuePolicy::Fifo;
-}
-
-std::string_view policyName(detail::QueuePolicy p) {
-  switch (p) {
-    case detail::QueuePolicy::Fifo: return "fifo";
-    case detail::QueuePolicy::UFifo: return "ufifo";
-    case detail::QueuePolicy::Lifo: return "lifo";
-    case detail::QueuePolicy::Last: return "last";
+    case QueuePolicy::Fifo: return "fifo";
+    case QueuePolicy::UFifo: return "ufifo";
+    case QueuePolicy::Lifo: return "lifo";
+    case QueuePolicy::Last: return "last";
   }
   return "fifo";
 }
@@ -169,7 +156,7 @@ Result<void> Engine::configurePorts(Instance& inst) {
   for (const auto& d : cp.data_ports) {
     detail::PortBase* port = core.findPort(d.name);
     if (!port) continue;  // an OPRoS component without it: checkPorts warned
-    if (d.usage == profile::Usage::Input) configureQueue(inst, d, *static_cast<detail::InputPortBase*>(port));
+    if (d.usage == PortDirection::Input) configureQueue(inst, d, *static_cast<detail::InputPortBase*>(port));
     if (!d.validity) continue;
     if (!port->numeric()) {
       errors += fmt::format(
@@ -182,9 +169,9 @@ Result<void> Engine::configurePorts(Instance& inst) {
     detail::PortAccess::setValidity(*port, rules_.back().get());
   }
   for (const auto& e : cp.event_ports) {
-    if (e.usage != profile::Usage::Input) continue;
+    if (e.usage != PortDirection::Input) continue;
     if (auto* port = static_cast<detail::InputPortBase*>(core.findPort(e.name)))
-      port->configureQueue(detail::QueuePolicy::Fifo, e.queue_size);
+      port->configureQueue(QueuePolicy::Fifo, e.queue_size);
   }
   for (const auto& sp : cp.service_ports) {
     if (sp.usage != profile::ServiceUsage::Required) continue;
@@ -199,17 +186,17 @@ void Engine::configureQueue(const Instance& inst, const profile::DataPort& d, de
   const detail::ComponentCore& core = runtime::coreOf(*inst.component);
   const auto code = core.code_queues.find(d.name);
   if (code == core.code_queues.end()) {
-    port.configureQueue(queuePolicy(d.queue_policy), d.queue_size);
+    port.configureQueue(d.queue_policy, d.queue_size);
     return;
   }
   // An OPRoS component's code fixed this queue in the port's constructor: OPRoS's engine used
   // the code's and never the profile's, and the component was written against it.
   const auto [policy, size] = code->second;
-  if (policy != queuePolicy(d.queue_policy) || size != d.queue_size)
+  if (policy != d.queue_policy || size != d.queue_size)
     warn(
         fmt::format("{}: component '{}': port '{}': the profile asks for {} of {}, the code constructs {} of {}; "
                     "as in OPRoS, the code's queue is used",
-                    d.where.str(), inst.plan->name, d.name, policyName(queuePolicy(d.queue_policy)), d.queue_size,
+                    d.where.str(), inst.plan->name, d.name, policyName(d.queue_policy), d.queue_size,
                     policyName(policy), size));
   port.configureQueue(policy, size);
 }

@@ -104,13 +104,13 @@ void HostSide::raiseToProcessPriority() {
   const plan::PlannedExecutor* top = nullptr;
   for (const auto& pe : e_.planned_.plan.executors) {
     const plan::PlannedInstance* first = pe.members.empty() ? nullptr : e_.planned_.plan.find(pe.members.front());
-    if (first == nullptr || !e_.isLocal(*first) || pe.policy == profile::SchedPolicy::Other) continue;
+    if (first == nullptr || !e_.isLocal(*first) || pe.policy == SchedPolicy::Other) continue;
     if (top == nullptr || pe.priority > top->priority) top = &pe;
   }
   if (top == nullptr) return;
   sched_param sp{};
   sp.sched_priority = top->priority;
-  const int policy = top->policy == profile::SchedPolicy::Fifo ? SCHED_FIFO : SCHED_RR;
+  const int policy = top->policy == SchedPolicy::Fifo ? SCHED_FIFO : SCHED_RR;
   if (int err = pthread_setschedparam(pthread_self(), policy, &sp); err != 0)
     e_.warn(
         fmt::format("process '{}': its main thread cannot take task '{}''s priority {} ({}): it waits for its "
@@ -139,7 +139,7 @@ runtime::Executor* HostSide::roleExecutor() const {
   // The task that runs first: the highest real-time priority (SCHED_OTHER below any), the first
   // declared among equals.
   runtime::Executor* best = nullptr;
-  auto rank = [](const runtime::ExecutorConfig& c) { return c.policy == runtime::Policy::Other ? -1 : c.priority; };
+  auto rank = [](const runtime::ExecutorConfig& c) { return c.policy == SchedPolicy::Other ? -1 : c.priority; };
   for (const auto& ex : e_.executors_)
     if (best == nullptr || rank(ex->config()) > rank(best->config())) best = ex.get();
   return best;

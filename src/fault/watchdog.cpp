@@ -15,7 +15,7 @@
 
 namespace keel::fault {
 
-Watchdog::Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn, bool realtime)
+Watchdog::Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, runtime::Warn warn, bool realtime)
     : watched_(std::move(watched)), episodes_(watched_.size()), manager_(manager), warn_(std::move(warn)),
       realtime_(realtime) {
   for (const auto& w : watched_) poll_ns_ = std::min(poll_ns_, std::max<std::int64_t>(w.timeout_ns / 2, 100'000));

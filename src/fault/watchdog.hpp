@@ -30,9 +30,8 @@ struct WatchedComponent {
 
 class Watchdog {
  public:
-  using Warn = runtime::Warn;
   /// `realtime`: ask for SCHED_FIFO (the default; benchmarks compare without).
-  Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, Warn warn, bool realtime = true);
+  Watchdog(std::vector<WatchedComponent> watched, FaultManager& manager, runtime::Warn warn, bool realtime = true);
   ~Watchdog();
   Watchdog(const Watchdog&) = delete;
   Watchdog& operator=(const Watchdog&) = delete;
@@ -54,7 +53,7 @@ class Watchdog {
   std::vector<WatchedComponent> watched_;
   std::vector<Episode> episodes_;
   FaultManager& manager_;
-  Warn warn_;
+  runtime::Warn warn_;
   std::int64_t poll_ns_ = 50'000'000;
   bool realtime_ = true;
   std::thread thread_;

@@ -13,14 +13,14 @@
 
 namespace keel::injection {
 
-Injector::Injector(Scenario scenario, Find find, fault::FaultManager& manager, log::FaultLog& log, Warn warn)
+Injector::Injector(Scenario scenario, Find find, fault::FaultManager& manager, log::FaultLog& log, runtime::Warn warn)
     : scenario_(std::move(scenario)), find_(std::move(find)), manager_(manager), log_(log), warn_(std::move(warn)) {
   if (!warn_) warn_ = runtime::warnOnStderr;
 }
 
 Injector::~Injector() { stop(); }
 
-Result<void> Injector::check(const Warn& warn, const std::function<bool(std::string_view)>& passive) const {
+Result<void> Injector::check(const runtime::Warn& warn, const std::function<bool(std::string_view)>& passive) const {
   std::string errors;
   for (const auto& f : scenario_.faults) {
     const std::string at = fmt::format("{}:{}", f.where.file, f.where.line);

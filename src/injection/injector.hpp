@@ -24,10 +24,9 @@ namespace keel::injection {
 class Injector {
  public:
   using Find = std::function<Component*(std::string_view)>;
-  using Warn = runtime::Warn;
 
   /// `warn` reports a hardware fault its component did not take (default: stderr).
-  Injector(Scenario scenario, Find find, fault::FaultManager& manager, log::FaultLog& log, Warn warn = {});
+  Injector(Scenario scenario, Find find, fault::FaultManager& manager, log::FaultLog& log, runtime::Warn warn = {});
   ~Injector();
   Injector(const Injector&) = delete;
   Injector& operator=(const Injector&) = delete;
@@ -35,7 +34,7 @@ class Injector {
   /// Every fault names a running component and can apply to it; warnings for faults no
   /// detector is configured to see (a hang without <heartbeat>) or that cannot fire (a
   /// passive component is never executed). `passive` tells which components are passive.
-  Result<void> check(const Warn& warn, const std::function<bool(std::string_view)>& passive) const;
+  Result<void> check(const runtime::Warn& warn, const std::function<bool(std::string_view)>& passive) const;
   /// Starts arming, with times counted from `t0_ns` (steady clock).
   void start(std::int64_t t0_ns);
   void stop();
@@ -49,7 +48,7 @@ class Injector {
   Find find_;
   fault::FaultManager& manager_;
   log::FaultLog& log_;
-  Warn warn_;
+  runtime::Warn warn_;
   std::thread thread_;
   std::atomic<bool> stop_{false};
   runtime::WakeSignal signal_;

@@ -83,9 +83,9 @@ Topology topologyOf(const engine::Engine& engine) {
   for (const auto& i : plan.instances) t.components.push_back({i.name, i.application, i.process});
   for (const auto& c : plan.connections)
     t.connections.push_back({c.source.component, c.source.port, c.target.component, c.target.port,
-                             c.type == profile::PortType::Data    ? "data"
-                             : c.type == profile::PortType::Event ? "event"
-                                                                  : "service"});
+                             c.type == PortKind::Data    ? "data"
+                             : c.type == PortKind::Event ? "event"
+                                                         : "service"});
   return t;
 }
 
@@ -274,7 +274,7 @@ void Monitor::Impl::makePortChannels() {
   for (const auto& instance : engine.instances()) {
     if (!instance.component) continue;
     for (detail::PortBase* base : runtime::coreOf(*instance.component).ports) {
-      if (base->direction() != detail::PortDirection::Output || base->kind() == detail::PortKind::Service) continue;
+      if (base->direction() != PortDirection::Output || base->kind() == PortKind::Service) continue;
       auto& port = static_cast<detail::OutputPortBase&>(*base);
       const char* type = detail::PortAccess::jsonType(port);
       if (type == nullptr) continue;

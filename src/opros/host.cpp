@@ -12,14 +12,14 @@
 namespace keel::opros {
 namespace {
 
-detail::QueuePolicy queuePolicy(DataPortPolicy p) {
+QueuePolicy queuePolicy(DataPortPolicy p) {
   switch (p) {
-    case OPROS_FIFO: return detail::QueuePolicy::Fifo;
-    case OPROS_LIFO: return detail::QueuePolicy::Lifo;
-    case OPROS_UFIFO: return detail::QueuePolicy::UFifo;
-    case OPROS_LAST: return detail::QueuePolicy::Last;
+    case OPROS_FIFO: return QueuePolicy::Fifo;
+    case OPROS_LIFO: return QueuePolicy::Lifo;
+    case OPROS_UFIFO: return QueuePolicy::UFifo;
+    case OPROS_LAST: return QueuePolicy::Last;
   }
-  return detail::QueuePolicy::Fifo;
+  return QueuePolicy::Fifo;
 }
 
 /// OPRoS's name of a code a callback returned, for the fault's detail.
@@ -84,7 +84,7 @@ Host::Host(::Component* object, Release release) : object_(object), release_(rel
   core.code_name = &codeName;
   for (const auto& [name, port] : object_->keelPorts()) {
     detail::PortBase& bound = port->keelBind(*this);
-    if (port->getType() == OPROS_EVENT && bound.direction() == detail::PortDirection::Input)
+    if (port->getType() == OPROS_EVENT && bound.direction() == PortDirection::Input)
       event_inputs_.emplace_back(&bound, port);
     DataPortPolicy policy{};
     unsigned int limit = 0;

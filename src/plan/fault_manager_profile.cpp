@@ -11,7 +11,7 @@ const profile::ComponentProfile& faultManagerProfile() {
     cp.execution.type = profile::ExecutionType::Aperiodic;
     profile::EventPort in;
     in.name = "faults";
-    in.usage = profile::Usage::Input;
+    in.usage = PortDirection::Input;
     in.data_type = "keel::FaultEvent";
     in.queue_size = 256;
     cp.event_ports.push_back(in);

@@ -126,7 +126,6 @@ class Planner {
   // service call is a function call (a port of data or events crosses through shared memory).
   Result<void> groupProcesses() {
     std::string errors;
-    auto at = [](const profile::Where& w) { return fmt::format("{}:{}", w.file, w.line); };
     for (const auto& [name, spec] : process_specs_) {
       (void)name;
       PlannedProcess p{spec.name, spec.standby, {}, spec.where};
@@ -143,19 +142,19 @@ class Planner {
       for (const auto& m : ex.members) {
         if (processOf(m) == processOf(ex.members.front())) continue;
         errors += fmt::format("{}: task '{}' runs '{}' ({}) and '{}' ({}): a task's members run in one process\n",
-                              at(ex.where), ex.name, ex.members.front(), where(processOf(ex.members.front())), m,
+                              ex.where.str(), ex.name, ex.members.front(), where(processOf(ex.members.front())), m,
                               where(processOf(m)));
         break;
       }
     }
     for (const auto& c : plan_.connections) {
-      if (c.type != profile::PortType::Service) continue;
+      if (c.type != PortKind::Service) continue;
       const std::string a = processOf(c.source.component), b = processOf(c.target.component);
       if (a == b) continue;
       errors += fmt::format(
           "{}: port_connection {}.{} -> {}.{}: a service call cannot cross processes ('{}' runs in {}, '{}' in "
           "{}); put both in one <process>, or connect them by data or event ports\n",
-          at(c.where), c.source.component, c.source.port, c.target.component, c.target.port, c.source.component,
+          c.where.str(), c.source.component, c.source.port, c.target.component, c.target.port, c.source.component,
           where(a), c.target.component, where(b));
     }
     for (const auto& d : plan_.execution_order) {
@@ -164,7 +163,7 @@ class Planner {
       errors += fmt::format(
           "{}: depends {} -> {}: OPRoS's execution order is kept within keel run's own process "
           "('{}' runs in {}, '{}' in {})\n",
-          at(d.where), d.source, d.target, d.source, where(a), d.target, where(b));
+          d.where.str(), d.source, d.target, d.source, where(a), d.target, where(b));
     }
     errors += plan_errors_;
     if (!errors.empty()) {

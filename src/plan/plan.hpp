@@ -49,7 +49,7 @@ struct PlannedComposite {
 };
 
 struct PlannedConnection {
-  profile::PortType type = profile::PortType::Data;
+  PortKind type = PortKind::Data;
   profile::Endpoint source;  // qualified instance names
   profile::Endpoint target;
   profile::Where where;
@@ -69,7 +69,7 @@ struct PlannedExecutor {
   bool periodic = true;
   double period_ms = 100.0;
   int priority = 0;
-  profile::SchedPolicy policy = profile::SchedPolicy::Other;
+  SchedPolicy policy = SchedPolicy::Other;
   std::vector<std::string> members;  // in execution order
   profile::Where where;              // its <task>; for an instance's own executor, its <subcomponent>
 };

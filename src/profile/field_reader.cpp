@@ -71,8 +71,9 @@ const std::vector<std::pair<std::string_view, SchedPolicy>>& schedPolicies() {
   return t;
 }
 
-const std::vector<std::pair<std::string_view, Usage>>& usages() {
-  static const std::vector<std::pair<std::string_view, Usage>> t = {{"input", Usage::Input}, {"output", Usage::Output}};
+const std::vector<std::pair<std::string_view, PortDirection>>& usages() {
+  static const std::vector<std::pair<std::string_view, PortDirection>> t = {{"input", PortDirection::Input},
+                                                                            {"output", PortDirection::Output}};
   return t;
 }
 
@@ -90,12 +91,12 @@ const std::vector<std::pair<std::string_view, QueuePolicy>>& queuePolicies() {
   return t;
 }
 
-const std::vector<std::pair<std::string_view, PortType>>& portTypes() {
-  static const std::vector<std::pair<std::string_view, PortType>> t = {
-      {"data", PortType::Data},
-      {"event", PortType::Event},
-      {"service", PortType::Service},
-      {"method", PortType::Service}};  // OPRoS tools write "method" for service ports
+const std::vector<std::pair<std::string_view, PortKind>>& portTypes() {
+  static const std::vector<std::pair<std::string_view, PortKind>> t = {
+      {"data", PortKind::Data},
+      {"event", PortKind::Event},
+      {"service", PortKind::Service},
+      {"method", PortKind::Service}};  // OPRoS tools write "method" for service ports
   return t;
 }
 
@@ -123,16 +124,16 @@ const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds() {
   return t;
 }
 
-std::string_view name(PortType t) {
+std::string_view name(PortKind t) {
   switch (t) {
-    case PortType::Data: return "data";
-    case PortType::Event: return "event";
-    case PortType::Service: return "service";
+    case PortKind::Data: return "data";
+    case PortKind::Event: return "event";
+    case PortKind::Service: return "service";
   }
   return "?";
 }
 
-std::string_view name(Usage u) { return u == Usage::Input ? "input" : "output"; }
+std::string_view name(PortDirection u) { return u == PortDirection::Input ? "input" : "output"; }
 
 std::string_view name(ServiceUsage u) { return u == ServiceUsage::Provided ? "provided" : "required"; }
 

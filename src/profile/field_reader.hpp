@@ -52,17 +52,17 @@ const std::vector<std::pair<std::string_view, ExecutionType>>& executionTypes();
 /// OPRoS's periodic types that say how the thread is shared (the others: Sharing::Default).
 const std::vector<std::pair<std::string_view, Sharing>>& executionSharing();
 const std::vector<std::pair<std::string_view, SchedPolicy>>& schedPolicies();
-const std::vector<std::pair<std::string_view, Usage>>& usages();
+const std::vector<std::pair<std::string_view, PortDirection>>& usages();
 const std::vector<std::pair<std::string_view, ServiceUsage>>& serviceUsages();
 const std::vector<std::pair<std::string_view, QueuePolicy>>& queuePolicies();
-const std::vector<std::pair<std::string_view, PortType>>& portTypes();
+const std::vector<std::pair<std::string_view, PortKind>>& portTypes();
 const std::vector<std::pair<std::string_view, Severity>>& severities();
 const std::vector<std::pair<std::string_view, Scope>>& scopes();
 /// Fault kinds (docs/faults.md): the keys of FaultPolicy::severity_by_kind.
 const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds();
 
-std::string_view name(PortType t);
-std::string_view name(Usage u);
+std::string_view name(PortKind t);
+std::string_view name(PortDirection u);
 std::string_view name(ServiceUsage u);
 std::string_view name(SchedPolicy p);
 std::string_view name(RootKind k);

@@ -13,6 +13,7 @@
 #include <variant>
 #include <vector>
 
+#include "keel/detail/enums.hpp"
 #include "keel/property.hpp"
 
 namespace keel::profile {
@@ -26,11 +27,9 @@ struct Where {
 };
 
 enum class ExecutionType { Periodic, Aperiodic, Passive };
-enum class SchedPolicy { Other, Fifo, RoundRobin };
-enum class Usage { Input, Output };              // data and event ports
+// A port's kind (port_connection@port_type) and, for data and event ports, its direction
+// (usage); a port's queue policy; a task's scheduling policy: keel/detail/enums.hpp.
 enum class ServiceUsage { Provided, Required };  // service ports
-enum class QueuePolicy { Fifo, UFifo, Lifo, Last };
-enum class PortType { Data, Event, Service };  // port_connection@port_type
 
 /// Severity of a fault policy (paper §5.2).
 enum class Severity { Ignore, Reset, Stop, Emergency };
@@ -95,7 +94,7 @@ struct Validity {
 
 struct DataPort {
   std::string name;
-  Usage usage = Usage::Input;
+  PortDirection usage = PortDirection::Input;
   std::string data_type;
   QueuePolicy queue_policy = QueuePolicy::Fifo;
   std::size_t queue_size = 10;
@@ -106,7 +105,7 @@ struct DataPort {
 
 struct EventPort {
   std::string name;
-  Usage usage = Usage::Input;
+  PortDirection usage = PortDirection::Input;
   std::string data_type;
   std::size_t queue_size = 64;
   Where where;
@@ -197,7 +196,7 @@ struct Endpoint {
 };
 
 struct Connection {
-  PortType port_type = PortType::Data;
+  PortKind port_type = PortKind::Data;
   Endpoint source;
   Endpoint target;
   Where where;

@@ -47,7 +47,7 @@ Validity readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
 
 /// A data or event port's <usage>: false when it is none of input and output, a port OPRoS's
 /// engine drops without a word (published profiles have `output1`); keel drops it and says so.
-bool readUsage(Ctx& ctx, pugi::xml_node n, const std::string& text, const std::string& owner, Usage& usage) {
+bool readUsage(Ctx& ctx, pugi::xml_node n, const std::string& text, const std::string& owner, PortDirection& usage) {
   if (auto v = parseWord(text, usages())) {
     usage = *v;
     return true;

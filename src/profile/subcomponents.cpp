@@ -174,7 +174,7 @@ void readConnection(Ctx& ctx, pugi::xml_node node, std::vector<Connection>& out)
   if (auto type = attribute(node, "port_type")) {
     const auto t = readWord(ctx, node, *type, "port_type of <port_connection>", portTypes());
     ok = t.has_value();
-    c.port_type = t.value_or(PortType::Data);
+    c.port_type = t.value_or(PortKind::Data);
   } else {
     c.port_type_given = false;
   }

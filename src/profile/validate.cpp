@@ -35,13 +35,13 @@ void validate(ProfileSet& set, Diagnostics& diags) {
 namespace {
 
 PortSig sigOf(const DataPort& p) {
-  return {p.name, PortType::Data, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type, {}};
+  return {p.name, PortKind::Data, p.usage == PortDirection::Output, std::string(name(p.usage)), p.data_type, {}};
 }
 PortSig sigOf(const EventPort& p) {
-  return {p.name, PortType::Event, p.usage == Usage::Output, std::string(name(p.usage)), p.data_type, {}};
+  return {p.name, PortKind::Event, p.usage == PortDirection::Output, std::string(name(p.usage)), p.data_type, {}};
 }
 PortSig sigOf(const ServicePort& p) {
-  return {p.name, PortType::Service, p.usage == ServiceUsage::Required, std::string(name(p.usage)),
+  return {p.name, PortKind::Service, p.usage == ServiceUsage::Required, std::string(name(p.usage)),
           p.type, p.reference};
 }
 
@@ -74,7 +74,7 @@ std::optional<std::vector<PortSig>> portsOf(const ProfileSet& set, const std::st
 }
 
 std::string describe(const PortSig& p) {
-  if (p.kind == PortType::Service) {
+  if (p.kind == PortKind::Service) {
     return fmt::format("a {} service port of type '{}'", p.usage, p.type);
   }
   return fmt::format("an {} {} port of data_type '{}'", p.usage, name(p.kind), p.type);

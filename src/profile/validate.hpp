@@ -51,7 +51,7 @@ inline constexpr std::string_view kFaultManagerPort = "faults";
 
 struct PortSig {
   std::string name;
-  PortType kind = PortType::Data;
+  PortKind kind = PortKind::Data;
   bool source_side = false;  // output or required service: may be a connection's source
   std::string usage;         // input, output, provided, required
   std::string type;          // data_type, or the service type

@@ -21,7 +21,7 @@ std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcompo
   const Subcomponent* sub = findSubcomponent(subs, ep.component);
   if (sub == nullptr && ep.component == kFaultManager) {  // keel's system component (paper §3.2)
     if (ep.port == kFaultManagerPort)
-      return PortSig{std::string(kFaultManagerPort), PortType::Event, false, "input", "keel::FaultEvent", {}};
+      return PortSig{std::string(kFaultManagerPort), PortKind::Event, false, "input", "keel::FaultEvent", {}};
     error(diags, where,
           fmt::format("{}: component '{}' has no port '{}' (ports: {})", what, ep.component, ep.port,
                       kFaultManagerPort));
@@ -46,7 +46,7 @@ std::optional<PortSig> resolve(const ProfileSet& set, const std::vector<Subcompo
 
 std::string dotted(const Endpoint& e) { return e.component + "." + e.port; }
 
-std::string aPort(PortType kind) { return fmt::format("{} {} port", kind == PortType::Event ? "an" : "a", name(kind)); }
+std::string aPort(PortKind kind) { return fmt::format("{} {} port", kind == PortKind::Event ? "an" : "a", name(kind)); }
 
 /// Kind, direction and type of one connection whose two ends exist.
 void checkEnds(Connection& c, const PortSig& src, const PortSig& dst, Diagnostics& diags) {
@@ -67,7 +67,7 @@ void checkEnds(Connection& c, const PortSig& src, const PortSig& dst, Diagnostic
                       name(c.port_type)));
   }
   if (!ok) return;
-  const bool service = c.port_type == PortType::Service;
+  const bool service = c.port_type == PortKind::Service;
   if (!src.source_side) {
     ok = false;
     error(diags, c.where,
@@ -101,7 +101,7 @@ void checkMultiplicity(const std::vector<Connection>& cs, std::size_t i, Diagnos
                                "line {})",
                                dotted(c.source), dotted(c.target), d.where.line));
     }
-    if (c.port_type == PortType::Service && d.port_type == PortType::Service && sameEnd(c.source, d.source)) {
+    if (c.port_type == PortKind::Service && d.port_type == PortKind::Service && sameEnd(c.source, d.source)) {
       return error(diags, c.where,
                    fmt::format("port_connection: required service port '{}' is already connected "
                                "to '{}' (line {})",
@@ -121,7 +121,7 @@ void checkConnections(const ProfileSet& set, const std::vector<Subcomponent>& su
     if (src && dst) {
       const std::size_t before = diags.size();
       checkEnds(c, *src, *dst, diags);
-      if (diags.size() == before && c.port_type == PortType::Service) checkServiceMethods(set, c, *src, *dst, diags);
+      if (diags.size() == before && c.port_type == PortKind::Service) checkServiceMethods(set, c, *src, *dst, diags);
     }
     checkMultiplicity(connections, i, diags);
   }
@@ -132,7 +132,7 @@ void checkDds(const ProfileSet& set, const std::vector<Subcomponent>& subs, cons
     const char* element = b.publish ? "<publish>" : "<subscribe>";
     const auto port = resolve(set, subs, b.endpoint, b.where, element, diags);
     if (!port) continue;
-    if (port->kind != PortType::Data) {
+    if (port->kind != PortKind::Data) {
       error(diags, b.where,
             fmt::format("{}: '{}' is {}; DDS topics carry data ports' values", element, dotted(b.endpoint),
                         aPort(port->kind)));

@@ -147,11 +147,11 @@ void Executor::setUpThread() {
   pthread_setname_np(pthread_self(), config_.name.substr(0, 15).c_str());
   prctl(PR_SET_TIMERSLACK, 1UL, 0, 0, 0);  // 1 ns slack: sub-millisecond periods stay precise
   installAltStack();
-  if (config_.policy == Policy::Other && config_.priority == 0) return;
+  if (config_.policy == SchedPolicy::Other && config_.priority == 0) return;
   sched_param sp{};
-  int policy = config_.policy == Policy::Fifo         ? SCHED_FIFO
-               : config_.policy == Policy::RoundRobin ? SCHED_RR
-                                                      : SCHED_OTHER;
+  int policy = config_.policy == SchedPolicy::Fifo         ? SCHED_FIFO
+               : config_.policy == SchedPolicy::RoundRobin ? SCHED_RR
+                                                           : SCHED_OTHER;
   sp.sched_priority = policy == SCHED_OTHER ? 0 : config_.priority;
   if (int err = pthread_setschedparam(pthread_self(), policy, &sp); err != 0 && warn_) {
     warn_(

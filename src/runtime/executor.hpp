@@ -23,6 +23,7 @@
 #include <vector>
 
 #include "keel/component.hpp"
+#include "keel/detail/enums.hpp"
 #include "runtime/futex.hpp"
 #include "runtime/wake_signal.hpp"
 #include "runtime/warning.hpp"
@@ -46,14 +47,13 @@ class ExternalInput {
 };
 
 enum class ExecutorKind { Periodic, Aperiodic };
-enum class Policy { Other, Fifo, RoundRobin };
 
 struct ExecutorConfig {
   std::string name;
   ExecutorKind kind = ExecutorKind::Periodic;
   std::chrono::nanoseconds period{std::chrono::milliseconds(100)};
   int priority = 0;  // 0: leave as is
-  Policy policy = Policy::Other;
+  SchedPolicy policy = SchedPolicy::Other;
 };
 
 struct ExecutorStats {
@@ -63,8 +63,6 @@ struct ExecutorStats {
 
 class Executor {
  public:
-  using Warn = runtime::Warn;
-
   explicit Executor(ExecutorConfig config, Warn warn = {});
   ~Executor();
   Executor(const Executor&) = delete;

@@ -61,7 +61,7 @@ std::string_view toString(InjectKind k) {
 
 detail::OutputPortBase* corruptiblePort(Component& c, std::string_view port) {
   for (detail::PortBase* p : coreOf(c).ports) {
-    if (p->kind() == detail::PortKind::Data && p->direction() == detail::PortDirection::Output && p->numeric() &&
+    if (p->kind() == PortKind::Data && p->direction() == PortDirection::Output && p->numeric() &&
         (port.empty() || p->name() == port))
       return static_cast<detail::OutputPortBase*>(p);
   }

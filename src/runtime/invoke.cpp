@@ -165,7 +165,7 @@ void dispatchEvents(Component& c) {
   detail::ComponentCore& core = coreOf(c);
   if (!core.event_pending.exchange(false, std::memory_order_acq_rel)) return;
   for (detail::PortBase* p : core.ports) {
-    if (p->kind() != detail::PortKind::Event || p->direction() != detail::PortDirection::Input) continue;
+    if (p->kind() != PortKind::Event || p->direction() != PortDirection::Input) continue;
     auto& port = static_cast<InputEventPortBase&>(*p);
     while (c.state() == State::Active && detail::PortAccess::takeNext(port)) {
       GuardOutcome out = guarded([&c, &port] { return c.onEvent(port); }, &c, &core.fault.interrupt);

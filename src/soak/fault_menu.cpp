@@ -31,7 +31,7 @@ const profile::DataPort* dataPort(const plan::PlannedInstance& pi, std::string_v
 bool checked(const plan::Plan& plan, const plan::PlannedInstance& pi, const profile::DataPort& out) {
   if (out.validity) return true;
   for (const auto& c : plan.connections) {
-    if (c.type != profile::PortType::Data || c.source.component != pi.name || c.source.port != out.name) continue;
+    if (c.type != PortKind::Data || c.source.component != pi.name || c.source.port != out.name) continue;
     const plan::PlannedInstance* target = plan.find(c.target.component);
     const profile::DataPort* in = target ? dataPort(*target, c.target.port) : nullptr;
     if (in && in->validity) return true;
@@ -69,7 +69,7 @@ std::vector<Offer> faultMenu(const plan::Plan& plan, const HardwareOffers& hardw
       }
     }
     for (const auto& p : pi.profile->data_ports)
-      if (p.usage == profile::Usage::Output && scalarNumeric(p.data_type) && checked(plan, pi, p))
+      if (p.usage == PortDirection::Output && scalarNumeric(p.data_type) && checked(plan, pi, p))
         menu.push_back({pi.name, "out_of_range", "", p.name, 0, false});
     if (!pi.process.empty()) menu.push_back({pi.name, "kill", "", "", 0, false});
     if (auto it = hardware.find(pi.name); it != hardware.end()) {

@@ -30,7 +30,7 @@ std::vector<std::size_t> crossingConnections(const plan::Plan& plan) {
   std::vector<std::size_t> out;
   for (std::size_t i = 0; i < plan.connections.size(); ++i) {
     const auto& c = plan.connections[i];
-    if (c.type == profile::PortType::Service) continue;  // the plan rejects those that cross
+    if (c.type == PortKind::Service) continue;  // the plan rejects those that cross
     if (plan.processOf(c.source.component) != plan.processOf(c.target.component)) out.push_back(i);
   }
   return out;
@@ -65,7 +65,7 @@ struct Crossings::Writer final : detail::ByteSink {
   std::unique_ptr<detail::ByteEnd> outlet;
   detail::PortBase* port = nullptr;
   Fenced fenced;
-  Warn warn;
+  runtime::Warn warn;
   std::string name;
   std::atomic<bool> warned{false};
 
@@ -117,7 +117,7 @@ Crossings::~Crossings() { stop(); }
 
 Result<void> Crossings::connect(const plan::Plan& plan, const std::string& process, ipc::Session& session,
                                 std::map<std::size_t, int> fds, const Find& find, std::chrono::milliseconds wait,
-                                const Fenced& fenced, const Warn& warn) {
+                                const Fenced& fenced, const runtime::Warn& warn) {
   std::string errors;
   const std::vector<std::size_t> crossing = crossingConnections(plan);
   const auto deadline = std::chrono::steady_clock::now() + wait;

@@ -54,7 +54,6 @@ class Crossings {
  public:
   using Find = std::function<Component*(std::string_view instance)>;
   using Fenced = std::function<void()>;  // this process's writer was fenced by a takeover
-  using Warn = runtime::Warn;
 
   Crossings();
   ~Crossings();
@@ -67,7 +66,7 @@ class Crossings {
   /// out, then read it once start() is called. Errors name the connection's file:line.
   Result<void> connect(const plan::Plan& plan, const std::string& process, runtime::ipc::Session& session,
                        std::map<std::size_t, int> fds, const Find& find, std::chrono::milliseconds wait,
-                       const Fenced& fenced, const Warn& warn);
+                       const Fenced& fenced, const runtime::Warn& warn);
   /// Makes this process the writer of every ring it writes (at its start, or at a takeover).
   Result<void> takeOver();
   /// Hands each reader to the executor of its component, which reads it from its start on

@@ -39,7 +39,7 @@ std::string defaultHostExecutable() {
 }
 
 ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& session,
-                                     std::vector<ipc::SharedMemory> rings, HostLaunch launch, Warn warn,
+                                     std::vector<ipc::SharedMemory> rings, HostLaunch launch, runtime::Warn warn,
                                      log::FaultLog& log)
     : session_(session), rings_(std::move(rings)), launch_(std::move(launch)), warn_(std::move(warn)), log_(log) {
   const std::vector<std::size_t> crossing = crossingConnections(plan);

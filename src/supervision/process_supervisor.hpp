@@ -47,12 +47,11 @@ std::string defaultHostExecutable();
 
 class ProcessSupervisor {
  public:
-  using Warn = runtime::Warn;
-
   /// `rings`: every crossing connection's memfd, by ring index (crossing.hpp); `log` gets a
   /// `host` record per host that ends.
   ProcessSupervisor(const plan::Plan& plan, runtime::ipc::Session& session,
-                    std::vector<runtime::ipc::SharedMemory> rings, HostLaunch launch, Warn warn, log::FaultLog& log);
+                    std::vector<runtime::ipc::SharedMemory> rings, HostLaunch launch, runtime::Warn warn,
+                    log::FaultLog& log);
   ~ProcessSupervisor();
   ProcessSupervisor(const ProcessSupervisor&) = delete;
   ProcessSupervisor& operator=(const ProcessSupervisor&) = delete;
@@ -96,7 +95,7 @@ class ProcessSupervisor {
   runtime::ipc::Session& session_;
   std::vector<runtime::ipc::SharedMemory> rings_;
   HostLaunch launch_;
-  Warn warn_;
+  runtime::Warn warn_;
   log::FaultLog& log_;
   Report report_;
   std::vector<std::unique_ptr<Group>> groups_;

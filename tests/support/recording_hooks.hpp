@@ -75,7 +75,7 @@ inline void wire(detail::OutputPortBase& out, detail::InputPortBase& in,
 }
 
 /// Applies a queue policy and size as the runtime does from the profile.
-inline void configureQueue(detail::InputPortBase& in, detail::QueuePolicy policy, std::size_t size) {
+inline void configureQueue(detail::InputPortBase& in, QueuePolicy policy, std::size_t size) {
   in.configureQueue(policy, size);
 }
 

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <typeindex>
 
+#include "keel/detail/enums.hpp"
 #include "keel/detail/validity.hpp"
 
 namespace keel {
@@ -17,15 +18,6 @@ class Component;
 }
 
 namespace keel::detail {
-
-enum class PortKind { Data, Event, Service };
-/// OPRoS queueing policies of an input data port.
-enum class QueuePolicy { Fifo, UFifo, Lifo, Last };
-enum class PortDirection { Input, Output };  // service: Provided = Input, Required = Output
-
-constexpr std::string_view toString(PortKind k) {
-  return k == PortKind::Data ? "data" : k == PortKind::Event ? "event" : "service";
-}
 
 class PortBase;
 class ConnectionBase;

@@ -46,11 +46,11 @@ class VoterRig {
   VoterRig() {
     test::manage(voter, "voter", hooks);
     for (std::size_t i = 0; i < N; ++i) {
-      test::configureQueue(voter.in[i], detail::QueuePolicy::Last, 1);  // as the profile says
+      test::configureQueue(voter.in[i], QueuePolicy::Last, 1);  // as the profile says
       test::wire(*feeder.out[i], voter.in[i], keep_);
     }
-    test::configureQueue(probe.output, detail::QueuePolicy::UFifo, 256);
-    test::configureQueue(probe.agreeing, detail::QueuePolicy::UFifo, 256);
+    test::configureQueue(probe.output, QueuePolicy::UFifo, 256);
+    test::configureQueue(probe.agreeing, QueuePolicy::UFifo, 256);
     test::wire(voter.output, probe.output, keep_);
     test::wire(voter.agreeing, probe.agreeing, keep_);
   }

@@ -42,9 +42,9 @@ class MonitorRig {
  public:
   MonitorRig() {
     test::manage(monitor, "monitor", hooks);
-    test::configureQueue(monitor.target, detail::QueuePolicy::Fifo, 64);  // as the profile says
-    test::configureQueue(monitor.reference, detail::QueuePolicy::Fifo, 64);
-    test::configureQueue(probe.residual, detail::QueuePolicy::UFifo, 1024);
+    test::configureQueue(monitor.target, QueuePolicy::Fifo, 64);  // as the profile says
+    test::configureQueue(monitor.reference, QueuePolicy::Fifo, 64);
+    test::configureQueue(probe.residual, QueuePolicy::UFifo, 1024);
     test::wire(feeder.target, monitor.target, keep_);
     test::wire(feeder.reference, monitor.reference, keep_);
     test::wire(monitor.residual, probe.residual, keep_);

@@ -112,7 +112,7 @@ TEST(Containment, AComponentOnAnExecutorStopsOnItsExecutorsThread) {
   Rig rig;
   Actuator driven("driven");
   ASSERT_TRUE(runtime::transition(driven, Transition::Initialize));
-  runtime::Executor ex({"drive", runtime::ExecutorKind::Aperiodic, 10ms, 0, runtime::Policy::Other});
+  runtime::Executor ex({"drive", runtime::ExecutorKind::Aperiodic, 10ms, 0, SchedPolicy::Other});
   ex.add(driven);
   ex.start();
   rig.host.all = {&driven};

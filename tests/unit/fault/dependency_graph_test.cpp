@@ -44,7 +44,7 @@ struct System {
     }
   }
   void task(const std::string& name, std::vector<std::string> members) {
-    plan.executors.push_back({name, true, 5.0, 0, profile::SchedPolicy::Other, std::move(members), {}});
+    plan.executors.push_back({name, true, 5.0, 0, SchedPolicy::Other, std::move(members), {}});
   }
   void policy(const std::string& component, Scope scope) {
     auto& inst = *std::find_if(plan.instances.begin(), plan.instances.end(),

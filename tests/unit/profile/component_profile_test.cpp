@@ -68,7 +68,7 @@ TEST(ComponentProfile, ReadsDataAndEventPortsWithDefaultsAndValidity) {
   ASSERT_EQ(c.data_ports.size(), 2u);
   const DataPort& distance = c.data_ports[0];
   EXPECT_EQ(distance.name, "distance");
-  EXPECT_EQ(distance.usage, Usage::Output);
+  EXPECT_EQ(distance.usage, PortDirection::Output);
   EXPECT_EQ(distance.data_type, "double");
   EXPECT_EQ(distance.queue_policy, QueuePolicy::Fifo);  // default
   EXPECT_EQ(distance.queue_size, 10u);                  // default
@@ -76,7 +76,7 @@ TEST(ComponentProfile, ReadsDataAndEventPortsWithDefaultsAndValidity) {
   EXPECT_THAT(distance.validity->min, ElementsAre(3.0));
   EXPECT_THAT(distance.validity->max, ElementsAre(3000.0));
   const DataPort& threshold = c.data_ports[1];
-  EXPECT_EQ(threshold.usage, Usage::Input);              // written "Input"
+  EXPECT_EQ(threshold.usage, PortDirection::Input);      // written "Input"
   EXPECT_EQ(threshold.queue_policy, QueuePolicy::Last);  // <queuing_policy>last</queuing_policy>
   EXPECT_EQ(threshold.queue_size, 1u);
   EXPECT_FALSE(threshold.validity.has_value());

@@ -23,7 +23,7 @@ TEST(CompositeProfile, ReadsSubcomponentsConnectionsAndExportedPorts) {
   EXPECT_EQ(c.subcomponents[3].reference, keyOf("valid/Voter.xml"));
   ASSERT_EQ(c.connections.size(), 3u);
   EXPECT_FALSE(c.connections[2].port_type_given);  // inferred from the ports
-  EXPECT_EQ(c.connections[2].port_type, PortType::Data);
+  EXPECT_EQ(c.connections[2].port_type, PortKind::Data);
   ASSERT_EQ(c.exported_ports.size(), 2u);
   EXPECT_EQ(c.exported_ports[0].name, "distance");  // attribute form
   EXPECT_EQ(c.exported_ports[0].inner.component, "voter");

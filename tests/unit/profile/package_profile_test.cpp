@@ -58,14 +58,14 @@ TEST(PackageProfile, ReadsConnectionsOfEveryPortType) {
   const auto& cs = result->rootPackage()->connections;
 
   ASSERT_EQ(cs.size(), 4u);
-  EXPECT_EQ(cs[0].port_type, PortType::Data);
+  EXPECT_EQ(cs[0].port_type, PortKind::Data);
   EXPECT_EQ(cs[0].source.component, "sonar");
   EXPECT_EQ(cs[0].source.port, "distance");
   EXPECT_EQ(cs[0].target.component, "nav");
   EXPECT_EQ(cs[0].target.port, "range");
   EXPECT_TRUE(cs[0].port_type_given);
-  EXPECT_EQ(cs[2].port_type, PortType::Event);
-  EXPECT_EQ(cs[3].port_type, PortType::Service);
+  EXPECT_EQ(cs[2].port_type, PortKind::Event);
+  EXPECT_EQ(cs[3].port_type, PortKind::Service);
   EXPECT_EQ(cs[3].where.line, 49);
 }
 
@@ -126,7 +126,7 @@ TEST(PackageProfile, LoadsAPlainOprosApplicationProfileInferringThePortType) {
   EXPECT_EQ(pkg.name, "VisionApp");
   ASSERT_EQ(pkg.connections.size(), 1u);
   EXPECT_FALSE(pkg.connections[0].port_type_given);
-  EXPECT_EQ(pkg.connections[0].port_type, PortType::Data);
+  EXPECT_EQ(pkg.connections[0].port_type, PortKind::Data);
   EXPECT_EQ(result->components.size(), 1u);  // Brightness.xml, referenced twice
 }
 

@@ -21,10 +21,10 @@ TEST(SystemConnections, AreReadWithApplicationQualifiedEndpoints) {
   EXPECT_EQ(connections[0].source.component, "obstacle.array");  // a composite's exported port
   EXPECT_EQ(connections[0].source.port, "distance");
   EXPECT_EQ(connections[0].target.component, "navigation.nav");
-  EXPECT_EQ(connections[0].port_type, PortType::Data);
+  EXPECT_EQ(connections[0].port_type, PortKind::Data);
   EXPECT_EQ(connections[0].where.line, 13);
   EXPECT_FALSE(connections[1].port_type_given);
-  EXPECT_EQ(connections[1].port_type, PortType::Data);  // taken from the ports, as in a package
+  EXPECT_EQ(connections[1].port_type, PortKind::Data);  // taken from the ports, as in a package
 }
 
 TEST(SystemConnections, ArePlannedBetweenAbsoluteInstanceNamesThroughExports) {

@@ -44,8 +44,8 @@ class DetectorRig {
  public:
   DetectorRig() {
     test::manage(detector, "detector", hooks);
-    test::configureQueue(detector.image, detail::QueuePolicy::Fifo, 4);  // to see older frames skipped
-    test::configureQueue(probe.blob, detail::QueuePolicy::UFifo, 256);
+    test::configureQueue(detector.image, QueuePolicy::Fifo, 4);  // to see older frames skipped
+    test::configureQueue(probe.blob, QueuePolicy::UFifo, 256);
     test::wire(feeder.image, detector.image, keep_);
     test::wire(detector.blob, probe.blob, keep_);
   }
@@ -273,7 +273,7 @@ TEST(ColorBlobDetector, ProfileDeclaresTheClassPortsAndDefaults) {
     EXPECT_EQ(p.data_ports[i].name, ports[i]->name());
     EXPECT_EQ(canonicalTypeName(p.data_ports[i].data_type), ports[i]->typeName());
   }
-  EXPECT_EQ(p.data_ports[0].queue_policy, profile::QueuePolicy::Last);
+  EXPECT_EQ(p.data_ports[0].queue_policy, QueuePolicy::Last);
   const YuvBox c = ColorBlobDetector::kDefaultColour;
   const std::vector<std::pair<std::string, PropertyValue>> defaults = {
       {"y_min", std::int64_t{c.y_min}},

@@ -38,7 +38,7 @@ concept Calls = requires(P& p) {
 // ---- the runtime's side ----
 template <class P>
 concept ConfiguresQueue = requires(P& p) {
-  p.configureQueue(detail::QueuePolicy::Fifo, 4);
+  p.configureQueue(QueuePolicy::Fifo, 4);
 };
 template <class P>
 concept Clears = requires(P& p) {
@@ -118,7 +118,7 @@ TEST(AuthorApi, TheRuntimeSideOfPortsWorksThroughTheBasesItIsReachedBy) {
   std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
   test::wire(source.out, sink.in, keep);
   test::wire(source.events, sink.events, keep);
-  test::configureQueue(sink.in, detail::QueuePolicy::Last, 8);
+  test::configureQueue(sink.in, QueuePolicy::Last, 8);
 
   source.out.push(1.0);
   source.out.push(2.0);

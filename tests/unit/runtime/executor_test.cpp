@@ -65,7 +65,7 @@ TEST_F(ExecutorTest, ATaskRunsItsMembersInDeclaredOrderExecuteThenUpdated) {
   Tracer a(&trace_, &trace_mutex_), b(&trace_, &trace_mutex_);
   ready(a, "a");
   ready(b, "b");
-  Executor ex({"task", ExecutorKind::Periodic, 2ms, 0, Policy::Other});
+  Executor ex({"task", ExecutorKind::Periodic, 2ms, 0, SchedPolicy::Other});
   ex.add(a);
   ex.add(b);
   ex.start();
@@ -84,7 +84,7 @@ TEST_F(ExecutorTest, ATaskRunsItsMembersInDeclaredOrderExecuteThenUpdated) {
 TEST_F(ExecutorTest, APreparedThreadWaitsWithItsMembersUnstartedUntilStartThenRunsOnThatThread) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
-  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
   ex.add(a);
   ex.prepare();
   std::this_thread::sleep_for(50ms);  // 50 periods: a thread that ran would have started and stepped
@@ -106,7 +106,7 @@ TEST_F(ExecutorTest, APreparedThreadWaitsWithItsMembersUnstartedUntilStartThenRu
 TEST_F(ExecutorTest, APreparedThreadAskedToStopLeavesWithoutStartingOrStoppingItsMembers) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
-  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
   ex.add(a);
   ex.prepare();
   ex.requestStop();
@@ -122,7 +122,7 @@ TEST_F(ExecutorTest, APreparedThreadRunsItsBeforeParkHookAndGoesOnAtOnceWhenTheH
   // members, with no start() from another thread.
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
-  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  Executor ex({"standby", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
   ex.add(a);
   std::atomic<std::thread::id> hook_thread{};
   std::atomic<bool> go{false};
@@ -146,7 +146,7 @@ TEST_F(ExecutorTest, TheAtExitHookRunsOnTheThreadHoweverItEnds) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
   auto runs = [&](auto&& end) {
-    Executor ex({"task", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+    Executor ex({"task", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
     ex.add(a);
     std::atomic<std::thread::id> ran_on{}, exited_on{};
     ex.prepare([&] { ran_on = std::this_thread::get_id(); }, [&] { exited_on = std::this_thread::get_id(); });
@@ -169,7 +169,7 @@ TEST_F(ExecutorTest, TheAtExitHookRunsOnTheThreadHoweverItEnds) {
 TEST_F(ExecutorTest, PeriodicExecutorKeepsItsRateOverTime) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
-  Executor ex({"p", ExecutorKind::Periodic, 5ms, 0, Policy::Other});
+  Executor ex({"p", ExecutorKind::Periodic, 5ms, 0, SchedPolicy::Other});
   ex.add(a);
   const auto t0 = std::chrono::steady_clock::now();
   ex.start();
@@ -186,7 +186,7 @@ TEST_F(ExecutorTest, PeriodicExecutorKeepsItsRateOverTime) {
 TEST_F(ExecutorTest, AllCallbacksOfAMemberRunOnTheExecutorThread) {
   Tracer a(&trace_, &trace_mutex_);
   ready(a, "a");
-  Executor ex({"p", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  Executor ex({"p", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
   ex.add(a);
   ex.start();
   ASSERT_TRUE(eventually([&] { return a.executions.load() > 0; }));
@@ -234,7 +234,7 @@ TEST_F(ExecutorTest, AperiodicExecutorRunsOnlyWhenInputArrives) {
   ready(c, "c");
   std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
   test::wire(p.out, c.in, keep);
-  Executor ex({"aperiodic", ExecutorKind::Aperiodic, 0ms, 0, Policy::Other});
+  Executor ex({"aperiodic", ExecutorKind::Aperiodic, 0ms, 0, SchedPolicy::Other});
   ex.add(c);
   ex.start();
   std::this_thread::sleep_for(50ms);
@@ -301,7 +301,7 @@ TEST_F(ExecutorTest, AnExecutorSleepsOnItsExternalInputsAndDrainsThemOnItsThread
     std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
     test::wire(p.out, c.in, keep);
     CountingInput input(p.out);
-    Executor ex({"external", kind, 1h, 0, Policy::Other});
+    Executor ex({"external", kind, 1h, 0, SchedPolicy::Other});
     ex.add(c);
     ex.addInput(input);
     ex.start();
@@ -332,7 +332,7 @@ TEST_F(ExecutorTest, EventsAreDeliveredToOnEventOnTheReceiversExecutorInOrder) {
   ready(c, "c");
   std::vector<std::unique_ptr<detail::ConnectionBase>> keep;
   test::wire(p.events, c.events, keep);
-  Executor ex({"slow", ExecutorKind::Periodic, 1h, 0, Policy::Other});
+  Executor ex({"slow", ExecutorKind::Periodic, 1h, 0, SchedPolicy::Other});
   ex.add(c);
   ex.start();
   for (const char* n : {"one", "two", "three"}) p.events.send(Event{n, 0, 0});
@@ -358,7 +358,7 @@ TEST_F(ExecutorTest, AFaultingMemberGoesToErrorAndTheOthersKeepRunning) {
   Tracer good(&trace_, &trace_mutex_);
   ready(bad, "bad");
   ready(good, "good");
-  Executor ex({"task", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  Executor ex({"task", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
   ex.add(bad);
   ex.add(good);
   ex.start();
@@ -389,7 +389,7 @@ TEST_F(ExecutorTest, AnOverrunIsCountedOnceAndTheMissedReleasesAreSkipped) {
     std::array<std::chrono::steady_clock::time_point, 64> starts{};
   } slow;
   ready(slow, "slow");
-  Executor ex({"p", ExecutorKind::Periodic, kPeriod, 0, Policy::Other});
+  Executor ex({"p", ExecutorKind::Periodic, kPeriod, 0, SchedPolicy::Other});
   ex.add(slow);
   ex.start();
   ASSERT_TRUE(eventually([&] { return slow.n.load() >= 5; }));
@@ -413,7 +413,7 @@ TEST_F(ExecutorTest, CountsDeadlineOverrunsOfAMember) {
   } c;
   ready(c, "c");
   coreOf(c).deadline_ns = 10'000'000;  // <deadline>10</deadline>
-  Executor ex({"p", ExecutorKind::Periodic, 1ms, 0, Policy::Other});
+  Executor ex({"p", ExecutorKind::Periodic, 1ms, 0, SchedPolicy::Other});
   ex.add(c);
   ex.start();
   ASSERT_TRUE(eventually([&] { return c.n.load() >= 12; }));
@@ -435,7 +435,7 @@ TEST_F(ExecutorTest, RunsSubMillisecondPeriods) {
     std::size_t count = 0;
   } c;
   ready(c, "c");
-  Executor ex({"fast", ExecutorKind::Periodic, 500us, 0, Policy::Other});
+  Executor ex({"fast", ExecutorKind::Periodic, 500us, 0, SchedPolicy::Other});
   ex.add(c);
   ex.start();
   std::this_thread::sleep_for(300ms);
@@ -462,7 +462,7 @@ TEST_F(ExecutorTest, AppliesTheSchedulingPolicyOrWarnsWhenTheOsRefusesIt) {
   ready(probe, "probe");
   std::vector<std::string> warnings;
   std::mutex wm;
-  Executor ex({"rt", ExecutorKind::Periodic, 1ms, 10, Policy::Fifo}, [&](const std::string& w) {
+  Executor ex({"rt", ExecutorKind::Periodic, 1ms, 10, SchedPolicy::Fifo}, [&](const std::string& w) {
     std::lock_guard lock(wm);
     warnings.push_back(w);
   });

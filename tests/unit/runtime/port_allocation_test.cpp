@@ -57,8 +57,8 @@ TEST(PortAllocation, PushAndPopOfFixedSizeTypesDoNotAllocate) {
   test::wire(s.pose, t1.pose, keep);
   test::wire(s.pose, t2.pose, keep);  // fan-out
   test::wire(s.count, t1.count, keep);
-  test::configureQueue(t1.pose, detail::QueuePolicy::Fifo, 8);
-  test::configureQueue(t2.pose, detail::QueuePolicy::Last, 1);
+  test::configureQueue(t1.pose, QueuePolicy::Fifo, 8);
+  test::configureQueue(t2.pose, QueuePolicy::Last, 1);
 
   t_allocations = 0;
   t_counting = true;

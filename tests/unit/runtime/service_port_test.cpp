@@ -57,7 +57,7 @@ class ServicePortTest : public ::testing::Test {
   test::RecordingHooks hooks_;
   Calculator calc_;
   Client client_;
-  Executor ex_{{"calc", ExecutorKind::Periodic, 10ms, 0, Policy::Other}};
+  Executor ex_{{"calc", ExecutorKind::Periodic, 10ms, 0, SchedPolicy::Other}};
 };
 
 TEST_F(ServicePortTest, ACallRunsOnTheProvidersExecutorAndReturnsTheResult) {

@@ -19,7 +19,7 @@ bool offered(const std::vector<Offer>& menu, const std::string& component, const
                      [&](const Offer& o) { return o.component == component && o.kind == kind; });
 }
 
-profile::DataPort port(std::string name, profile::Usage usage, std::string type, bool validity) {
+profile::DataPort port(std::string name, PortDirection usage, std::string type, bool validity) {
   profile::DataPort p;
   p.name = std::move(name);
   p.usage = usage;
@@ -34,20 +34,20 @@ struct MenuPlan {
   profile::ComponentProfile sensor, filter, logger, vision;
   plan::Plan plan;
   MenuPlan() {
-    sensor.data_ports = {port("range", profile::Usage::Output, "double", true),
-                         port("label", profile::Usage::Output, "string", true)};
-    filter.data_ports = {port("in", profile::Usage::Input, "double", false),
-                         port("out", profile::Usage::Output, "double", false)};
-    logger.data_ports = {port("in", profile::Usage::Input, "double", true),
-                         port("count", profile::Usage::Output, "int", false)};
+    sensor.data_ports = {port("range", PortDirection::Output, "double", true),
+                         port("label", PortDirection::Output, "string", true)};
+    filter.data_ports = {port("in", PortDirection::Input, "double", false),
+                         port("out", PortDirection::Output, "double", false)};
+    logger.data_ports = {port("in", PortDirection::Input, "double", true),
+                         port("count", PortDirection::Output, "int", false)};
     plan::PlannedInstance s{"sensor", &sensor, {}, profile::FaultPolicy{}, "", "", {}, {}};
     s.policy->heartbeat_timeout_ms = 200;
     plan.instances = {s,
                       {"filter", &filter, {}, std::nullopt, "", "", {}, {}},
                       {"logger", &logger, {}, std::nullopt, "", "", {}, {}},
                       {"vision", &vision, {}, std::nullopt, "", "vision", {}, {}}};
-    plan.connections = {{profile::PortType::Data, {"sensor", "range"}, {"filter", "in"}, {}},
-                        {profile::PortType::Data, {"filter", "out"}, {"logger", "in"}, {}}};
+    plan.connections = {{PortKind::Data, {"sensor", "range"}, {"filter", "in"}, {}},
+                        {PortKind::Data, {"filter", "out"}, {"logger", "in"}, {}}};
     plan::PlannedExecutor task;
     task.name = "task";
     task.members = {"sensor", "filter"};
