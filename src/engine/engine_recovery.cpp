@@ -160,7 +160,7 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
 
 std::uint64_t Engine::peerLost(const std::string& instance, const FaultEvent& fault) {
   Component* c = find(instance);
-  return c ? fault_manager_.onFault(*c, fault, "dds") : 0;
+  return c ? fault_manager_.report(*c, fault, "dds") : 0;
 }
 
 void Engine::peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) {

@@ -91,7 +91,7 @@ bool RunSide::injects(const injection::ScheduledFault& f, const plan::PlannedIns
 Result<void> RunSide::launch() {
   if (!supervisor_) return {};
   supervisor_->setReport(
-      [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.onFault(proxy, fault, "supervisor"); });
+      [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.report(proxy, fault, "supervisor"); });
   return supervisor_->launch();
 }
 

@@ -31,8 +31,8 @@ void FaultManager::drain() { queue_.drain(); }
 
 // ---- detection: any thread --------------------------------------------------------------
 
-std::uint64_t FaultManager::onFault(Component& reporter, const FaultEvent& fault, std::string_view detector,
-                                    bool recoverable) {
+std::uint64_t FaultManager::report(Component& reporter, const FaultEvent& fault, std::string_view detector,
+                                   bool recoverable) {
   FaultReport r = diagnose(reporter, fault, detector, find_, ids_, recoverable);
   Component* accused = r.accused;
   if (r.first != Step::Ignore && r.first != Step::Done && allowed(accused->state(), Transition::Fault)) {

@@ -15,7 +15,7 @@
 // afterwards (no wake-up on the recovery path). Anything else is handed over: to the
 // component's thread (posted between its callbacks, or its hung callback interrupted by a
 // signal), or to the manager's own thread, which does what needs the whole picture.
-// Thread-safety: onFault, runPending, recovered, emergencyStop, clearEmergency and the readers
+// Thread-safety: report, runPending, recovered, emergencyStop, clearEmergency and the readers
 // may be called from any thread; attach/start/stop from the engine's thread.
 #pragma once
 
@@ -70,15 +70,15 @@ class FaultManager final : public runtime::FaultSink {
   void shareIds(std::atomic<std::uint64_t>* shared) { ids_.share(shared); }
 
   /// `reporter` detected `fault`; `fault.component` names the faulty component (empty: the
-  /// reporter itself). `detector` names who found it in the log (default: the reporter).
+  /// reporter itself). `detector` names who found it in the log (empty: the reporter).
   /// Not `recoverable` (a failed lifecycle transition): logged and diagnosed, never handled.
   /// Returns the fault's id.
-  std::uint64_t onFault(Component& reporter, const FaultEvent& fault, std::string_view detector = {},
-                        bool recoverable = true);
+  std::uint64_t report(Component& reporter, const FaultEvent& fault, std::string_view detector,
+                       bool recoverable = true);
 
   // runtime::FaultSink: what the runtime reports, straight from the thread that noticed it.
-  void faultDetected(Component& c, const FaultEvent& fault) override { onFault(c, fault); }
-  void transitionFailed(Component& c, const FaultEvent& fault) override { onFault(c, fault, {}, false); }
+  void report(Component& c, const FaultEvent& fault) override { (void)report(c, fault, {}); }
+  void reportFailedTransition(Component& c, const FaultEvent& fault) override { report(c, fault, {}, false); }
   /// On `c`'s own thread: carries on the handling that waits for it.
   void runPending(Component& c) override;
   /// `c` executed normally after a recovery.

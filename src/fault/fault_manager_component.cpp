@@ -8,7 +8,7 @@ ReturnCode FaultManagerComponent::onEvent(InputEventPortBase& port) {
   if (&port != &faults) return ReturnCode::Ok;
   FaultEvent ev = faults.current();
   if (ev.t_ns == 0) ev.t_ns = runtime::steadyNs();  // arrival: the sender gave no time
-  manager_.onFault(*this, ev);
+  manager_.report(*this, ev);
   return ReturnCode::Ok;
 }
 

@@ -2,7 +2,7 @@
 // so-called system component"): instance `fault_manager`, with an input event port `faults`
 // (keel::FaultEvent) that any component may connect an output event port to. Created by the
 // engine when a profile connects to it; runs on its own aperiodic executor.
-// Thread-safety: as any component; forwards to FaultManager::onFault.
+// Thread-safety: as any component; forwards to FaultManager::report.
 #pragma once
 
 #include "fault/fault_manager.hpp"

@@ -41,7 +41,7 @@ void Watchdog::report(Component& c, const WatchedComponent& w, std::int64_t now,
   ev.t_ns = now;
   FaultEvent::copyInto(ev.component, c.instanceName());
   runtime::formatDetail(ev, "{} for {:.3f} ms (heartbeat timeout {:.3f} ms)", what, late_ms, w.timeout_ns / 1e6);
-  manager_.onFault(c, ev, "watchdog");
+  manager_.report(c, ev, "watchdog");
 }
 
 std::int64_t Watchdog::check(const WatchedComponent& w, Episode& e, std::int64_t now) {

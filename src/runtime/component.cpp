@@ -39,12 +39,11 @@ void Component::critical(void* addr, std::size_t len) {
 }
 
 void Component::raiseFault(std::string_view why) {
-  if (core_->fault_sink)
-    core_->fault_sink->faultDetected(*this, FaultEvent(FaultKind::User, core_->instance_name, why));
+  if (core_->fault_sink) core_->fault_sink->report(*this, FaultEvent(FaultKind::User, core_->instance_name, why));
 }
 
 void Component::reportFault(const FaultEvent& fault) {
-  if (core_->fault_sink) core_->fault_sink->faultDetected(*this, fault);
+  if (core_->fault_sink) core_->fault_sink->report(*this, fault);
 }
 
 void Component::rejectProperty(std::string_view name, std::string_view why) const {

@@ -31,11 +31,11 @@ class FaultSink {
  public:
   virtual ~FaultSink() = default;
   /// A fault was detected in `c` (or raised by it). Called on the thread that noticed it.
-  virtual void faultDetected(Component& c, const FaultEvent& fault) = 0;
+  virtual void report(Component& c, const FaultEvent& fault) = 0;
   /// A lifecycle callback of `c` (onInitialize, onStart, onStop, onDestroy) failed with
   /// `fault`. Reported like any fault, but no rule recovers a transition that did not happen:
   /// the component stays in Error until it is destroyed. Called on the thread of the call.
-  virtual void transitionFailed(Component& c, const FaultEvent& fault) { faultDetected(c, fault); }
+  virtual void reportFailedTransition(Component& c, const FaultEvent& fault) { report(c, fault); }
   /// Handling of a fault of `c` waits for `c`'s own thread (the fault cell's `pending` was
   /// set): called there, between callbacks or after its hung callback was interrupted.
   virtual void runPending(Component& c) = 0;

@@ -62,7 +62,7 @@ bool finishCall(Component& c, const GuardOutcome& out, Callback cb) {
     if (core.fault_sink) core.fault_sink->runPending(c);
     return false;
   }
-  if (!out.ok()) recordFault(c, out, cb);
+  if (!out.ok()) reportFailedCall(c, out, cb);
   // A fault noticed inside the call (a range fault on push, raiseFault) is handled now; the
   // call then counts as failed, so that a recovered component's step is run again.
   const bool pending = core.fault.pending.load(std::memory_order_acquire);
@@ -76,7 +76,7 @@ Component* runningComponent() {
   return frame ? frame->owner : nullptr;  // the innermost guarded call's, as calls nest
 }
 
-void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
+void reportFailedCall(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   FaultEvent ev;
   ev.t_ns = out.t_ns ? out.t_ns : steadyNs();
@@ -88,10 +88,10 @@ void recordFault(Component& c, const GuardOutcome& out, Callback cb) {
     core.transition_fault = ev.detailText();
     State s = core.state.load(std::memory_order_acquire);
     if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
-    if (core.fault_sink) core.fault_sink->transitionFailed(c, ev);
+    if (core.fault_sink) core.fault_sink->reportFailedTransition(c, ev);
     return;
   }
-  if (core.fault_sink) core.fault_sink->faultDetected(c, ev);
+  if (core.fault_sink) core.fault_sink->report(c, ev);
 }
 
 StateChange setState(Component& c, State to) {
@@ -107,7 +107,7 @@ StateChange setStateQuiet(Component& c, State to) {
 
 void reportFault(Component& c, const FaultEvent& ev) {
   detail::ComponentCore& core = coreOf(c);
-  if (core.fault_sink) core.fault_sink->faultDetected(c, ev);
+  if (core.fault_sink) core.fault_sink->report(c, ev);
 }
 
 bool invoke(Component& c, Callback cb) {

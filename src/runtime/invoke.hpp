@@ -80,7 +80,7 @@ bool finishCall(Component& c, const GuardOutcome& out, Callback cb);
 
 /// Records a failed guarded call of `cb` and reports it; a failed lifecycle callback (not
 /// Destroy) moves `c` to Error here, other failures are the fault manager's to handle.
-void recordFault(Component& c, const GuardOutcome& out, Callback cb);
+void reportFailedCall(Component& c, const GuardOutcome& out, Callback cb);
 
 /// Reports a fault detected outside a callback (port validity, watchdog, ...).
 void reportFault(Component& c, const FaultEvent& ev);

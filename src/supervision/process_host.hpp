@@ -149,8 +149,10 @@ class HostFaultSink final : public runtime::FaultSink {
  public:
   static constexpr std::uint64_t kFirstRun = ~std::uint64_t{0};  // a recovering_id no fault has
   HostFaultSink(runtime::FaultSink& manager, ProcessHost& host) : manager_(manager), host_(host) {}
-  void faultDetected(Component& c, const FaultEvent& fault) override { manager_.faultDetected(c, fault); }
-  void transitionFailed(Component& c, const FaultEvent& fault) override { manager_.transitionFailed(c, fault); }
+  void report(Component& c, const FaultEvent& fault) override { manager_.report(c, fault); }
+  void reportFailedTransition(Component& c, const FaultEvent& fault) override {
+    manager_.reportFailedTransition(c, fault);
+  }
   void runPending(Component& c) override { manager_.runPending(c); }
   void recovered(Component& c, std::int64_t t_ns) override;
 

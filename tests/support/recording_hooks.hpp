@@ -30,7 +30,7 @@ class RecordingHooks : public runtime::RunHooks, public runtime::FaultSink {
     std::lock_guard lock(mutex_);
     states_.push_back({c.instanceName(), from, to});
   }
-  void faultDetected(Component& c, const FaultEvent& fault) override {
+  void report(Component& c, const FaultEvent& fault) override {
     {
       std::lock_guard lock(mutex_);
       FaultEvent f = fault;

@@ -155,7 +155,7 @@ TEST(FaultManager, WithoutAThreadAResetFaultIsLoggedFromDetectionToRecoveryUnder
   Rig rig;
   rig.policy(Severity::Reset);
 
-  rig.manager.onFault(rig.arm, segfault());
+  rig.manager.report(rig.arm, segfault());
 
   EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"}));
   EXPECT_EQ(rig.arm.thread, std::this_thread::get_id()) << "no thread: handled on the reporting one";
@@ -179,7 +179,7 @@ TEST(FaultManager, WithItsThreadAPassiveComponentIsResetThereAndLoggedTheSame) {
   rig.policy(Severity::Reset);
   rig.manager.start();
 
-  rig.manager.onFault(rig.arm, segfault());
+  rig.manager.report(rig.arm, segfault());
   rig.manager.drain();
 
   EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"}));
@@ -198,10 +198,10 @@ TEST(FaultManager, ASecondFaultWhileTheFirstIsBeingHandledIsOnlyLogged) {
   rig.arm.during_reset = [&rig, reported = false]() mutable {
     if (reported) return;
     reported = true;
-    rig.manager.onFault(rig.arm, segfault("second, during onReset"));
+    rig.manager.report(rig.arm, segfault("second, during onReset"));
   };
 
-  rig.manager.onFault(rig.arm, segfault("first"));
+  rig.manager.report(rig.arm, segfault("first"));
 
   EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"})) << "reset once";
   EXPECT_EQ(rig.arm.state(), State::Active);
@@ -219,9 +219,9 @@ TEST(FaultManager, ASecondFaultWhileTheFirstIsBeingHandledIsOnlyLogged) {
 TEST(FaultManager, OnceAFaultIsHandledTheNextOneIsHandledAgain) {
   Rig rig;
   rig.policy(Severity::Reset);
-  rig.manager.onFault(rig.arm, segfault("first"));
+  rig.manager.report(rig.arm, segfault("first"));
 
-  rig.manager.onFault(rig.arm, segfault("second"));
+  rig.manager.report(rig.arm, segfault("second"));
 
   EXPECT_EQ(rig.arm.trace(),
             (std::vector<std::string>{"onError", "onReset", "onRecover", "onError", "onReset", "onRecover"}));
@@ -235,9 +235,9 @@ TEST(FaultManager, AResetBeyondTheRestartIntensityEscalatesToAStop) {
   rig.policy(Severity::Reset);
   rig.handling.rules.intensity = 1;
   rig.handling.window = RestartWindow(1, 10'000'000'000);
-  rig.manager.onFault(rig.arm, segfault("first"));
+  rig.manager.report(rig.arm, segfault("first"));
 
-  rig.manager.onFault(rig.arm, segfault("second"));
+  rig.manager.report(rig.arm, segfault("second"));
 
   EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"})) << "not reset twice";
   EXPECT_EQ(rig.arm.state(), State::Error);
@@ -252,7 +252,7 @@ TEST(FaultManager, AnIgnoredFaultIsOnlyLoggedAndLeavesTheComponentActive) {
   Rig rig;
   rig.policy(Severity::Ignore);
 
-  rig.manager.onFault(rig.arm, FaultEvent(FaultKind::Range, "", "NaN on distance"));
+  rig.manager.report(rig.arm, FaultEvent(FaultKind::Range, "", "NaN on distance"));
 
   EXPECT_TRUE(rig.arm.trace().empty());
   EXPECT_EQ(rig.arm.state(), State::Active);
@@ -267,7 +267,7 @@ TEST(FaultManager, AComponentWithoutHandlingIsContainedInError) {
   Rig rig;
   coreOf(rig.arm).fault.handling = nullptr;  // not managed by a runtime
 
-  rig.manager.onFault(rig.arm, segfault());
+  rig.manager.report(rig.arm, segfault());
 
   EXPECT_TRUE(rig.arm.trace().empty()) << "no recovery without rules";
   EXPECT_EQ(rig.arm.state(), State::Error);
@@ -282,9 +282,9 @@ TEST(FaultManager, AComponentWithoutHandlingIsContainedInError) {
 TEST(FaultManager, AStopSeverityFaultStopsTheComponentAndItsLaterFaultsAreOnlyLogged) {
   Rig rig;
   rig.policy(Severity::Stop);
-  rig.manager.onFault(rig.arm, segfault("first"));
+  rig.manager.report(rig.arm, segfault("first"));
 
-  rig.manager.onFault(rig.arm, segfault("later"));
+  rig.manager.report(rig.arm, segfault("later"));
 
   EXPECT_TRUE(rig.arm.trace().empty());
   EXPECT_EQ(rig.arm.state(), State::Error);
@@ -304,7 +304,7 @@ TEST(FaultManager, AnEmergencyFaultRunsEveryOnEmergencyStopThenStopsTheFaultyCom
   rig.host.all.push_back(&leg);
   rig.manager.attach(&rig.host, nullptr);
 
-  rig.manager.onFault(rig.arm, segfault());
+  rig.manager.report(rig.arm, segfault());
 
   EXPECT_EQ(rig.arm.trace(), std::vector<std::string>{"onEmergencyStop"});
   EXPECT_EQ(leg.trace(), std::vector<std::string>{"onEmergencyStop"});
