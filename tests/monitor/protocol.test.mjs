@@ -91,7 +91,11 @@ test("the state names every component; a crash arrives on /keel/faults with its 
     "the segfault's detection",
   );
   assert.equal(detected.kind, "signal");
-  assert.ok(on(seen, "/keel/faults").some((r) => r.event === "diagnosed" && r.fault_id === detected.fault_id));
+  // Its diagnosis follows it: another line of the log, which the monitor may send a moment later.
+  await until(
+    () => on(seen, "/keel/faults").find((r) => r.event === "diagnosed" && r.fault_id === detected.fault_id),
+    "the segfault's diagnosis",
+  );
   const later = await until(
     () => on(seen, "/keel/state").find((s) => s.components.find((c) => c.name === "sonar_left").faults >= 1),
     "the fault counted in the state",
