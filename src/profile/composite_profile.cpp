@@ -64,24 +64,20 @@ void readExportPort(Ctx& ctx, pugi::xml_node node, std::vector<ExportedPort>& ou
 void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out) {
   out.where = ctx.where(root);
   readChildren(ctx, root,
-               {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
-                {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
-                {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
-                {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
-                {"export_ports",
-                 [&](pugi::xml_node n) {
-                   readChildren(ctx, n,
-                                {{"export_port", [&](pugi::xml_node p) { readExportPort(ctx, p, out.exported_ports); },
-                                  true}});
-                 }},
-                {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
-                {"id", {}},
-                {"version", {}},
-                {"copyright", {}},
-                {"layout", {}},
-                {"port_layouts", {}},
-                {"app_domain", {}, false, kNoAppDomain},
-                {"execution_environment", {}, false, kNoAssemblyEnvironment}},
+               assemblyChildren(
+                   ctx, out.name, out.description, out.connections,
+                   {{"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
+                    {"export_ports",
+                     [&](pugi::xml_node n) {
+                       readChildren(ctx, n,
+                                    {{"export_port",
+                                      [&](pugi::xml_node p) { readExportPort(ctx, p, out.exported_ports); }, true}});
+                     }},
+                    {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
+                    {"layout", {}},
+                    {"port_layouts", {}},
+                    {"app_domain", {}, false, kNoAppDomain},
+                    {"execution_environment", {}, false, kNoAssemblyEnvironment}}),
                {"layout"});
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }

@@ -74,22 +74,31 @@ Coordination parseCoordination(Ctx& ctx, pugi::xml_node node) {
   return out;
 }
 
+std::vector<Child> assemblyChildren(Ctx& ctx, std::string& name, std::string& description,
+                                    std::vector<Connection>& connections, std::initializer_list<Child> own) {
+  std::vector<Child> all(own);
+  all.insert(all.end(),
+             {{"name", [&ctx, &name](pugi::xml_node n) { name = leafText(ctx, n); }},
+              {"description", [&ctx, &description](pugi::xml_node n) { description = leafText(ctx, n); }},
+              {"port_connections", [&ctx, &connections](pugi::xml_node n) { connections = parseConnections(ctx, n); }},
+              {"id", {}},
+              {"version", {}},
+              {"copyright", {}}});
+  return all;
+}
+
 void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out) {
   out.where = ctx.where(root);
-  readChildren(ctx, root,
-               {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
-                {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
-                {"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
-                {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
-                {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
-                {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
-                {"dds", [&](pugi::xml_node n) { out.dds = parseDds(ctx, n); }},
-                {"id", {}},
-                {"version", {}},
-                {"copyright", {}},
-                {"topics", {}, false, "OPRoS reserved it for topic-based events, which it never delivered"},
-                {"app_domain", {}, false, kNoAppDomain},
-                {"execution_environment", {}, false, kNoAssemblyEnvironment}});
+  readChildren(
+      ctx, root,
+      assemblyChildren(ctx, out.name, out.description, out.connections,
+                       {{"subcomponents", [&](pugi::xml_node n) { out.subcomponents = parseSubcomponents(ctx, n); }},
+                        {"tasks", [&](pugi::xml_node n) { out.tasks = parseTasks(ctx, n); }},
+                        {"coordination", [&](pugi::xml_node n) { out.coordination = parseCoordination(ctx, n); }},
+                        {"dds", [&](pugi::xml_node n) { out.dds = parseDds(ctx, n); }},
+                        {"topics", {}, false, "OPRoS reserved it for topic-based events, which it never delivered"},
+                        {"app_domain", {}, false, kNoAppDomain},
+                        {"execution_environment", {}, false, kNoAssemblyEnvironment}}));
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

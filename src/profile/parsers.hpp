@@ -41,6 +41,12 @@ Coordination parseCoordination(Ctx& ctx, pugi::xml_node node);
 inline constexpr std::string_view kNoAppDomain = "OPRoS's engine read it and did nothing with it";
 inline constexpr std::string_view kNoAssemblyEnvironment =
     "each component profile's <execution_environment> names its library";
+/// The children of an assembly's profile (package, composite, system): its own, then those they
+/// all read alike — name, description, port_connections, and the OPRoS IDE's id, version and
+/// copyright, which keel keeps nowhere (package_profile.cpp). `connections`: where its
+/// port_connections go.
+std::vector<Child> assemblyChildren(Ctx& ctx, std::string& name, std::string& description,
+                                    std::vector<Connection>& connections, std::initializer_list<Child> own);
 /// <dds> of a package or system profile (dds_profile.cpp).
 DdsSpec parseDds(Ctx& ctx, pugi::xml_node node);
 /// <fault_policy> of subcomponent `owner` (fault_policy.cpp).

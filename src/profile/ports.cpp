@@ -58,17 +58,54 @@ bool readUsage(Ctx& ctx, pugi::xml_node n, const std::string& text, const std::s
   return false;
 }
 
-/// The port's name read ahead, so that messages about earlier children can name the port.
-std::string portName(pugi::xml_node node) { return std::string(trim(node.child("name").child_value())); }
+/// What the three port readers share: the port's place and name (read ahead, so that messages
+/// about earlier children can name the port), the phrase messages name it by, the children
+/// every port reads alike (its name; a data or event port's usage and data type), and the check
+/// of what every port must have.
+template <class Port>
+struct PortReading {
+  PortReading(Ctx& c, pugi::xml_node n, Port& port, std::string_view kind)
+      : ctx(c), node(n), p(port), owner(fmt::format("{} port '{}'", kind, trim(n.child("name").child_value()))) {
+    p.where = ctx.where(node);
+    p.name = std::string(trim(node.child("name").child_value()));
+  }
+  std::string text(pugi::xml_node n) const { return leafText(ctx, n); }
+  Child name() {
+    return {"name", [this](pugi::xml_node n) { p.name = text(n); }};
+  }
+  /// A data or event port's <usage> (its direction).
+  Child direction() {
+    return {"usage", [this](pugi::xml_node n) {
+              usage = true;
+              dropped = !readUsage(ctx, n, text(n), owner, p.usage);
+            }};
+  }
+  Child dataType() {
+    return {"data_type", [this](pugi::xml_node n) { p.data_type = text(n); }};
+  }
+  /// Reports what the port lacks; whether it is kept (it has a name, and was not dropped).
+  bool complete() {
+    if (p.name.empty()) {
+      reportMissing(ctx, node, "name");
+      return false;
+    }
+    if (!usage) reportMissing(ctx, node, "usage", owner);
+    return !dropped;
+  }
+
+  Ctx& ctx;
+  pugi::xml_node node;
+  Port& p;
+  std::string owner;
+  bool usage = false;    // a <usage> was given
+  bool dropped = false;  // its <usage> was neither input nor output
+};
 
 void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   DataPort p;
-  p.where = ctx.where(node);
-  p.name = portName(node);
-  const std::string owner = fmt::format("data port '{}'", p.name);
-  bool usage = false, dropped = false;
+  PortReading r(ctx, node, p, "data");
+  const std::string& owner = r.owner;
   pugi::xml_node policy, size;  // the first spelling of each, for "both" messages
-  auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
   auto queue_policy = [&](pugi::xml_node n) {
     if (policy) {
       ctx.error(n, fmt::format("{} and {} in {}: one queue policy (line {})", tag(policy), tag(n), owner,
@@ -76,7 +113,7 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
       return;
     }
     policy = n;
-    if (auto v = readWord(ctx, n, text(n), fmt::format("{} of {}", tag(n), owner), queuePolicies())) {
+    if (auto v = readWord(ctx, n, r.text(n), fmt::format("{} of {}", tag(n), owner), queuePolicies())) {
       p.queue_policy = *v;
     }
   };
@@ -90,17 +127,13 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
     if (auto v = readCount(ctx, n, value, fmt::format("{} of {}", tag(n), owner))) p.queue_size = *v;
   };
   readChildren(ctx, node,
-               {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
-                {"usage",
-                 [&](pugi::xml_node n) {
-                   usage = true;
-                   dropped = !readUsage(ctx, n, text(n), owner, p.usage);
-                 }},
-                {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
+               {r.name(),
+                r.direction(),
+                r.dataType(),
                 {"queueing_policy", queue_policy},
                 {"queuing_policy", queue_policy},
                 {"policy", queue_policy},  // OPRoS's older spelling (ETRI's helloworld)
-                {"queue_size", [&](pugi::xml_node n) { queue_size(n, text(n)); }},
+                {"queue_size", [&](pugi::xml_node n) { queue_size(n, r.text(n)); }},
                 {"policy_param",  // <policy_param name="size">10</policy_param>
                  [&](pugi::xml_node n) {
                    const std::string value = leafText(ctx, n, {"name"});
@@ -112,71 +145,57 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
                  true},
                 {"validity", [&](pugi::xml_node n) { p.validity = readValidity(ctx, n, owner); }},
                 {"reference",
-                 [&](pugi::xml_node n) { p.reference = ctx.optionalReference(n, text(n), owner, RootKind::DataType); }},
+                 [&](pugi::xml_node n) {
+                   p.reference = ctx.optionalReference(n, r.text(n), owner, RootKind::DataType);
+                 }},
                 {"description", {}},
                 {"layout", {}}});
-  if (p.name.empty()) return reportMissing(ctx, node, "name");
-  if (!usage) reportMissing(ctx, node, "usage", owner);
-  if (p.data_type.empty()) reportMissing(ctx, node, "data_type", owner);
-  if (!dropped) out.data_ports.push_back(std::move(p));
+  const bool kept = r.complete();
+  if (!p.name.empty() && p.data_type.empty()) reportMissing(ctx, node, "data_type", owner);
+  if (kept) out.data_ports.push_back(std::move(p));
 }
 
 void readEventPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   EventPort p;
-  p.where = ctx.where(node);
-  p.name = portName(node);
-  const std::string owner = fmt::format("event port '{}'", p.name);
-  bool usage = false, dropped = false;
-  auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
+  PortReading r(ctx, node, p, "event");
   readChildren(ctx, node,
-               {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
-                {"usage",
-                 [&](pugi::xml_node n) {
-                   usage = true;
-                   dropped = !readUsage(ctx, n, text(n), owner, p.usage);
-                 }},
-                {"data_type", [&](pugi::xml_node n) { p.data_type = text(n); }},
+               {r.name(),
+                r.direction(),
+                r.dataType(),
                 {"queue_size",
                  [&](pugi::xml_node n) {
-                   if (auto v = readCount(ctx, n, text(n), "<queue_size> of " + owner)) p.queue_size = *v;
+                   if (auto v = readCount(ctx, n, r.text(n), "<queue_size> of " + r.owner)) p.queue_size = *v;
                  }},
                 {"queueing_policy", {}, false, "an event port queues every event (FIFO, <queue_size> of them)"},
                 {"reference", {}, false, "an event port's type is checked by its <data_type>"},
                 {"description", {}},
                 {"layout", {}}});
-  if (p.name.empty()) return reportMissing(ctx, node, "name");
-  if (!usage) reportMissing(ctx, node, "usage", owner);
-  if (!dropped) out.event_ports.push_back(std::move(p));
+  if (r.complete()) out.event_ports.push_back(std::move(p));
 }
 
 void readServicePort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   ServicePort p;
-  p.where = ctx.where(node);
-  p.name = portName(node);
-  const std::string owner = fmt::format("service port '{}'", p.name);
-  bool usage = false;
-  auto text = [&](pugi::xml_node n) { return leafText(ctx, n); };
+  PortReading r(ctx, node, p, "service");
   readChildren(ctx, node,
-               {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
-                {"type", [&](pugi::xml_node n) { p.type = text(n); }},
+               {r.name(),
+                {"type", [&](pugi::xml_node n) { p.type = r.text(n); }},
                 {"usage",
                  [&](pugi::xml_node n) {
-                   usage = true;
-                   if (auto v = readWord(ctx, n, text(n), "<usage> of " + owner, serviceUsages())) p.usage = *v;
+                   r.usage = true;
+                   if (auto v = readWord(ctx, n, r.text(n), "<usage> of " + r.owner, serviceUsages())) p.usage = *v;
                  }},
                 {"timeout",
                  [&](pugi::xml_node n) {
-                   if (auto v = readPositive(ctx, n, text(n), "<timeout> of " + owner)) p.timeout_ms = *v;
+                   if (auto v = readPositive(ctx, n, r.text(n), "<timeout> of " + r.owner)) p.timeout_ms = *v;
                  }},
                 {"reference",
                  [&](pugi::xml_node n) {
-                   p.reference = ctx.optionalReference(n, text(n), owner, RootKind::ServiceType);
+                   p.reference = ctx.optionalReference(n, r.text(n), r.owner, RootKind::ServiceType);
                  }},
                 {"description", {}},
                 {"layout", {}}});
-  if (p.name.empty()) return reportMissing(ctx, node, "name");
-  if (!usage) reportMissing(ctx, node, "usage", owner);
-  if (p.type.empty()) reportMissing(ctx, node, "type", owner);
+  if (!r.complete()) return;
+  if (p.type.empty()) reportMissing(ctx, node, "type", r.owner);
   out.service_ports.push_back(std::move(p));
 }
 

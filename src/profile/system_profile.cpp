@@ -74,19 +74,15 @@ void readApplication(Ctx& ctx, pugi::xml_node node, std::vector<Application>& ou
 void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out) {
   out.where = ctx.where(root);
   readChildren(ctx, root,
-               {{"name", [&](pugi::xml_node n) { out.name = leafText(ctx, n); }},
-                {"description", [&](pugi::xml_node n) { out.description = leafText(ctx, n); }},
-                {"applications",
-                 [&](pugi::xml_node n) {
-                   readChildren(ctx, n,
-                                {{"application", [&](pugi::xml_node a) { readApplication(ctx, a, out.applications); },
-                                  true}});
-                 }},
-                {"port_connections", [&](pugi::xml_node n) { out.connections = parseConnections(ctx, n); }},
-                {"dds", [&](pugi::xml_node n) { out.dds = parseDds(ctx, n); }},
-                {"id", {}},
-                {"version", {}},
-                {"copyright", {}}});
+               assemblyChildren(ctx, out.name, out.description, out.connections,
+                                {{"applications",
+                                  [&](pugi::xml_node n) {
+                                    readChildren(ctx, n,
+                                                 {{"application",
+                                                   [&](pugi::xml_node a) { readApplication(ctx, a, out.applications); },
+                                                   true}});
+                                  }},
+                                 {"dds", [&](pugi::xml_node n) { out.dds = parseDds(ctx, n); }}}));
   if (out.name.empty()) reportMissing(ctx, root, "name");
 }
 

@@ -267,8 +267,10 @@ std::string Ctx::optionalReference(pugi::xml_node at, std::string_view written, 
   return path;
 }
 
-void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> children,
-                  std::initializer_list<Attribute> attributes) {
+namespace {
+
+void readChildrenOf(Ctx& ctx, pugi::xml_node parent, const Child* first, const Child* last,
+                    std::initializer_list<Attribute> attributes) {
   checkAttributes(ctx, parent, attributes);
   std::map<std::string_view, int> first_line;
   for (pugi::xml_node node : parent.children()) {
@@ -283,9 +285,8 @@ void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> 
     }
     if (node.type() != pugi::node_element) continue;
     const std::string_view name = node.name();
-    const auto* const rule = std::find_if(children.begin(), children.end(),
-                                          [&](const Child& c) { return c.name == name; });
-    if (rule == children.end()) {
+    const Child* const rule = std::find_if(first, last, [&](const Child& c) { return c.name == name; });
+    if (rule == last) {
       ctx.error(node, fmt::format("unknown element {} in {}", tag(node), tag(parent)));
       continue;
     }
@@ -301,6 +302,18 @@ void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> 
     else if (!rule->unused.empty() && !isEmpty(node))  // an empty one has nothing to act on
       ctx.unused(node, fmt::format("{} in {}", tag(node), tag(parent)), rule->unused);
   }
+}
+
+}  // namespace
+
+void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> children,
+                  std::initializer_list<Attribute> attributes) {
+  readChildrenOf(ctx, parent, children.begin(), children.end(), attributes);
+}
+
+void readChildren(Ctx& ctx, pugi::xml_node parent, const std::vector<Child>& children,
+                  std::initializer_list<Attribute> attributes) {
+  readChildrenOf(ctx, parent, children.data(), children.data() + children.size(), attributes);
 }
 
 void checkAttributes(Ctx& ctx, pugi::xml_node node, std::initializer_list<Attribute> allowed) {

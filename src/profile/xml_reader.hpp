@@ -141,6 +141,9 @@ struct Attribute {
 /// an element of attributes only is an error.
 void readChildren(Ctx& ctx, pugi::xml_node parent, std::initializer_list<Child> children,
                   std::initializer_list<Attribute> attributes = {});
+/// The same, for a list made up of parts (assemblyChildren).
+void readChildren(Ctx& ctx, pugi::xml_node parent, const std::vector<Child>& children,
+                  std::initializer_list<Attribute> attributes = {});
 
 /// Reports every attribute of `node` not in `allowed` (namespace declarations and prefixed
 /// attributes such as xsi:schemaLocation are always allowed).
