@@ -1,7 +1,7 @@
 // What the guard costs per callback when nothing faults (issue: fault detection, ≤ 50 ns):
 // a plain virtual call of onExecute, the same call under runtime::guarded, and the whole of
 // runtime::invoke as executors use it (guard, injection check, bookkeeping); and the same invoke
-// of a component written against the OPRoS API, through the keel host that runs it (src/opros).
+// of a component written against the OPRoS API, through the keel adapter that runs it (src/opros).
 //   build/bin/keel_bench_guard --benchmark_repetitions=20 --benchmark_report_aggregates_only=true
 #include <Component.h>
 #include <benchmark/benchmark.h>
@@ -65,7 +65,7 @@ class CheapOpros : public ::Component {
 }  // namespace
 
 // libkeel_opros's entry point, as keel's loader finds it in an OPRoS library.
-extern "C" keel::Component* keel_opros_host(void* get_component, void* release_component);
+extern "C" keel::Component* keel_opros_adapter(void* get_component, void* release_component);
 
 namespace {
 
@@ -74,9 +74,9 @@ void releaseCheapOpros(::Component* c) { delete c; }
 
 void BM_InvokeOpros(benchmark::State& state) {
   keel::runtime::installSignalHandlers();
-  std::unique_ptr<keel::Component> host(
-      keel_opros_host(reinterpret_cast<void*>(&makeCheapOpros), reinterpret_cast<void*>(&releaseCheapOpros)));
-  for (auto _ : state) benchmark::DoNotOptimize(keel::runtime::invoke(*host, keel::runtime::Callback::Execute));
+  std::unique_ptr<keel::Component> adapter(
+      keel_opros_adapter(reinterpret_cast<void*>(&makeCheapOpros), reinterpret_cast<void*>(&releaseCheapOpros)));
+  for (auto _ : state) benchmark::DoNotOptimize(keel::runtime::invoke(*adapter, keel::runtime::Callback::Execute));
 }
 BENCHMARK(BM_InvokeOpros);
 

@@ -276,7 +276,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
         problem(b, "the port refused the connection");
         continue;
       }
-      ends_.push_back({&outlet->connection(), port, true});
+      wires_.push_back({&outlet->connection(), port, nullptr});
       outlets_.push_back(std::move(outlet));
     } else {
       auto connection = static_cast<detail::InputPortBase*>(port)->makeConnection();
@@ -298,7 +298,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
         problem(b, fmt::format("CycloneDDS refused the reader: {}", dds_strretcode(made)));
         continue;
       }
-      ends_.push_back({connection.get(), port, false});
+      wires_.push_back({connection.get(), nullptr, port});
       inlets_.push_back(std::move(connection));
       readers_.push_back(std::move(reader));
     }

@@ -28,6 +28,7 @@
 #include "keel/result.hpp"
 #include "plan/plan.hpp"
 #include "runtime/warning.hpp"
+#include "runtime/wire.hpp"
 
 namespace keel::dds {
 
@@ -52,12 +53,6 @@ Result<int> effectiveDomain(int domain);
 
 class DdsPorts {
  public:
-  /// One end made: the connection and the port it belongs to (output: attached to it).
-  struct End {
-    detail::ConnectionBase* connection = nullptr;
-    detail::PortBase* port = nullptr;
-    bool output = false;
-  };
   using FindPort = std::function<detail::PortBase*(const profile::Endpoint&)>;
 
   DdsPorts(PeerWatch& watch, runtime::Warn warn);
@@ -79,7 +74,8 @@ class DdsPorts {
   /// After takeOver(), once the components run: an outage that began while standing by and
   /// lasts (a writer lost before the takeover) is reported now, as a fault of the new active.
   void reportHeldOutages();
-  const std::vector<End>& ends() const { return ends_; }
+  /// The connections made between the ports and their topics (the topic's side has no port).
+  const std::vector<runtime::Wire>& wires() const { return wires_; }
   /// Publishes /diagnostics in `domain` (ROS_DOMAIN_ID overrides it): `snapshot()` at 1 Hz and
   /// after each pokeDiagnostics().
   Result<void> publishDiagnostics(int domain, DiagnosticsWriter::Snapshot snapshot);
@@ -102,7 +98,7 @@ class DdsPorts {
   std::vector<std::unique_ptr<Reader>> readers_;
   std::vector<std::unique_ptr<detail::ByteEnd>> outlets_;
   std::vector<std::unique_ptr<detail::ConnectionBase>> inlets_;
-  std::vector<End> ends_;
+  std::vector<runtime::Wire> wires_;
   std::unique_ptr<DiagnosticsWriter> diagnostics_;
 };
 

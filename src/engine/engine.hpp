@@ -43,6 +43,7 @@
 #include "runtime/executor.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/warning.hpp"
+#include "runtime/wire.hpp"
 #include "supervision/crossing.hpp"
 #include "supervision/process_host.hpp"
 #include "supervision/process_supervisor.hpp"  // HostLaunch
@@ -89,13 +90,6 @@ struct Instance {
   std::unique_ptr<fault::ComponentHandling> handling;  // its compiled rules (src/fault/rules.hpp)
 
   Component* serving() const { return serving_slot->load(std::memory_order_acquire); }
-};
-
-/// A connection as made: the fault manager's replacement re-points it (engine_recovery.cpp).
-struct Wire {
-  detail::ConnectionBase* connection = nullptr;  // null for a service binding
-  detail::PortBase* source = nullptr;            // output port, or required service port
-  detail::PortBase* target = nullptr;            // input port, or provided service port
 };
 
 class Engine final : public runtime::RunHooks, public fault::RecoveryActions, public dds::PeerWatch {
@@ -205,7 +199,7 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   std::unique_ptr<Side> side_;
   supervision::Crossings crossings_;
   std::unique_ptr<dds::DdsPorts> dds_;  // this process's <publish>/<subscribe>; null: none
-  std::vector<Wire> wires_;
+  std::vector<runtime::Wire> wires_;    // every connection as made: a replacement re-points them
   std::optional<fault::DependencyGraph> graph_;
   std::mutex create_mutex_;                               // one alternative created at a time (any thread)
   std::mutex alternatives_mutex_;                         // guards the two below

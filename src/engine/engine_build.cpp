@@ -292,8 +292,7 @@ Result<void> Engine::connect() {
         planned_.plan, side_->process(), session, std::move(fds), [this](std::string_view n) { return find(n); },
         options_.host_start_timeout, fenced, [this](const std::string& m) { warn(m); });
     if (!made) errors += made.error().message + '\n';
-    for (const supervision::Crossings::End& end : crossings_.ends())
-      wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
+    for (const runtime::Wire& w : crossings_.wires()) wires_.push_back(w);
   }
   // DDS topics (<dds>): the bindings of this process's components, made here, in the process
   // whose threads run them (decision 0019); keel run makes those of its own.
@@ -311,8 +310,7 @@ Result<void> Engine::connect() {
     // over; its readers stand by until then (takeRoleAsHost).
     const auto readers = side_->standingBy() ? dds::DdsPorts::Readers::StandingBy : dds::DdsPorts::Readers::Serving;
     if (auto made = dds_->open(dds, port, readers); !made) errors += made.error().message + '\n';
-    for (const dds::DdsPorts::End& end : dds_->ends())
-      wires_.push_back({end.connection, end.output ? end.port : nullptr, end.output ? nullptr : end.port});
+    for (const runtime::Wire& w : dds_->wires()) wires_.push_back(w);
   }
   if (diagnostics) {
     if (auto made = dds_->publishDiagnostics(*planned_.plan.diagnostics_domain, [this] { return health(); }); !made)

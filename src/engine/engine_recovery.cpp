@@ -87,7 +87,7 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   // Allocates its checkpoint buffers now, off the fault path (the switch copies into them).
   if (!runtime::coreOf(*alt).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alt), runtime::steadyNs());
   // Outputs and required services now (it sends nothing before it starts); inputs at the switch.
-  for (const Wire& w : wires_) {
+  for (const runtime::Wire& w : wires_) {
     if (w.source == nullptr || &w.source->owner() != &failed) continue;
     detail::PortBase* port = runtime::coreOf(*alt).findPort(w.source->name());
     if (port == nullptr) continue;  // the loader checked that the ports are the same
@@ -100,7 +100,7 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
 }
 
 void Engine::redirectInputs(Component& failed, Component& alternative) {
-  for (const Wire& w : wires_) {
+  for (const runtime::Wire& w : wires_) {
     if (w.target == nullptr || &w.target->owner() != &failed) continue;
     detail::PortBase* port = runtime::coreOf(alternative).findPort(w.target->name());
     if (port == nullptr) continue;  // the loader checked that the ports are the same

@@ -217,9 +217,9 @@ struct ProcessSpec {
   Where where;
 };
 
-/// <redundancy group="nav" strength="10"/>: this component runs in several keel runs (hosts);
+/// <redundancy group="nav" strength="10"/>: this component runs in several keel runs (machines);
 /// its DDS writers are exclusive, and readers that ask for exclusive ownership take the
-/// strongest live one's samples (docs/dds.md#redundancy-across-hosts).
+/// strongest live one's samples (docs/dds.md#redundancy-across-machines).
 struct Redundancy {
   std::string group;  // the role the runs share
   int strength = 0;   // DDS ownership strength: the highest live one is heard

@@ -111,7 +111,7 @@ Result<const Library*> Loader::load(const std::string& path) {
     lib->opros_release = dlsym(handle, "releaseComponent");
     // dlsym on the library's handle also searches what it depends on: libkeel_opros.
     if (lib->opros_get)
-      lib->opros_host = reinterpret_cast<Component* (*)(void*, void*)>(dlsym(handle, "keel_opros_host"));
+      lib->opros_adapter = reinterpret_cast<Component* (*)(void*, void*)>(dlsym(handle, "keel_opros_adapter"));
   }
   libraries_.push_back(std::move(lib));
   return libraries_.back().get();
@@ -121,13 +121,13 @@ Result<std::unique_ptr<Component>> Loader::create(const std::string& class_name,
   auto lib = load(library_path);
   if (!lib) return lib.error();
   if ((*lib)->opros_get) {
-    if (!(*lib)->opros_host)
+    if (!(*lib)->opros_adapter)
       return fail(
           fmt::format("library '{}' is an OPRoS component library (it exports getComponent) built without keel's OPRoS "
                       "layer; build its sources with keel_add_opros_component",
                       library_path));
     try {
-      return std::unique_ptr<Component>((*lib)->opros_host((*lib)->opros_get, (*lib)->opros_release));
+      return std::unique_ptr<Component>((*lib)->opros_adapter((*lib)->opros_get, (*lib)->opros_release));
     } catch (const std::exception& e) {
       return fail(fmt::format("constructing OPRoS component '{}' failed: {}", class_name, e.what()));
     }

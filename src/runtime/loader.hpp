@@ -24,9 +24,9 @@ struct Library {
   // getComponent()/releaseComponent(); one component type, whatever the profile calls it.
   void* opros_get = nullptr;      // getComponent; null: not an OPRoS library
   void* opros_release = nullptr;  // releaseComponent; null: the object is deleted
-  // keel_opros_host from libkeel_opros (a dependency of the library when it was built with
+  // keel_opros_adapter from libkeel_opros (a dependency of the library when it was built with
   // keel_add_opros_component); null: built against OPRoS's own headers, keel cannot host it.
-  Component* (*opros_host)(void*, void*) = nullptr;
+  Component* (*opros_adapter)(void*, void*) = nullptr;
 };
 
 class Loader {

@@ -266,10 +266,10 @@ void Crossings::stop() {
     if (r->thread.joinable()) r->thread.join();
 }
 
-std::vector<Crossings::End> Crossings::ends() const {
-  std::vector<End> out;
-  for (const auto& w : writers_) out.push_back({&w->outlet->connection(), w->port, true});
-  for (const auto& r : readers_) out.push_back({&r->inlet->connection(), r->port, false});
+std::vector<runtime::Wire> Crossings::wires() const {
+  std::vector<runtime::Wire> out;
+  for (const auto& w : writers_) out.push_back({&w->outlet->connection(), w->port, nullptr});
+  for (const auto& r : readers_) out.push_back({&r->inlet->connection(), nullptr, r->port});
   return out;
 }
 

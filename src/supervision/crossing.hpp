@@ -32,6 +32,7 @@
 #include "runtime/ipc/ring.hpp"
 #include "runtime/ipc/session.hpp"
 #include "runtime/warning.hpp"
+#include "runtime/wire.hpp"
 
 namespace keel::supervision {
 
@@ -81,13 +82,9 @@ class Crossings {
   /// by an executor stop with it.
   void stop();
 
-  /// The in-process connections behind the ends, for a component's replacement.
-  struct End {
-    detail::ConnectionBase* connection;
-    detail::PortBase* port;  // the local port
-    bool output;
-  };
-  std::vector<End> ends() const;
+  /// The in-process connections behind the ends (the ring's side has no port), for a
+  /// component's replacement.
+  std::vector<runtime::Wire> wires() const;
 
   /// Values a reader lost because it fell a whole ring behind.
   std::uint64_t dropped() const;

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Redundancy across hosts (docs/dds.md#redundancy-across-hosts): the same component in two
-`keel run`s on two hosts, <redundancy group="nav"> of strengths 10 and 5, and a third keel run
-subscribing with ownership="exclusive". The hosts are two network namespaces joined by a veth
+"""Redundancy across machines (docs/dds.md#redundancy-across-machines): the same component in two
+`keel run`s on two machines, <redundancy group="nav"> of strengths 10 and 5, and a third keel run
+subscribing with ownership="exclusive". The machines are two network namespaces joined by a veth
 pair, made here (root needed; skipped otherwise). kill -9 of the primary's keel run: the reader
 hears the standby's samples within the lease (plus one write period, plus this machine's slack).
 
@@ -104,7 +104,7 @@ class Redundancy(unittest.TestCase):
                   + " | ".join((self.dir / f).read_text()[-400:] for f in ("primary.out", "standby.out", "reader.out")
                                if (self.dir / f).exists()))
 
-    def test_the_standby_on_the_other_host_takes_over_when_the_primary_is_killed(self):
+    def test_the_standby_on_the_other_machine_takes_over_when_the_primary_is_killed(self):
         reader = (f'<?xml version="1.0"?>\n<package_profile><name>user</name><subcomponents><subcomponent>'
                   f'<name>rec</name><reference>Recorder.xml</reference>'
                   f'<properties><property name="path">{self.heard}</property></properties></subcomponent>'
@@ -115,7 +115,7 @@ class Redundancy(unittest.TestCase):
         primary = self.keel(self.h1, "primary", self.role("primary", 10))
         self.keel(self.h2, "standby", self.role("standby", 5))
         # Both write all the time; the reader hears only the stronger. Both runs started, and
-        # time for the hosts to discover each other (multicast on the veth: well under a second).
+        # time for the machines to discover each other (multicast on the veth: well under a second).
         for name in ("primary", "standby"):
             log = self.dir / f"{name}.jsonl"
             self.wait_for(lambda: log.exists() and '"phase":"started"' in log.read_text(), 30, f"{name} started")

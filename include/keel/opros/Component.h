@@ -96,7 +96,7 @@ class Component : public PropertyInterface, public LifecycleInterface, public Po
   void critical(void* addr, int len);
 
  private:
-  friend class keel::opros::Host;
+  friend class keel::opros::Adapter;
   ReturnType transition(ReturnType (Component::*callback)(), LifecycleState to);
 
   std::string id_;

@@ -4,7 +4,7 @@
 //    service port, `Reply(Call)`: the method's name and its arguments (a std::tuple of the
 //    decayed parameter types, type-erased), and the result (empty for void). Which methods a
 //    port has is checked against the service type profiles when the run loads.
-//  - Host (src/opros/host.cpp) is the keel component that owns one OPRoS component object.
+//  - Adapter (src/opros/adapter.cpp) is the keel component that owns one OPRoS component object.
 // Thread-safety: plain values.
 #pragma once
 
@@ -17,7 +17,7 @@ class Component;
 
 namespace keel::opros {
 
-class Host;
+class Adapter;
 
 /// One OPRoS method call as keel's service ports carry it.
 struct Call {

@@ -1,4 +1,4 @@
-// keel's host of a component written for OPRoS: a keel component that owns one OPRoS Component
+// keel's adapter of a component written for OPRoS: a keel component that owns one OPRoS Component
 // object (made by its library's getComponent(), released by its releaseComponent()), gives each
 // port the object registered with addPort a keel port of the same name, kind and type, and
 // calls the object's OPRoS callbacks from its own keel callbacks. Everything keel does to a
@@ -22,13 +22,13 @@ namespace keel::opros {
 
 using Release = void (*)(::Component*);
 
-class Host final : public keel::Component {
+class Adapter final : public keel::Component {
  public:
   /// Takes ownership of `object`, released with `release` (or deleted when null).
-  Host(::Component* object, Release release);
-  ~Host() override;
-  Host(const Host&) = delete;
-  Host& operator=(const Host&) = delete;
+  Adapter(::Component* object, Release release);
+  ~Adapter() override;
+  Adapter(const Adapter&) = delete;
+  Adapter& operator=(const Adapter&) = delete;
 
   ::Component& object() { return *object_; }
 

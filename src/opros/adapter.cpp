@@ -1,4 +1,4 @@
-#include "opros/host.hpp"
+#include "opros/adapter.hpp"
 
 #include <fmt/format.h>
 
@@ -78,7 +78,7 @@ std::string text(const PropertyValue& v) {
 
 }  // namespace
 
-Host::Host(::Component* object, Release release) : object_(object), release_(release) {
+Adapter::Adapter(::Component* object, Release release) : object_(object), release_(release) {
   detail::ComponentCore& core = runtime::coreOf(*this);
   core.opros = true;
   core.code_name = &codeName;
@@ -92,12 +92,12 @@ Host::Host(::Component* object, Release release) : object_(object), release_(rel
   }
 }
 
-Host::~Host() {
+Adapter::~Adapter() {
   if (release_) release_(object_);
   else delete object_;
 }
 
-ReturnCode Host::after(ReturnType r, LifecycleState on_success) {
+ReturnCode Adapter::after(ReturnType r, LifecycleState on_success) {
   if (r == OPROS_SUCCESS || r == OPROS_SUCCESS_SYNC) {
     object_->keelSetStatus(on_success);
     return ReturnCode::Ok;
@@ -106,7 +106,7 @@ ReturnCode Host::after(ReturnType r, LifecycleState on_success) {
   return static_cast<ReturnCode>(static_cast<int>(r));
 }
 
-ReturnCode Host::onInitialize() {
+ReturnCode Adapter::onInitialize() {
   const detail::ComponentCore& core = runtime::coreOf(*this);
   object_->setId(instanceName());
   for (const auto& [name, value] : core.properties) object_->setProperty(name, text(value));
@@ -117,28 +117,28 @@ ReturnCode Host::onInitialize() {
   return rc;
 }
 
-ReturnCode Host::onStart() { return after(object_->onStart(), OPROS_CS_ACTIVE); }
-ReturnCode Host::onStop() { return after(object_->onStop(), OPROS_CS_INACTIVE); }
-ReturnCode Host::onDestroy() { return after(object_->onDestroy(), OPROS_CS_DESTROYED); }
+ReturnCode Adapter::onStart() { return after(object_->onStart(), OPROS_CS_ACTIVE); }
+ReturnCode Adapter::onStop() { return after(object_->onStop(), OPROS_CS_INACTIVE); }
+ReturnCode Adapter::onDestroy() { return after(object_->onDestroy(), OPROS_CS_DESTROYED); }
 // Every cycle: the common case returns at once (the status is Active already).
-ReturnCode Host::onExecute() {
+ReturnCode Adapter::onExecute() {
   const ReturnType r = object_->onExecute();
   if (r == OPROS_SUCCESS) [[likely]]
     return ReturnCode::Ok;
   return after(r, OPROS_CS_ACTIVE);
 }
-ReturnCode Host::onUpdated() {
+ReturnCode Adapter::onUpdated() {
   const ReturnType r = object_->onUpdated();
   if (r == OPROS_SUCCESS) [[likely]]
     return ReturnCode::Ok;
   return after(r, OPROS_CS_ACTIVE);
 }
-ReturnCode Host::onError() { return after(object_->onError(), OPROS_CS_ERROR); }
-ReturnCode Host::onReset() { return after(object_->onReset(), OPROS_CS_ERROR); }
+ReturnCode Adapter::onError() { return after(object_->onError(), OPROS_CS_ERROR); }
+ReturnCode Adapter::onReset() { return after(object_->onReset(), OPROS_CS_ERROR); }
 // keel's reset ends with the component running again (decision 0012): Active, not OPRoS's Ready.
-ReturnCode Host::onRecover() { return after(object_->onRecover(), OPROS_CS_ACTIVE); }
+ReturnCode Adapter::onRecover() { return after(object_->onRecover(), OPROS_CS_ACTIVE); }
 
-ReturnCode Host::onEvent(InputEventPortBase& port) {
+ReturnCode Adapter::onEvent(InputEventPortBase& port) {
   for (const auto& [bound, oport] : event_inputs_)
     if (bound == &port) return after(oport->keelDeliver(*object_), OPROS_CS_ACTIVE);
   return ReturnCode::Ok;
@@ -148,13 +148,13 @@ ReturnCode Host::onEvent(InputEventPortBase& port) {
 
 /// The entry point keel's loader looks up in an OPRoS component library (through the library's
 /// dependency on libkeel_opros): a host of the object the library's getComponent() makes.
-extern "C" keel::Component* keel_opros_host(void* get_component, void* release_component) {
+extern "C" keel::Component* keel_opros_adapter(void* get_component, void* release_component) {
   auto get = reinterpret_cast<::Component* (*)()>(get_component);
   auto release = reinterpret_cast<keel::opros::Release>(release_component);
   ::Component* object = get();
   if (!object) throw std::runtime_error("getComponent() returned NULL");
   try {
-    return new keel::opros::Host(object, release);
+    return new keel::opros::Adapter(object, release);
   } catch (...) {
     if (release) release(object);
     else delete object;
