@@ -16,10 +16,12 @@
 # '*'), or when clang-tidy fails on a file. clang-tidy is the one on PATH ($CLANG_TIDY overrides
 # it), installed with apt-get as scripts/deps.sh does when there is none (Debian 12: clang-tidy 14,
 # the version the check set is chosen for). Jobs: $KEEL_JOBS, else the number of cores.
+# $KEEL_TIDY_DIRS: the top directories whose sources are checked, default `src` (e.g.
+# KEEL_TIDY_DIRS="src tests bench robot examples components" for every source of keel's).
 set -euo pipefail
 
 case "${1:-}" in
-  -h|--help) sed -n '2,19p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 checks=""
 if [[ "${1:-}" == --no-analyzer ]]; then
@@ -60,14 +62,16 @@ if [[ ! -f "$db" ]]; then
   [[ -f "$db" ]] || { echo "tidy.sh: configuring did not write $db" >&2; exit 1; }
 fi
 
-# keel's translation units under src/, as the database names them.
-mapfile -d '' files < <(python3 - "$db" "$root/src/" <<'PY'
+# keel's translation units under $KEEL_TIDY_DIRS, as the database names them.
+# shellcheck disable=SC2086  # the directories, split on purpose
+mapfile -d '' files < <(python3 - "$db" "$root" ${KEEL_TIDY_DIRS:-src} <<'PY'
 import json, os, sys
-db, src = sys.argv[1], os.path.realpath(sys.argv[2]) + os.sep
+db, root = sys.argv[1], os.path.realpath(sys.argv[2])
+dirs = tuple(os.path.join(root, d) + os.sep for d in sys.argv[3:])
 seen = set()
 for entry in json.load(open(db)):
     path = os.path.realpath(os.path.join(entry.get("directory", ""), entry["file"]))
-    if path.startswith(src) and path.endswith(".cpp") and path not in seen:
+    if path.startswith(dirs) and path.endswith(".cpp") and path not in seen:
         seen.add(path)
 for path in sorted(seen):
     sys.stdout.write(path + "\0")

@@ -6,14 +6,13 @@
 
 class OprosStepper : public Component {
  public:
-  OprosStepper() : steps(0) {}
-  virtual ReturnType onExecute() {
+  ReturnType onExecute() override {
     ++steps;
     return OPROS_SUCCESS;
   }
 
  private:
-  unsigned long long steps;
+  unsigned long long steps{0};
 };
 
 extern "C" {

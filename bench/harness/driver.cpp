@@ -102,7 +102,7 @@ std::string writeJson(const nlohmann::json& rows, const std::string& path) {
   return path;
 }
 
-void finish(const Options& o, const Paths& paths, const std::string& kind, nlohmann::json rows) {
+void finish(const Options& o, const Paths& paths, const std::string& kind, const nlohmann::json& rows) {
   const std::string json = o.json.empty() ? fmt::format("/tmp/keel-bench-{}.{}.json", kind, ::getpid()) : o.json;
   writeJson(rows, json);
   if (!o.json.empty()) std::cout << "\njson: " << o.json << '\n';

@@ -49,7 +49,7 @@ std::vector<Row> runCells(const Options& o, const Paths& paths, const std::vecto
 /// Writes the rows as a JSON array, one cell per line; returns the file written.
 std::string writeJson(const nlohmann::json& rows, const std::string& path);
 /// The rows to --json (or a temporary file) and the plot from it, unless --no-plot.
-void finish(const Options& o, const Paths& paths, const std::string& kind, nlohmann::json rows);
+void finish(const Options& o, const Paths& paths, const std::string& kind, const nlohmann::json& rows);
 /// The run's first line: what, how many per cell, the loads, the machine.
 void header(const Options& o, const std::string& what, const char* trials = "faults");
 

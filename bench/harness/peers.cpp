@@ -96,7 +96,7 @@ PeerResult runErlangPeer(const Paths& paths, int n, bool fifo) {
   const std::string erl = findInPath("erl"), erlc = findInPath("erlc");
   if (erl.empty() || erlc.empty()) return skip("erl not found (scripts/deps.sh installs erlang-base)");
   const TempDir dir("keel-bench-erl-");
-  if (dir.path().empty()) return skip(std::string("mkdtemp: ") + std::strerror(errno));
+  if (dir.path().empty()) return skip(std::string("mkdtemp: ") + std::generic_category().message(errno));
   if (std::string error = compileErlang(erlc, paths.peers, dir.path()); !error.empty()) return skip(error);
 
   n = std::max(n, 0);
@@ -127,7 +127,7 @@ class Respawner {
   /// A fresh child (and fresh pipes) that has reported ready; empty, or why not.
   std::string restart() {
     proc_.reset();
-    if (!command_.open() || !report_.open()) return std::string("pipe: ") + std::strerror(errno);
+    if (!command_.open() || !report_.open()) return std::string("pipe: ") + std::generic_category().message(errno);
     reader_ = LineReader(report_.read.get());
     if (std::string error = spawnChild(); !error.empty()) return error;
     if (!expect("ready ")) return "keel-bench-child did not report ready within 2 s";

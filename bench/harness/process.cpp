@@ -19,8 +19,6 @@
 #include <system_error>
 #include <utility>
 
-extern char** environ;
-
 namespace keel::bench {
 namespace {
 
@@ -127,14 +125,14 @@ Result<Process> Process::spawn(const std::vector<std::string>& argv, Stdio io, b
   const int rc = posix_spawn(&pid, args[0], &actions, &attr, args.data(), environ);
   posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&actions);
-  if (rc == EPERM && fifo) return fail(std::string("SCHED_FIFO not permitted: ") + std::strerror(rc));
-  if (rc != 0) return fail(argv[0] + ": " + std::strerror(rc));
+  if (rc == EPERM && fifo) return fail(std::string("SCHED_FIFO not permitted: ") + std::generic_category().message(rc));
+  if (rc != 0) return fail(argv[0] + ": " + std::generic_category().message(rc));
   const int pidfd = static_cast<int>(syscall(SYS_pidfd_open, pid, 0));
   if (pidfd < 0) {
     const int err = errno;
     kill(pid, SIGKILL);
     while (waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {}
-    return fail(std::string("pidfd_open: ") + std::strerror(err));
+    return fail(std::string("pidfd_open: ") + std::generic_category().message(err));
   }
   return Process(pid, Fd(pidfd), ownGroup);
 }
@@ -173,7 +171,7 @@ void Process::killAndReap() {
 std::string becomeFifo() {
   const sched_param param{.sched_priority = kFifoPriority};
   const int rc = pthread_setschedparam(pthread_self(), SCHED_FIFO, &param);
-  return rc == 0 ? "" : std::string("SCHED_FIFO not permitted: ") + std::strerror(rc);
+  return rc == 0 ? "" : std::string("SCHED_FIFO not permitted: ") + std::generic_category().message(rc);
 }
 
 std::string findInPath(const std::string& name) {
@@ -193,7 +191,7 @@ Captured runCaptured(const std::vector<std::string>& argv, bool fifo, Deadline d
   Captured out;
   Pipe pipe;
   if (!pipe.open()) {
-    out.error = std::string("pipe: ") + std::strerror(errno);
+    out.error = std::string("pipe: ") + std::generic_category().message(errno);
     return out;
   }
   auto proc = Process::spawn(argv, {.in = -1, .out = pipe.write.get(), .err = pipe.write.get()}, fifo, true);

@@ -75,7 +75,7 @@ std::string packageXml(const std::string& name, int count, const std::string& re
         "      <fault_policy><severity>stop</severity></fault_policy></subcomponent>\n",
         i, reference);
   for (int first = 0; first < count; first += kScaleTaskSize) {
-    tasks += fmt::format("    <task name=\"t{}\" period=\"{}\">", first / kScaleTaskSize, kScalePeriodMs);
+    tasks += fmt::format(R"(    <task name="t{}" period="{}">)", first / kScaleTaskSize, kScalePeriodMs);
     for (int i = first; i < std::min(count, first + kScaleTaskSize); ++i)
       tasks += fmt::format("<member component=\"c{}\"/>", i);
     tasks += "</task>\n";

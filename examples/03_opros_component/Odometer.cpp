@@ -19,7 +19,7 @@ Odometer::Odometer() : wheelSpeed(OPROS_LAST, 1) { portSetup(); }
 
 Odometer::Odometer(const std::string& name) : Component(name), wheelSpeed(OPROS_LAST, 1) { portSetup(); }
 
-Odometer::~Odometer() {}
+Odometer::~Odometer() = default;
 
 void Odometer::portSetup() {
   // provided service port setup
@@ -67,7 +67,7 @@ ReturnType Odometer::onEvent(Event* evt) { return OPROS_SUCCESS; }
 
 ReturnType Odometer::onExecute() {
   opros_any* pData = wheelSpeed.pop();
-  if (pData != NULL) {
+  if (pData != nullptr) {
     double speed = wheelSpeed.getContent(*pData);
     delete pData;
     pose.travelled += speed * period;

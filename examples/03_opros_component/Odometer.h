@@ -26,26 +26,26 @@ class Odometer : public Component, public IOdometry {
  public:
   Odometer();
   Odometer(const std::string& compId);
-  virtual ~Odometer();
+  ~Odometer() override;
   virtual void portSetup();
 
  protected:
-  virtual ReturnType onInitialize();
-  virtual ReturnType onStart();
-  virtual ReturnType onStop();
-  virtual ReturnType onReset();
-  virtual ReturnType onError();
-  virtual ReturnType onRecover();
-  virtual ReturnType onDestroy();
+  ReturnType onInitialize() override;
+  ReturnType onStart() override;
+  ReturnType onStop() override;
+  ReturnType onReset() override;
+  ReturnType onError() override;
+  ReturnType onRecover() override;
+  ReturnType onDestroy() override;
 
  public:
-  virtual ReturnType onEvent(Event* evt);
-  virtual ReturnType onExecute();
-  virtual ReturnType onUpdated();
-  virtual ReturnType onPeriodChanged();
+  ReturnType onEvent(Event* evt) override;
+  ReturnType onExecute() override;
+  ReturnType onUpdated() override;
+  ReturnType onPeriodChanged() override;
 
-  virtual double total();
-  virtual void zero();
+  double total() override;
+  void zero() override;
 };
 
 #endif

@@ -19,36 +19,31 @@ class IOdometry {
 class OdometryProvided : public ProvidedServicePort, public IOdometry {
  protected:
   IOdometry* pcom;
-  typedef ProvidedMethod<double> totalFuncType;
+  using totalFuncType = ProvidedMethod<double>;
   totalFuncType* totalFunc;
-  typedef ProvidedMethod<void> zeroFuncType;
+  using zeroFuncType = ProvidedMethod<void>;
   zeroFuncType* zeroFunc;
 
  public:
-  virtual double total() {
-    opros_assert(totalFunc != NULL);
+  double total() override {
+    opros_assert(totalFunc != nullptr);
     return (*totalFunc)();
   }
-  virtual void zero() {
-    opros_assert(zeroFunc != NULL);
+  void zero() override {
+    opros_assert(zeroFunc != nullptr);
     (*zeroFunc)();
   }
 
-  OdometryProvided(IOdometry* fn) {
-    pcom = fn;
-    totalFunc = NULL;
-    zeroFunc = NULL;
-    setup();
-  }
+  OdometryProvided(IOdometry* fn) : pcom(fn), totalFunc(NULL), zeroFunc(NULL) { setup(); }
 
   virtual void setup() {
     Method* ptr_method;
     ptr_method = makeProvidedMethod(&IOdometry::total, pcom, "total");
-    opros_assert(ptr_method != NULL);
+    opros_assert(ptr_method != nullptr);
     addMethod("total", ptr_method);
     totalFunc = reinterpret_cast<totalFuncType*>(ptr_method);
     ptr_method = makeProvidedMethod(&IOdometry::zero, pcom, "zero");
-    opros_assert(ptr_method != NULL);
+    opros_assert(ptr_method != nullptr);
     addMethod("zero", ptr_method);
     zeroFunc = reinterpret_cast<zeroFuncType*>(ptr_method);
   }

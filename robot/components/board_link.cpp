@@ -15,8 +15,7 @@
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
-
-extern char** environ;
+#include <system_error>
 
 namespace keel::robot {
 namespace {
@@ -76,14 +75,15 @@ void BoardLink::spawn(const BoardLinkConfig& config) {
                                    "--parent",  // it ends with this process, even one killed with -9
                                    std::to_string(getpid())};
   if (!config.sim.truth_path.empty()) {
-    args.push_back("--truth");
+    args.emplace_back("--truth");
     args.push_back(config.sim.truth_path);
   }
   std::vector<char*> argv;
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   int out[2];
-  if (pipe2(out, O_CLOEXEC) != 0) throw std::runtime_error(std::string("pipe: ") + std::strerror(errno));
+  if (pipe2(out, O_CLOEXEC) != 0)
+    throw std::runtime_error(std::string("pipe: ") + std::generic_category().message(errno));
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_adddup2(&actions, out[1], STDOUT_FILENO);
@@ -105,7 +105,7 @@ void BoardLink::spawn(const BoardLinkConfig& config) {
   if (rc != 0) {
     close(out[0]);
     child_ = -1;
-    throw std::runtime_error("cannot start " + program + ": " + std::strerror(rc));
+    throw std::runtime_error("cannot start " + program + ": " + std::generic_category().message(rc));
   }
   const std::string path = readLine(out[0], 5000);
   close(out[0]);
@@ -116,7 +116,7 @@ void BoardLink::spawn(const BoardLinkConfig& config) {
 
 void BoardLink::openDevice(const std::string& path) {
   fd_ = open(path.c_str(), O_RDWR | O_NOCTTY | O_NONBLOCK | O_CLOEXEC);
-  if (fd_ < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
+  if (fd_ < 0) throw std::runtime_error("cannot open " + path + ": " + std::generic_category().message(errno));
   termios tio{};
   if (tcgetattr(fd_, &tio) == 0) {  // a tty: raw bytes, nothing buffered from before
     cfmakeraw(&tio);
@@ -139,7 +139,7 @@ bool BoardLink::send(std::span<const std::uint8_t> frame) {
   return write(fd_, frame.data(), frame.size()) == static_cast<ssize_t>(frame.size());
 }
 
-std::vector<std::uint8_t> BoardLink::receive() {
+std::vector<std::uint8_t> BoardLink::receive() const {
   std::vector<std::uint8_t> bytes;
   std::uint8_t buf[512];
   for (ssize_t n; (n = read(fd_, buf, sizeof buf)) > 0;) bytes.insert(bytes.end(), buf, buf + n);

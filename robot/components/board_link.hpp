@@ -36,7 +36,7 @@ class BoardLink {
   /// Writes one whole frame; false when the link refused it.
   bool send(std::span<const std::uint8_t> frame);
   /// Whatever bytes arrived (possibly none); never blocks.
-  std::vector<std::uint8_t> receive();
+  std::vector<std::uint8_t> receive() const;
   [[nodiscard]] const std::string& description() const { return description_; }
 
  private:

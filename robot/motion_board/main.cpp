@@ -96,11 +96,12 @@ bool parseOptions(int argc, char** argv, Options& options) {
 /// hang-up while the main board reconnects), or -1 with a message on stderr.
 int openPty(std::string& slave_path, int& slave_fd) {
   const int master = posix_openpt(O_RDWR | O_NOCTTY);
-  if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0 || ptsname(master) == nullptr) {
+  char name[128];
+  if (master < 0 || grantpt(master) != 0 || unlockpt(master) != 0 || ptsname_r(master, name, sizeof name) != 0) {
     std::perror("keel_motion_board: pseudo-terminal");
     return -1;
   }
-  slave_path = ptsname(master);
+  slave_path = name;
   slave_fd = open(slave_path.c_str(), O_RDWR | O_NOCTTY);
   termios tio{};
   if (slave_fd < 0 || tcgetattr(slave_fd, &tio) != 0) {

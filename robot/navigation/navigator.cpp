@@ -52,7 +52,7 @@ bool Navigator::atGoal() const {
          std::fabs(blob_.bearing_deg) <= config_.goal_bearing_deg;
 }
 
-MotionCommand Navigator::track() {
+MotionCommand Navigator::track() const {
   const double b = blob_.bearing_deg;
   if (std::fabs(b) <= config_.aligned_deg) return command(MotionType::Forward, config_.cruise_rpm);
   const double diff = std::clamp(config_.steer_gain * std::fabs(b), static_cast<double>(config_.min_steer_rpm),
@@ -60,9 +60,9 @@ MotionCommand Navigator::track() {
   return command(b > 0 ? MotionType::TurnLeft : MotionType::TurnRight, diff);
 }
 
-MotionCommand Navigator::search() { return command(MotionType::TurnLeft, config_.turn_rpm * 0.75); }
+MotionCommand Navigator::search() const { return command(MotionType::TurnLeft, config_.turn_rpm * 0.75); }
 
-MotionCommand Navigator::turnAway() {
+MotionCommand Navigator::turnAway() const {
   return command(avoid_left_ ? MotionType::TurnLeft : MotionType::TurnRight, config_.turn_rpm);
 }
 

@@ -60,9 +60,9 @@ class Navigator {
  private:
   [[nodiscard]] bool targetVisible() const;
   [[nodiscard]] bool atGoal() const;
-  MotionCommand track();
-  MotionCommand turnAway();
-  MotionCommand search();  // turn left in place, slower than when avoiding
+  MotionCommand track() const;
+  MotionCommand turnAway() const;
+  MotionCommand search() const;  // turn left in place, slower than when avoiding
 
   NavigatorConfig config_;
   Mode mode_ = Mode::Search;

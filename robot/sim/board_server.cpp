@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cstring>
 #include <stdexcept>
+#include <system_error>
 
 namespace keel::robot {
 
@@ -42,7 +43,7 @@ void serveBoard(int fd, SimHost& host, int period_ms, const std::atomic<bool>& s
 InProcessBoard::InProcessBoard(const SimHostConfig& config, int period_ms) : host_(std::make_unique<SimHost>(config)) {
   int fds[2];
   if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
-    throw std::runtime_error(std::string("socketpair: ") + std::strerror(errno));
+    throw std::runtime_error(std::string("socketpair: ") + std::generic_category().message(errno));
   main_fd_ = fds[0];
   board_fd_ = fds[1];
   fcntl(board_fd_, F_SETFL, fcntl(board_fd_, F_GETFL) | O_NONBLOCK);

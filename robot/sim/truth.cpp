@@ -13,6 +13,7 @@
 #include <cerrno>
 #include <cstring>
 #include <stdexcept>
+#include <system_error>
 #include <type_traits>
 
 namespace keel::robot {
@@ -37,17 +38,17 @@ std::string truthPath(const std::string& name, long owner_pid) {
 
 TruthWriter::TruthWriter(std::string path) : path_(std::move(path)) {
   const int fd = ::open(path_.c_str(), O_RDWR | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error("cannot create " + path_ + ": " + std::strerror(errno));
+  if (fd < 0) throw std::runtime_error("cannot create " + path_ + ": " + std::generic_category().message(errno));
   if (::ftruncate(fd, sizeof(Shared)) != 0) {
     const int err = errno;
     ::close(fd);
-    throw std::runtime_error("cannot size " + path_ + ": " + std::strerror(err));
+    throw std::runtime_error("cannot size " + path_ + ": " + std::generic_category().message(err));
   }
   map_ = ::mmap(nullptr, sizeof(Shared), PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
   ::close(fd);
   if (map_ == MAP_FAILED) {
     map_ = nullptr;
-    throw std::runtime_error("cannot map " + path_ + ": " + std::strerror(errno));
+    throw std::runtime_error("cannot map " + path_ + ": " + std::generic_category().message(errno));
   }
   new (map_) Shared{};  // zero: sequence 0 = nothing published yet
 }

@@ -138,7 +138,7 @@ void ColorSegmenter::gatherRegions() {
   for (int i = 0; i < accumulator_count_; ++i) {
     const Accumulator& a = accumulators_[i];
     if (a.area < min_area_) continue;
-    const double area = static_cast<double>(a.area);
+    const auto area = static_cast<double>(a.area);
     regions_[kept++] = Region{static_cast<int>(a.area),
                               static_cast<double>(a.sum_x) / area + 0.5,
                               static_cast<double>(a.sum_y) / area + 0.5,

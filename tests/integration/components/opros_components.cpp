@@ -25,34 +25,29 @@ class ICounter {
 class CounterProvided : public ProvidedServicePort, public ICounter {
  protected:
   ICounter* pcom;
-  typedef ProvidedMethod<int> getFuncType;
+  using getFuncType = ProvidedMethod<int>;
   getFuncType* getFunc;
-  typedef ProvidedMethod<int> addFuncType;
+  using addFuncType = ProvidedMethod<int>;
   addFuncType* addFunc;
 
  public:
-  virtual int get() {
-    opros_assert(getFunc != NULL);
+  int get() override {
+    opros_assert(getFunc != nullptr);
     return (*getFunc)();
   }
-  virtual int add(int amount) {
-    opros_assert(addFunc != NULL);
+  int add(int amount) override {
+    opros_assert(addFunc != nullptr);
     return (*addFunc)(amount);
   }
-  CounterProvided(ICounter* fn) {
-    pcom = fn;
-    getFunc = NULL;
-    addFunc = NULL;
-    setup();
-  }
+  CounterProvided(ICounter* fn) : pcom(fn), getFunc(NULL), addFunc(NULL) { setup(); }
   virtual void setup() {
     Method* ptr_method;
     ptr_method = makeProvidedMethod(&ICounter::get, pcom, "get");
-    opros_assert(ptr_method != NULL);
+    opros_assert(ptr_method != nullptr);
     addMethod("get", ptr_method);
     getFunc = reinterpret_cast<getFuncType*>(ptr_method);
     ptr_method = makeProvidedMethod(&ICounter::add, pcom, "add");
-    opros_assert(ptr_method != NULL);
+    opros_assert(ptr_method != nullptr);
     addMethod("add", ptr_method);
     addFunc = reinterpret_cast<addFuncType*>(ptr_method);
   }
@@ -60,33 +55,29 @@ class CounterProvided : public ProvidedServicePort, public ICounter {
 
 class CounterRequired : public RequiredServicePort {
  protected:
-  typedef RequiredMethod<int> getFuncType;
+  using getFuncType = RequiredMethod<int>;
   getFuncType* getFunc;
-  typedef RequiredMethod<int> addFuncType;
+  using addFuncType = RequiredMethod<int>;
   addFuncType* addFunc;
 
  public:
-  CounterRequired() {
-    getFunc = NULL;
-    addFunc = NULL;
-    setup();
-  }
+  CounterRequired() : getFunc(NULL), addFunc(NULL) { setup(); }
   int get() {
-    opros_assert(getFunc != NULL);
+    opros_assert(getFunc != nullptr);
     return (*getFunc)();
   }
   int add(int amount) {
-    opros_assert(addFunc != NULL);
+    opros_assert(addFunc != nullptr);
     return (*addFunc)(amount);
   }
   virtual void setup() {
     Method* ptr_method;
     ptr_method = makeRequiredMethod(&CounterRequired::get, "get");
-    opros_assert(ptr_method != NULL);
+    opros_assert(ptr_method != nullptr);
     addMethod("get", ptr_method);
     getFunc = reinterpret_cast<getFuncType*>(ptr_method);
     ptr_method = makeRequiredMethod(&CounterRequired::add, "add");
-    opros_assert(ptr_method != NULL);
+    opros_assert(ptr_method != nullptr);
     addMethod("add", ptr_method);
     addFunc = reinterpret_cast<addFuncType*>(ptr_method);
   }
@@ -108,7 +99,7 @@ class OprosCounter : public Component, public ICounter {
 
  public:
   OprosCounter() : in(OPROS_LAST, 1) { portSetup(); }
-  virtual ~OprosCounter() {}
+  ~OprosCounter() override = default;
   virtual void portSetup() {
     addPort("count", &count);
     addPort("in", &in);
@@ -124,39 +115,39 @@ class OprosCounter : public Component, public ICounter {
     events = 0;
     faulted = false;
   }
-  virtual int get() { return state.executions; }
-  virtual int add(int amount) {
+  int get() override { return state.executions; }
+  int add(int amount) override {
     state.received += amount;
     return state.received;
   }
 
  protected:
-  virtual ReturnType onInitialize() {
+  ReturnType onInitialize() override {
     critical(&state, sizeof state);
     return OPROS_SUCCESS;
   }
-  virtual ReturnType onStart() { return OPROS_SUCCESS; }
-  virtual ReturnType onStop() {
+  ReturnType onStart() override { return OPROS_SUCCESS; }
+  ReturnType onStop() override {
     if (!getProperty("trace").empty()) {
       std::ofstream out(getProperty("trace").c_str());
       out << state.executions << ' ' << state.received << ' ' << events << '\n';
     }
     return OPROS_SUCCESS;
   }
-  virtual ReturnType onReset() { return OPROS_SUCCESS; }
-  virtual ReturnType onError() { return OPROS_SUCCESS; }
-  virtual ReturnType onRecover() { return OPROS_SUCCESS; }
-  virtual ReturnType onDestroy() { return OPROS_SUCCESS; }
+  ReturnType onReset() override { return OPROS_SUCCESS; }
+  ReturnType onError() override { return OPROS_SUCCESS; }
+  ReturnType onRecover() override { return OPROS_SUCCESS; }
+  ReturnType onDestroy() override { return OPROS_SUCCESS; }
 
  public:
-  virtual ReturnType onEvent(Event* evt) {
+  ReturnType onEvent(Event* evt) override {
     if (evt->getId() == "tick") ++events;
     return OPROS_SUCCESS;
   }
-  virtual ReturnType onExecute() {
+  ReturnType onExecute() override {
     ++state.executions;
     opros_any* p = in.pop();
-    if (p != NULL) {
+    if (p != nullptr) {
       state.received += in.getContent(*p);
       delete p;
     }
@@ -178,8 +169,8 @@ class OprosCounter : public Component, public ICounter {
     tick.push(&e);
     return OPROS_SUCCESS;
   }
-  virtual ReturnType onUpdated() { return OPROS_SUCCESS; }
-  virtual ReturnType onPeriodChanged() { return OPROS_SUCCESS; }
+  ReturnType onUpdated() override { return OPROS_SUCCESS; }
+  ReturnType onPeriodChanged() override { return OPROS_SUCCESS; }
 };
 
 extern "C" {
