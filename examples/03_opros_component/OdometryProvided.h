@@ -34,7 +34,7 @@ class OdometryProvided : public ProvidedServicePort, public IOdometry {
     (*zeroFunc)();
   }
 
-  OdometryProvided(IOdometry* fn) : pcom(fn), totalFunc(NULL), zeroFunc(NULL) { setup(); }
+  OdometryProvided(IOdometry* fn) : pcom(fn), totalFunc(nullptr), zeroFunc(nullptr) { setup(); }
 
   virtual void setup() {
     Method* ptr_method;
