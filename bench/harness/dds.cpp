@@ -101,7 +101,7 @@ DdsCell pingPong(const std::vector<std::string>& command, const std::string& pre
   ping_argv.insert(ping_argv.end(), {"ping", ping_topic, pong_topic, std::to_string(n), std::to_string(kPeriodUs)});
   DdsCell cell;
   Fd quiet(::open("/dev/null", O_WRONLY | O_CLOEXEC));
-  auto pong = Process::spawn(pong_argv, {.out = quiet.get(), .err = quiet.get()}, false, true);
+  auto pong = Process::spawn(std::move(pong_argv), {.out = quiet.get(), .err = quiet.get()}, false, true);
   if (!pong) {
     cell.error = "pong: " + pong.error().message;
     return cell;
@@ -111,7 +111,7 @@ DdsCell pingPong(const std::vector<std::string>& command, const std::string& pre
     cell.error = "pipe";
     return cell;
   }
-  auto ping = Process::spawn(ping_argv, {.out = out.write.get(), .err = out.write.get()}, false, true);
+  auto ping = Process::spawn(std::move(ping_argv), {.out = out.write.get(), .err = out.write.get()}, false, true);
   out.write.reset();
   if (!ping) {
     cell.error = "ping: " + ping.error().message;
@@ -217,12 +217,13 @@ class DefaultCyclone {
 
 }  // namespace
 
-DdsEnvironment::DdsEnvironment() : dir_("keel-bench-dds-env-"), domain_(1 + ::getpid() % 100) {
+DdsEnvironment::DdsEnvironment() : dir_("keel-bench-dds-env-") {
   const std::string& dir = dir_.path();
   std::ofstream(dir + "/cyclonedds.xml") << kCycloneLoopbackConfig;
   std::ofstream(dir + "/fastdds.xml") << kFastDdsConfig;
   ::setenv("CYCLONEDDS_URI", ("file://" + dir + "/cyclonedds.xml").c_str(), 1);
   ::setenv("FASTDDS_DEFAULT_PROFILES_FILE", (dir + "/fastdds.xml").c_str(), 1);
+  domain_ = 1 + ::getpid() % 100;
   if (const char* d = std::getenv("ROS_DOMAIN_ID"); d && *d) {
     int v = -1;
     if (std::from_chars(d, d + std::string_view(d).size(), v).ec == std::errc() && v >= 0 && v <= 232) domain_ = v;
