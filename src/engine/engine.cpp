@@ -188,6 +188,7 @@ void Engine::startDetectors() {
   watchdog_ = std::make_unique<fault::Watchdog>(std::move(watched), fault_manager_,
                                                 [this](const std::string& m) { warn(m); });
   watchdog_->start();
+  fault_manager_.armSafetyNet();  // here, not in a recovery's path (HandlingQueue::armSafetyNet)
   if (injector_) injector_->start(runtime::steadyNs());
 }
 

@@ -59,6 +59,9 @@ class FaultManager final : public runtime::FaultSink {
   void onChange(std::function<void()> changed) { records_.onChange(std::move(changed)); }
   /// Starts the manager's thread. Without it, reports are handled on the reporting thread.
   void start();
+  /// The components run: the manager's thread from now on also wakes by itself now and then,
+  /// for a recovery's report that nothing wakes it for (HandlingQueue::armSafetyNet).
+  void armSafetyNet() { queue_.armSafetyNet(); }
   /// Handles what is queued, then ends the thread.
   void stop();
   /// Waits until everything reported so far has been handled and logged (tests, shutdown).

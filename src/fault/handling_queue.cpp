@@ -67,7 +67,11 @@ void HandlingQueue::enqueue(HandlingItem::Type type, const FaultReport& report, 
   ++size_;
   enqueued_.fetch_add(1, std::memory_order_release);
   lock.unlock();
-  if (wake || !silent_seen_.exchange(true, std::memory_order_acq_rel)) signal_.notify();
+  if (wake) signal_.notify();
+}
+
+void HandlingQueue::armSafetyNet() {
+  if (!silent_seen_.exchange(true, std::memory_order_acq_rel)) signal_.notify();
 }
 
 void HandlingQueue::run() {

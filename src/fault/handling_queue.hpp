@@ -47,6 +47,11 @@ class HandlingQueue {
   /// here when the thread does not take items or this is the thread.
   void enqueue(HandlingItem::Type type, const FaultReport& report, bool wake);
 
+  /// From now on the thread's sleep has its safety-net timeout, so that a report queued without
+  /// a wake-up (a recovery's) is taken even if nothing wakes the thread after it. Called once
+  /// the components run; wakes the thread once, here, rather than in a recovery's hot path.
+  void armSafetyNet();
+
   bool onThread() const { return std::this_thread::get_id() == thread_id_.load(); }
   bool running() const { return thread_id_.load() != std::thread::id{}; }
 
@@ -63,9 +68,11 @@ class HandlingQueue {
   std::size_t head_ = 0, size_ = 0;
   bool accepting_ = false;  // the thread runs and takes items (guarded by mutex_)
   std::atomic<std::uint64_t> enqueued_{0}, processed_{0};
-  // Set by the first report queued without a wake-up (which wakes the thread once): from then
-  // on the thread's sleep has its safety-net timeout; until then it sleeps until woken, so a
-  // process that never recovers anything (a standby host) never wakes it.
+  // Set by armSafetyNet() once the components run: from then on the thread's sleep has its
+  // safety-net timeout; until then it sleeps until woken, so a process whose components never
+  // run (a standby host) never wakes it. Never set by a report: waking this real-time thread
+  // between a recovery and the recovered component's first step would delay that step by the
+  // thread's whole logging of the fault (it preempts the task's CPU).
   std::atomic<bool> silent_seen_{false};
 };
 

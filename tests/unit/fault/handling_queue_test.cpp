@@ -1,6 +1,7 @@
 // The fault manager's queue and thread (src/fault/handling_queue.hpp): processed at once on the
 // caller's thread without a thread, in order on its own thread once started, none lost when the
-// ring is full, what is queued processed at stop, and onThread() true only on that thread.
+// ring is full, what is queued processed at stop, and onThread() true only on that thread; an
+// item queued without a wake-up left alone until the safety net is armed, then taken by it.
 #include "fault/handling_queue.hpp"
 
 #include <gtest/gtest.h>
@@ -117,6 +118,37 @@ TEST(HandlingQueue, ItemsQueuedWithoutAWakeUpAreProcessedByDrain) {
   rec.queue().drain();
 
   EXPECT_EQ(rec.ids(), (std::vector<std::uint64_t>{0, 1, 2, 3, 4}));
+}
+
+// A recovery queues its report without a wake-up and runs the recovered component's first step
+// at once: the queue's real-time thread must not wake in between (it would preempt that step for
+// the whole logging of the fault). Before the safety net is armed nothing wakes it.
+TEST(HandlingQueue, AnItemQueuedWithoutAWakeUpDoesNotWakeTheThreadBeforeTheSafetyNetIsArmed) {
+  Recorder rec;
+  rec.queue().start();
+
+  rec.queue().enqueue(HandlingItem::Type::Report, numbered(1), false);
+  std::this_thread::sleep_for(300ms);
+
+  EXPECT_TRUE(rec.ids().empty()) << "the thread woke for an item queued without a wake-up";
+  rec.queue().enqueue(HandlingItem::Type::Recovered, numbered(2), true);
+  rec.queue().drain();
+  EXPECT_EQ(rec.ids(), (std::vector<std::uint64_t>{1, 2})) << "the woken thread takes both, in order";
+}
+
+// Once armed (the components run), an item queued without a wake-up is still taken by the
+// thread on its own, within its safety-net timeout (100 ms; bounded generously here).
+TEST(HandlingQueue, OnceArmedTheSafetyNetTakesAnItemNothingWokeTheThreadFor) {
+  Recorder rec;
+  rec.queue().start();
+  rec.queue().armSafetyNet();
+  std::this_thread::sleep_for(50ms);  // the arming's own wake has passed: the thread sleeps again
+
+  rec.queue().enqueue(HandlingItem::Type::Report, numbered(7), false);
+  const auto deadline = std::chrono::steady_clock::now() + 10s;
+  while (rec.ids().empty() && std::chrono::steady_clock::now() < deadline) std::this_thread::sleep_for(5ms);
+
+  EXPECT_EQ(rec.ids(), (std::vector<std::uint64_t>{7})) << "no drain, no wake-up: the safety net's timeout";
 }
 
 TEST(HandlingQueue, ARingSmallerThanTheItemsFromSeveralThreadsLosesNone) {
