@@ -126,14 +126,17 @@ TEST(HandlingQueue, ItemsQueuedWithoutAWakeUpAreProcessedByDrain) {
 TEST(HandlingQueue, AnItemQueuedWithoutAWakeUpDoesNotWakeTheThreadBeforeTheSafetyNetIsArmed) {
   Recorder rec;
   rec.queue().start();
+  rec.queue().enqueue(HandlingItem::Type::Report, numbered(0), true);  // the thread is up and has
+  rec.queue().drain();                                                 // looked at the ring:
+  std::this_thread::sleep_for(200ms);  // it sleeps (an item queued before that would be taken)
 
   rec.queue().enqueue(HandlingItem::Type::Report, numbered(1), false);
   std::this_thread::sleep_for(300ms);
 
-  EXPECT_TRUE(rec.ids().empty()) << "the thread woke for an item queued without a wake-up";
+  EXPECT_EQ(rec.ids(), (std::vector<std::uint64_t>{0})) << "the thread woke for an item queued without a wake-up";
   rec.queue().enqueue(HandlingItem::Type::Recovered, numbered(2), true);
   rec.queue().drain();
-  EXPECT_EQ(rec.ids(), (std::vector<std::uint64_t>{1, 2})) << "the woken thread takes both, in order";
+  EXPECT_EQ(rec.ids(), (std::vector<std::uint64_t>{0, 1, 2})) << "the woken thread takes both, in order";
 }
 
 // Once armed (the components run), an item queued without a wake-up is still taken by the
@@ -142,7 +145,7 @@ TEST(HandlingQueue, OnceArmedTheSafetyNetTakesAnItemNothingWokeTheThreadFor) {
   Recorder rec;
   rec.queue().start();
   rec.queue().armSafetyNet();
-  std::this_thread::sleep_for(50ms);  // the arming's own wake has passed: the thread sleeps again
+  std::this_thread::sleep_for(200ms);  // the arming's own wake has passed: the thread sleeps again
 
   rec.queue().enqueue(HandlingItem::Type::Report, numbered(7), false);
   const auto deadline = std::chrono::steady_clock::now() + 10s;
