@@ -71,7 +71,7 @@ void HandlingQueue::enqueue(HandlingItem::Type type, const FaultReport& report, 
 }
 
 void HandlingQueue::armSafetyNet() {
-  if (!silent_seen_.exchange(true, std::memory_order_acq_rel)) signal_.notify();
+  if (!safety_net_armed_.exchange(true, std::memory_order_acq_rel)) signal_.notify();
 }
 
 void HandlingQueue::run() {
@@ -104,7 +104,7 @@ void HandlingQueue::run() {
     // A recovery queues its report without a wake-up; its `recovered` record, or the next
     // step, wakes this thread. The timeout is only a safety net: waking more often would put
     // this real-time thread in the executors' way.
-    if (silent_seen_.load(std::memory_order_acquire)) signal_.waitUntil(runtime::WakeSignal::Clock::now() + 100ms);
+    if (safety_net_armed_.load(std::memory_order_acquire)) signal_.waitUntil(runtime::WakeSignal::Clock::now() + 100ms);
     else signal_.wait();
   }
 }

@@ -73,7 +73,7 @@ class HandlingQueue {
   // run (a standby host) never wakes it. Never set by a report: waking this real-time thread
   // between a recovery and the recovered component's first step would delay that step by the
   // thread's whole logging of the fault (it preempts the task's CPU).
-  std::atomic<bool> silent_seen_{false};
+  std::atomic<bool> safety_net_armed_{false};
 };
 
 }  // namespace keel::fault
