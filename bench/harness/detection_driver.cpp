@@ -37,6 +37,8 @@ const DetectionFloor* floorFor(runtime::InjectKind kind) {
   return kind == runtime::InjectKind::Throw ? floorNamed("floor_throw") : nullptr;
 }
 
+}  // namespace
+
 void detectionCell(int n, const std::string& what, bool fifo, Row& row) {
   if (const DetectionFloor* floor = floorNamed(what)) {
     FloorResult f = floor->measure(n, fifo, kDetectionCadence);
@@ -70,8 +72,6 @@ void detectionCell(int n, const std::string& what, bool fifo, Row& row) {
   row.s = summarise(std::move(keel_ns));
   row.floor = summarise(std::move(floor_ns));
 }
-
-}  // namespace
 
 bool isDetectionFloor(std::string_view name) { return floorNamed(name) != nullptr; }
 

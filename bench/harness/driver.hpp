@@ -53,6 +53,14 @@ void finish(const Options& o, const Paths& paths, const std::string& kind, const
 /// The run's first line: what, how many per cell, the loads, the machine.
 void header(const Options& o, const std::string& what, const char* trials = "faults");
 
+// One cell of a benchmark, as its driver runs it (`keel bench guard` runs some of them too).
+/// A recovery mechanism, a peer or a floor; `log` is the fault log keel's cells write.
+void recoveryCell(const Paths& paths, int n, const std::string& log, const std::string& what, bool fifo, Row& row);
+/// An injected kind (with its floor measured in the same cell, where it has one) or a floor.
+void detectionCell(int n, const std::string& what, bool fifo, Row& row);
+/// A port, the takeover (with its floor measured in the same cell), a cold respawn or a floor.
+void isolationCell(const Paths& paths, int n, const std::string& what, bool fifo, Row& row);
+
 // The benchmarks: each prints its tables and returns keel-bench's exit status.
 int recoveryBenchmark(Options o, const Paths& paths);
 int detectionBenchmark(Options o, const Paths& paths);

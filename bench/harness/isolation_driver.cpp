@@ -13,8 +13,6 @@
 
 namespace keel::bench {
 
-namespace {
-
 void isolationCell(const Paths& paths, int n, const std::string& what, bool fifo, Row& row) {
   if (what == "floor_robust") {
     FloorResult f = measureRobustFloor(n, fifo, 1);
@@ -60,8 +58,6 @@ void isolationCell(const Paths& paths, int n, const std::string& what, bool fifo
   row.failed = c.unexpected;
   addNote(row.note, c.warnings);
 }
-
-}  // namespace
 
 int isolationBenchmark(Options o, const Paths& paths) {
   const std::vector<std::string> all{"port_process", "port_thread", "port_dds", "takeover",

@@ -12,6 +12,8 @@
 //              respawn, each with the machine's floor; what a waiting standby costs
 //   dds        keel's DDS ports: the round trip keel ↔ keel beside a plain CycloneDDS C program's
 //              (and rclpy's), `remote` fault detection and failover across two hosts
+//   guard      the regression guard CI runs: short cells of recovery, takeover and detection,
+//              each within a bound of the machine's floor measured beside it (guard.hpp)
 // `_load P` is the internal duty-cycle load and `_guard PID CMD...` what starts a load (load.hpp),
 // both run by keel-bench itself. This file reads the command line; each benchmark's driver is a
 // file of its own (driver.hpp).
@@ -27,6 +29,7 @@
 #include <thread>
 
 #include "driver.hpp"
+#include "guard.hpp"
 #include "load.hpp"
 #include "paths.hpp"
 #include "runtime/injection.hpp"
@@ -81,6 +84,16 @@ int main(int argc, char** argv) {
   commonOptions(*dds_cmd, o,
                 "cells: roundtrip_keel,roundtrip_raw (a plain CycloneDDS C program),roundtrip_rclpy,remote,failover "
                 "(root: two network namespaces)");
+  GuardOptions g;
+  auto* guard = app.add_subcommand(
+      "guard", "the regression guard: recovery, takeover and detection within a bound of the floor beside them");
+  guard->add_option("--n", g.n, "faults per cell")->check(CLI::PositiveNumber);
+  guard->add_option("--attempts", g.attempts, "a check fails only when every attempt is above its bound")
+      ->check(CLI::PositiveNumber);
+  guard->add_option("--only", g.only, "benchmarks: recovery,isolation,detection")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"recovery", "isolation", "detection"}));
+  guard->add_option("--json", g.json, "write every check and its attempts to FILE");
   std::vector<int> sizes{1, 10, 100, 1000};
   int trials = 5;
   auto* sca = app.add_subcommand("scale", "start-up, memory and diagnosis against the number of components");
@@ -121,6 +134,7 @@ int main(int argc, char** argv) {
     if (det->parsed()) return detectionBenchmark(o, paths);
     if (iso->parsed()) return isolationBenchmark(o, paths);
     if (dds_cmd->parsed()) return ddsBenchmark(o, paths);
+    if (guard->parsed()) return guardBenchmark(g, paths);
     std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
                              fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())
               << std::flush;

@@ -13,8 +13,6 @@
 
 namespace keel::bench {
 
-namespace {
-
 void recoveryCell(const Paths& paths, int n, const std::string& log, const std::string& what, bool fifo, Row& row) {
   if (what == "floor_wake" || what == "floor_timer") {
     FloorResult f = what == "floor_wake" ? measureWakeFloor(n, fifo) : measureTimerFloor(n, fifo);
@@ -51,8 +49,6 @@ void recoveryCell(const Paths& paths, int n, const std::string& log, const std::
   }
   addNote(row.note, c.warnings);
 }
-
-}  // namespace
 
 int recoveryBenchmark(Options o, const Paths& paths) {
   if (o.which.empty())

@@ -107,6 +107,7 @@ class Reader {
       return;
     }
     if (r.contains(fd::kComposite)) return;  // derived from its members, which the table shows
+    if (auto s = r.find(fd::kServing); s != r.end() && *s == false) return;  // not standing for its name
     component(str(r, fd::kComponent)).state = str(r, fd::kTo);
   }
   void counts(const nlohmann::json& r) {

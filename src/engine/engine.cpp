@@ -101,6 +101,13 @@ Component* Engine::find(std::string_view instance) const {
   return it == by_name_.end() ? nullptr : it->second->serving();
 }
 
+bool Engine::serves(const Component& c) const {
+  const auto it = by_name_.find(c.instanceName());
+  if (it == by_name_.end()) return true;
+  const Component* serving = it->second->serving();
+  return serving == &c || (serving == nullptr && !runtime::coreOf(c).alternative);  // nullptr: not built yet
+}
+
 void Engine::warn(const std::string& message) {
   log_.write(log::schema::warning(message));
   if (options_.warn) options_.warn(message);
@@ -227,22 +234,20 @@ void Engine::shutdown() {
   }
   fault_manager_.flushUndetected(components());
   if (started_) logCounts();
-  // The log's `state` records of a name are the lifecycle of its serving component: a primary it
-  // replaced and an alternative standing by get onDestroy without records of their own.
-  auto destroyQuietly = [](Component& c) {
-    detail::ComponentCore& core = runtime::coreOf(c);
-    core.hooks = nullptr;
-    core.fault_sink = nullptr;
+  // A component out of service (one an alternative replaced, an alternative standing by) ends
+  // too, its records marked `serving: false`; a failing onDestroy of it is no fault to handle.
+  auto destroyOutOfService = [](Component& c) {
+    runtime::coreOf(c).fault_sink = nullptr;
     runtime::transition(c, Transition::Destroy);
   };
   for (auto it = instances_.rbegin(); it != instances_.rend(); ++it) {
     if (!stuck(*it->serving())) runtime::transition(*it->serving(), Transition::Destroy);
-    if (it->serving() != it->component.get() && !stuck(*it->component)) destroyQuietly(*it->component);  // replaced
+    if (it->serving() != it->component.get() && !stuck(*it->component)) destroyOutOfService(*it->component);
   }
   {
     std::lock_guard lock(alternatives_mutex_);
     for (auto& alt : alternatives_)  // alternatives still standing by
-      if (alt->state() != State::Destroyed && !stuck(*alt)) destroyQuietly(*alt);
+      if (alt->state() != State::Destroyed && !stuck(*alt)) destroyOutOfService(*alt);
   }
   side_->stopProcesses();
   cpu_latency_ = runtime::CpuLatencyRequest();  // the CPUs may sleep again
@@ -296,7 +301,9 @@ void Engine::logCounts() {
 
 void Engine::stateChanged(Component& c, State from, State to) {
   if (side_->holdsState(c, from, to)) return;
-  log_.write(log::schema::componentState(c.instanceName(), toString(from), toString(to), 0, log_.now()));
+  const detail::ComponentCore& core = runtime::coreOf(c);
+  log_.write(log::schema::componentState(c.instanceName(), {core.class_name, core.alternative, serves(c)},
+                                         toString(from), toString(to), 0, log_.now()));
   side_->stateLogged(c.instanceName());
   if (dds_) dds_->pokeDiagnostics();
 }

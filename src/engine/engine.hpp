@@ -111,6 +111,9 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
 
   /// The serving component of `instance` (an alternative, once one replaced it).
   Component* find(std::string_view instance) const override;
+  /// Whether `c` stands for its instance's name now; false for an alternative standing by and
+  /// for the component an alternative replaced.
+  bool serves(const Component& c) const;
   const plan::Plan& plan() const { return planned_.plan; }
   const std::vector<Instance>& instances() const { return instances_; }
   /// The executors, including those that took over from an abandoned one (a snapshot).

@@ -72,9 +72,10 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
   }
   Component* alt = made->component.get();
   runtime::coreOf(*alt).fault.handling = &h;
-  // Quietly: the log's `state` records of this name are the role's; a failure is returned.
+  // Its `state` records are logged as the alternative's, out of service until the switch; a
+  // failure is returned to the caller, not reported as a fault.
   detail::ComponentCore& alt_core = runtime::coreOf(*alt);
-  alt_core.hooks = nullptr;
+  alt_core.alternative = true;
   alt_core.fault_sink = nullptr;
   if (!runtime::transition(*alt, Transition::Initialize)) {
     // As any component whose onInitialize failed: onDestroy, never onStart or onStop.
@@ -82,7 +83,6 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     runtime::transition(*alt, Transition::Destroy);
     return fail(fmt::format("{}: {}", cp.name, why.empty() ? "onInitialize returned an error" : why));
   }
-  alt_core.hooks = this;
   alt_core.fault_sink = &fault_manager_;
   // Allocates its checkpoint buffers now, off the fault path (the switch copies into them).
   if (!runtime::coreOf(*alt).critical.empty()) runtime::takeCheckpoint(runtime::coreOf(*alt), runtime::steadyNs());

@@ -91,7 +91,8 @@ Result<void> HostSide::run() {
     held.swap(held_);
   }
   for (const auto& h : held)
-    e_.log_.write(log::schema::componentState(h.component->instanceName(), toString(h.from), toString(h.to), 0, h.t));
+    e_.log_.write(log::schema::componentState(h.component->instanceName(), {runtime::coreOf(*h.component).class_name},
+                                              toString(h.from), toString(h.to), 0, h.t));
   e_.started_ = true;
   e_.startDetectors();
   host_.becameActive();

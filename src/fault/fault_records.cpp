@@ -12,8 +12,11 @@ void FaultRecords::writeChanges(const FaultReport& r, std::uint8_t action) {
   for (std::size_t i = 0; i < r.n_changes; ++i) {
     const FaultReport::Change& c = r.changes[i];
     if (c.action != action) continue;
-    log_.write(log::schema::componentState(who, toString(c.change.from), toString(c.change.to), r.id,
-                                           log_.sinceStart(c.change.t_ns)));
+    // The fault path changes only the object serving the name: the accused, or the alternative
+    // switched in before it starts.
+    const detail::ComponentCore& core = runtime::coreOf(*c.change.component);
+    log_.write(log::schema::componentState(who, {core.class_name, core.alternative, true}, toString(c.change.from),
+                                           toString(c.change.to), r.id, log_.sinceStart(c.change.t_ns)));
   }
 }
 

@@ -50,6 +50,8 @@ inline constexpr char kHandling[] = "handling";
 inline constexpr char kAction[] = "action";
 inline constexpr char kOutcome[] = "outcome";
 inline constexpr char kReplacement[] = "replacement";
+inline constexpr char kAlternative[] = "alternative";  // `state`: true, of an instance's alternative
+inline constexpr char kServing[] = "serving";          // `state`: false, of an object not standing for its name then
 inline constexpr char kComponents[] = "components";
 inline constexpr char kApplications[] = "applications";
 inline constexpr char kFrom[] = "from";
@@ -72,7 +74,7 @@ inline constexpr char kCpuDmaLatencyUs[] = "cpu_dma_latency_us";  // engine `sta
 inline constexpr char kProcess[] = "process";                     // `host`: the <process> name
 inline constexpr char kPid[] = "pid";                             // `host`: its OS process id
 inline constexpr char kName[] = "name";                           // engine `load`: the run's (root profile's) name
-inline constexpr char kClass[] = "class";                         // `counts`: the component's class
+inline constexpr char kClass[] = "class";                         // `counts`, `state`: the component's class
 inline constexpr char kExecutor[] = "executor";                   // `counts`: the executor's name, or "passive"
 inline constexpr char kExecutions[] = "executions";               // `counts`: onExecute calls
 inline constexpr char kDeadlineMisses[] = "deadline_misses";      // `counts`: onExecute calls over <deadline>
@@ -126,13 +128,25 @@ inline nlohmann::json recovered(std::uint64_t id, std::string_view component, st
   return {{field::kEvent, event::kRecovered}, {field::kFaultId, id}, {field::kComponent, component}, {field::kTime, t}};
 }
 
+/// Which object under an instance's name a `state` record is of: the name stands for one object
+/// at a time (the component created for it, then the alternative that replaced it), and each
+/// object's records chain from its `Created` to its `Destroyed`.
+struct StateOf {
+  std::string_view cls;      // its class
+  bool alternative = false;  // the instance's alternative, not the component created for it
+  bool serving = true;       // false: a preloaded alternative standing by, a replaced component
+};
+
 /// A component's lifecycle change; `id` 0 when no fault caused it.
-inline nlohmann::json componentState(std::string_view component, std::string_view from, std::string_view to,
-                                     std::uint64_t id, std::int64_t t) {
+inline nlohmann::json componentState(std::string_view component, const StateOf& of, std::string_view from,
+                                     std::string_view to, std::uint64_t id, std::int64_t t) {
   nlohmann::json r = {{field::kEvent, event::kState},
                       {field::kComponent, component},
+                      {field::kClass, of.cls},
                       {field::kFrom, from},
                       {field::kTo, to}};
+  if (of.alternative) r[field::kAlternative] = true;
+  if (!of.serving) r[field::kServing] = false;
   if (id != 0) r[field::kFaultId] = id;
   r[field::kTime] = t;
   return r;

@@ -41,6 +41,7 @@ bool RunModel::apply(const json& record) {
                                ? text(record, field::kComposite)  // a composite: a row of its own
                                : text(record, field::kComponent);
   if (ev == event::kState && !name.empty()) {
+    if (auto s = record.find(field::kServing); s != record.end() && *s == false) return false;  // not standing for it
     auto& c = component(name);
     c.state = text(record, field::kTo);
     if (auto pid = record.find(field::kPid); pid != record.end() && pid->is_number_integer()) c.pid = pid->get<long>();

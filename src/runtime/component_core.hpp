@@ -132,6 +132,9 @@ class ComponentCore {
   runtime::FaultSink* fault_sink = nullptr;       // null: faults are not handled
   runtime::ExecutionGate* gate = nullptr;         // OPRoS's execution order (depends); null: none
   std::string profile_file;                       // the component profile it was made from
+  // An alternative, created to take its instance's place on a fault (preloaded or at fault
+  // time), not the component created for the instance: the log's `state` records say so.
+  bool alternative = false;
   // A component written for OPRoS (src/opros): its ports are checked as OPRoS's engine did (a
   // port the profile and the code disagree on is a warning, not an error), and the queues its
   // code fixed in a port's constructor (policy, size) win over the profile's.

@@ -96,13 +96,13 @@ void reportFailedCall(Component& c, const GuardOutcome& out, Callback cb) {
 
 StateChange setState(Component& c, State to) {
   detail::ComponentCore& core = coreOf(c);
-  const StateChange change{core.state.exchange(to, std::memory_order_acq_rel), to, steadyNs()};
+  const StateChange change{core.state.exchange(to, std::memory_order_acq_rel), to, steadyNs(), &c};
   if (change.from != to && core.hooks) core.hooks->stateChanged(c, change.from, to);
   return change;
 }
 
 StateChange setStateQuiet(Component& c, State to) {
-  return {coreOf(c).state.exchange(to, std::memory_order_acq_rel), to, steadyNs()};
+  return {coreOf(c).state.exchange(to, std::memory_order_acq_rel), to, steadyNs(), &c};
 }
 
 void reportFault(Component& c, const FaultEvent& ev) {

@@ -50,7 +50,8 @@ void dispatchEventsPassive(Component& c);
 struct StateChange {
   State from = State::Created;
   State to = State::Created;
-  std::int64_t t_ns = 0;  // steady clock
+  std::int64_t t_ns = 0;                 // steady clock
+  const Component* component = nullptr;  // the object that changed
 };
 
 // The lifecycle state's one writer: these two functions and transition() are the only code

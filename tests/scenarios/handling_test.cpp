@@ -367,23 +367,68 @@ TEST_F(Handling, AnAlternativeColdOrPreloadedTakesOverWithTheCheckpointedCount) 
   EXPECT_TRUE(engine_->faultManager().stoppedComponents().empty());
 }
 
-// One lifecycle per name in the log: a preloaded alternative standing by, and a primary it
-// replaced, are destroyed at the end without records of their own.
-TEST_F(Handling, APreloadedAlternativeStandingByLeavesNoRecordOfItsOwn) {
+/// Each object's `state` records chain from Created to Destroyed: every `from` is the previous
+/// record's `to`.
+void expectWholeStory(const std::vector<json>& records) {
+  ASSERT_FALSE(records.empty());
+  EXPECT_EQ(records.front()[fd::kFrom], "Created") << records.front();
+  for (std::size_t i = 1; i < records.size(); ++i)
+    EXPECT_EQ(records[i][fd::kFrom], records[i - 1][fd::kTo]) << "record " << i << ": " << records[i];
+  EXPECT_EQ(records.back()[fd::kTo], "Destroyed") << records.back();
+}
+
+// A preloaded alternative standing by has a story of its own, out of service throughout; the
+// name's own states are its primary's.
+TEST_F(Handling, APreloadedAlternativeStandingByHasRecordsOfItsOwnOutOfService) {
   start("replace.xml", "");  // no fault: `warm`'s preloaded alternative stands by to the end
   EXPECT_TRUE(keepsExecuting("warm", 10));
   const std::vector<json> log = finish();
   EXPECT_EQ(test::statesOf(log, "warm"), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+  const auto alternative = test::objectStatesOf(log, "warm", true);
+  expectWholeStory(alternative);
+  EXPECT_EQ(alternative.size(), 2u);  // Created → Ready, Ready → Destroyed
+  for (const auto& r : alternative) {
+    EXPECT_EQ(r[fd::kClass], "TallyBackup") << r;
+    EXPECT_EQ(r.value(fd::kServing, true), false) << r;
+  }
+  for (const auto& r : test::objectStatesOf(log, "warm", false)) {
+    EXPECT_EQ(r[fd::kClass], "Tally") << r;
+    EXPECT_FALSE(r.contains(fd::kServing)) << r;
+  }
+  EXPECT_TRUE(test::objectStatesOf(log, "cold", true).empty()) << "a cold alternative is loaded at fault time";
 }
 
-TEST_F(Handling, AReplacedPrimaryLeavesOneDestroyedRecordForItsName) {
+// After a replacement the log tells both objects' stories whole: the failed component's ends in
+// Destroyed, out of service; the alternative's, marked as its, runs from its creation through
+// the switch (with the fault's id) to its own end.
+TEST_F(Handling, AReplacementTellsTheFailedComponentsAndTheAlternativesStoriesWhole) {
   start("replace.xml", "replace_segfault.xml");  // both replaced
   ASSERT_TRUE(waitFor([&] { return recovered("cold") && recovered("warm"); })) << "not recovered";
   const std::vector<json> log = finish();
   for (const std::string name : {"cold", "warm"}) {
     SCOPED_TRACE(name);
+    const std::uint64_t id = injectedId(log, name);
+    const auto failed = test::objectStatesOf(log, name, false);
+    expectWholeStory(failed);
+    for (const auto& r : failed) EXPECT_EQ(r[fd::kClass], "Tally") << r;
+    ASSERT_GE(failed.size(), 2u);
+    const json& error = failed[failed.size() - 2];
+    EXPECT_EQ(error[fd::kTo], "Error") << error;
+    EXPECT_EQ(error.value(fd::kFaultId, std::uint64_t{0}), id) << error;
+    EXPECT_EQ(failed.back().value(fd::kServing, true), false) << "replaced, it ends out of service";
+
+    const auto alternative = test::objectStatesOf(log, name, true);
+    expectWholeStory(alternative);
+    const auto took_over = std::find_if(alternative.begin(), alternative.end(),
+                                        [](const json& r) { return r[fd::kTo] == "Active"; });
+    ASSERT_NE(took_over, alternative.end());
+    EXPECT_EQ(took_over->value(fd::kFaultId, std::uint64_t{0}), id) << *took_over;
+    for (auto r = alternative.begin(); r != alternative.end(); ++r) {
+      EXPECT_EQ((*r)[fd::kClass], "TallyBackup") << *r;
+      EXPECT_EQ(r->value(fd::kServing, true), r >= took_over) << "serving from the switch on: " << *r;
+    }
+    // The name's own states: the primary's up to the fault, then the alternative's.
     const auto states = test::statesOf(log, name);
-    ASSERT_FALSE(states.empty());
     EXPECT_EQ(std::count(states.begin(), states.end(), "Destroyed"), 1);
     EXPECT_EQ(states.back(), "Destroyed");
   }

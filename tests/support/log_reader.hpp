@@ -61,13 +61,27 @@ inline LogLines readLogLines(const std::string& path) {
   return out;
 }
 
-/// The `to` states of `component`'s state records, in order.
+/// The `to` states of `component`'s state records, in order: the name's own states, those of
+/// whichever object stands for it (records marked `serving: false` left out).
 inline std::vector<std::string> statesOf(const std::vector<nlohmann::json>& log, const std::string& component) {
   std::vector<std::string> out;
   for (const auto& r : log)
     if (r.value(log::schema::field::kEvent, "") == log::schema::event::kState &&
-        r.value(log::schema::field::kComponent, "") == component)
+        r.value(log::schema::field::kComponent, "") == component && r.value(log::schema::field::kServing, true))
       out.push_back(r.value(log::schema::field::kTo, ""));
+  return out;
+}
+
+/// The state records of one object under `component`'s name, in order: the component created
+/// for the instance, or (`alternative`) its alternative.
+inline std::vector<nlohmann::json> objectStatesOf(const std::vector<nlohmann::json>& log, const std::string& component,
+                                                  bool alternative) {
+  std::vector<nlohmann::json> out;
+  for (const auto& r : log)
+    if (r.value(log::schema::field::kEvent, "") == log::schema::event::kState &&
+        r.value(log::schema::field::kComponent, "") == component &&
+        r.value(log::schema::field::kAlternative, false) == alternative)
+      out.push_back(r);
   return out;
 }
 

@@ -36,6 +36,11 @@ FaultReport reportOf(std::uint64_t id, const char* who, FaultKind kind, const ch
   return r;
 }
 
+/// The component a report accuses, of class `Arm`.
+struct Arm : Component {
+  Arm() { runtime::coreOf(*this).class_name = "Arm"; }
+};
+
 /// The `event` of every record, in order.
 std::vector<std::string> eventNames(const std::vector<json>& log) {
   std::vector<std::string> out;
@@ -48,7 +53,8 @@ TEST(FaultRecords, ADetectionIsLoggedAsDetectedStateErrorAndDiagnosedSharingItsF
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(7, "arm", FaultKind::Signal, "SIGSEGV in onExecute", t);
-  r.noteState({State::Active, State::Error, t}, true);  // as the fault manager notes it
+  Arm arm;
+  r.noteState({State::Active, State::Error, t, &arm}, true);  // as the fault manager notes it
 
   records.logReport(r);
 
@@ -64,6 +70,9 @@ TEST(FaultRecords, ADetectionIsLoggedAsDetectedStateErrorAndDiagnosedSharingItsF
   EXPECT_EQ(log[0][fd::kTime], file.log.sinceStart(t)) << "the detection's time, from the log's start";
   EXPECT_EQ(log[1][fd::kFrom], "Active");
   EXPECT_EQ(log[1][fd::kTo], "Error");
+  EXPECT_EQ(log[1][fd::kClass], "Arm") << "the class of the object that changed";
+  EXPECT_FALSE(log[1].contains(fd::kAlternative)) << log[1];
+  EXPECT_FALSE(log[1].contains(fd::kServing)) << "the fault path changes only the serving object: " << log[1];
   EXPECT_EQ(log[2][fd::kSeverity], "reset");
   EXPECT_EQ(log[2][fd::kRules], "fault_policy");
   EXPECT_EQ(log[2][fd::kScope], "component");
@@ -110,10 +119,11 @@ TEST(FaultRecords, TheDetectionIsWrittenOnceAndEachCallWritesOnlyTheNewActions) 
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(5, "arm", FaultKind::Exception, "boom", t);
-  r.noteState({State::Active, State::Error, t}, true);
+  Arm arm;
+  r.noteState({State::Active, State::Error, t, &arm}, true);
   records.logReport(r);
 
-  r.noteState({State::Error, State::Active, t + 9});  // as the reset notes it, before its action
+  r.noteState({State::Error, State::Active, t + 9, &arm});  // as the reset notes it, before its action
   r.add(ActionKind::Reset, true, t + 10, "onError → onReset → onRecover");
   records.logReport(r);
   r.add(ActionKind::Restore, true, t + 20, "critical memory restored");
@@ -160,10 +170,11 @@ TEST(FaultRecords, ASuccessfulReplacementNamesTheAlternativesClass) {
   class Backup : public Component {};
   Backup backup;
   runtime::coreOf(backup).class_name = "BackupArm";
+  runtime::coreOf(backup).alternative = true;
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(8, "arm", FaultKind::Signal, "SIGSEGV", t);
   r.alternative = &backup;
-  r.noteState({State::Ready, State::Active, t + 9});  // the alternative's own change, as replace notes it
+  r.noteState({State::Ready, State::Active, t + 9, &backup});  // the alternative's own change, as replace notes it
   r.add(ActionKind::Replace, true, t + 10, "alternative BackupArm took over");
 
   records.logReport(r);
@@ -173,7 +184,11 @@ TEST(FaultRecords, ASuccessfulReplacementNamesTheAlternativesClass) {
   ASSERT_EQ(actions.size(), 1u);
   EXPECT_EQ(actions[0][fd::kReplacement], "BackupArm");
   ASSERT_FALSE(test::eventsOf(log, ev::kState).empty());
-  EXPECT_EQ(test::eventsOf(log, ev::kState).back()[fd::kTo], "Active");
+  const json took_over = test::eventsOf(log, ev::kState).back();
+  EXPECT_EQ(took_over[fd::kTo], "Active");
+  EXPECT_EQ(took_over[fd::kClass], "BackupArm") << "the alternative's record, under the instance's name";
+  EXPECT_EQ(took_over[fd::kComponent], "arm");
+  EXPECT_EQ(took_over.value(fd::kAlternative, false), true) << took_over;
 }
 
 TEST(FaultRecords, TheHandlingListsEveryActionAndFailsOnlyOnAFailedStep) {

@@ -68,6 +68,8 @@ const Constant kFields[] = {
     {"kAction", fd::kAction},
     {"kOutcome", fd::kOutcome},
     {"kReplacement", fd::kReplacement},
+    {"kAlternative", fd::kAlternative},
+    {"kServing", fd::kServing},
     {"kComponents", fd::kComponents},
     {"kApplications", fd::kApplications},
     {"kFrom", fd::kFrom},
