@@ -1,7 +1,9 @@
 #include "fault/fault_manager.hpp"
 
+#include <fmt/compile.h>
 #include <fmt/format.h>
 
+#include <array>
 #include <chrono>
 
 #include "fault/on_thread.hpp"
@@ -32,8 +34,12 @@ void FaultManager::drain() { queue_.drain(); }
 // ---- detection: any thread --------------------------------------------------------------
 
 std::uint64_t FaultManager::report(Component& reporter, const FaultEvent& fault, std::string_view detector,
-                                   bool recoverable) {
+                                   bool recoverable, const FaultReport::Caught* caught) {
   FaultReport r = diagnose(reporter, fault, detector, find_, ids_, recoverable);
+  if (caught) {
+    r.caught = *caught;
+    r.undescribed = true;
+  }
   Component* accused = r.accused;
   if (r.first != Step::Ignore && r.first != Step::Done && allowed(accused->state(), Transition::Fault)) {
     r.noteState(runtime::setStateQuiet(*accused, State::Error), true);  // logged with the detection
@@ -64,7 +70,7 @@ void FaultManager::escalate(FaultReport& r, Step step, Outcome outcome, std::str
   facts.emergency_done = r.emergency_done;
   const Decision d = decide(step, outcome, facts);
   if (d.escalates)
-    r.add(ActionKind::Escalate, true, runtime::steadyNs(), "{} → {}: {}", toString(step), toString(d.next),
+    r.add(ActionKind::Escalate, true, runtime::steadyNs(), FMT_COMPILE("{} → {}: {}"), toString(step), toString(d.next),
           detail.empty() ? d.why : detail);
   r.next = d.next;
 }
@@ -82,9 +88,11 @@ void FaultManager::advance(FaultReport& r, unsigned where) {
       case Step::Reset: {
         if (!(where & kLocal)) return handOverLocal(r, where);
         if (recovery_.intensityAt(*h, runtime::steadyNs()) == Outcome::IntensityExceeded) {
-          escalate(r, Step::Reset, Outcome::IntensityExceeded,
-                   fmt::format("more than {} recoveries within {} ms", h->rules.intensity,
-                               h->rules.period_ns / 1'000'000));
+          // Formatted in place: this thread goes on to the replacement's first step.
+          std::array<char, 80> why{};
+          fmt::format_to_n(why.data(), why.size() - 1, FMT_COMPILE("more than {} recoveries within {} ms"),
+                           h->rules.intensity, h->rules.period_ns / 1'000'000);
+          escalate(r, Step::Reset, Outcome::IntensityExceeded, why.data());
           break;
         }
         escalate(r, Step::Reset, recovery_.reset(r, *h));

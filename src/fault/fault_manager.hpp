@@ -76,12 +76,19 @@ class FaultManager final : public runtime::FaultSink {
   /// reporter itself). `detector` names who found it in the log (empty: the reporter).
   /// Not `recoverable` (a failed lifecycle transition): logged and diagnosed, never handled.
   /// Returns the fault's id.
-  std::uint64_t report(Component& reporter, const FaultEvent& fault, std::string_view detector,
-                       bool recoverable = true);
+  /// `caught`: what the guard caught, when `fault`'s detail is still to be written from it.
+  std::uint64_t report(Component& reporter, const FaultEvent& fault, std::string_view detector, bool recoverable = true,
+                       const FaultReport::Caught* caught = nullptr);
 
   // runtime::FaultSink: what the runtime reports, straight from the thread that noticed it.
   void report(Component& c, const FaultEvent& fault) override { (void)report(c, fault, {}); }
   void reportFailedTransition(Component& c, const FaultEvent& fault) override { report(c, fault, {}, false); }
+  /// Keeps `caught` in the report: its text is written with the fault's records.
+  void reportCaught(Component& c, const FaultEvent& fault, const runtime::GuardOutcome& caught, const char* callback,
+                    const char* (*code_name)(int)) override {
+    const FaultReport::Caught what{caught, callback, code_name};
+    (void)report(c, fault, {}, true, &what);
+  }
   /// On `c`'s own thread: carries on the handling that waits for it.
   void runPending(Component& c) override;
   /// `c` executed normally after a recovery.

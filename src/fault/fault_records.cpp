@@ -49,6 +49,7 @@ void FaultRecords::logDetection(const FaultReport& r) {
 }
 
 void FaultRecords::logReport(FaultReport& r) {
+  r.describeEvent();
   const std::string who(r.event.componentName());
   std::lock_guard lock(mutex_);
   if (!r.detection_logged) {

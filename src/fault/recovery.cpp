@@ -1,5 +1,7 @@
 #include "fault/recovery.hpp"
 
+#include <fmt/compile.h>
+
 #include <mutex>
 #include <string>
 
@@ -49,12 +51,13 @@ Outcome Recovery::reset(FaultReport& r, ComponentHandling& h) {
   // began longer ago than the timeout: a second fault before the next step could run).
   core.watch.last_beat_ns.store(t, std::memory_order_relaxed);
   r.noteState(runtime::setStateQuiet(c, State::Active));
-  r.add(ActionKind::Reset, true, t, "onError → onReset → onRecover");
+  r.add(ActionKind::Reset, true, t, FMT_COMPILE("onError → onReset → onRecover"));
   if (!core.critical.empty()) {
     if (checkpoint_t != 0)
-      r.add(ActionKind::Restore, true, t, "critical memory restored from the checkpoint of {:.3f} ms before",
+      r.add(ActionKind::Restore, true, t,
+            FMT_COMPILE("critical memory restored from the checkpoint of {:.3f} ms before"),
             (r.event.t_ns - checkpoint_t) / 1e6);
-    else r.add(ActionKind::Restore, false, t, "no checkpoint yet: critical memory left as it was");
+    else r.add(ActionKind::Restore, false, t, FMT_COMPILE("no checkpoint yet: critical memory left as it was"));
   }
   noteRecovery(h, t);
   markRecovering(r, c);
@@ -99,7 +102,7 @@ Outcome Recovery::replace(FaultReport& r, ComponentHandling& h) {
   // Its own first checkpoint: what a later reset of the alternative returns to (the buffers
   // exist since its creation, so nothing is allocated here).
   if (!coreOf(*alt).critical.empty()) runtime::takeCheckpoint(coreOf(*alt), t);
-  r.add(ActionKind::Replace, true, t, "alternative {} ({}) took over{}", coreOf(*alt).class_name,
+  r.add(ActionKind::Replace, true, t, FMT_COMPILE("alternative {} ({}) took over{}"), coreOf(*alt).class_name,
         preloaded ? "preloaded" : "loaded at fault time", copied ? " with the checkpointed state" : "");
   noteRecovery(h, t);
   markRecovering(r, *alt);

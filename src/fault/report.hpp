@@ -8,6 +8,8 @@
 // ComponentHandling's fields after `mutex` are guarded by it.
 #pragma once
 
+#include <fmt/compile.h>
+
 #include <array>
 #include <cstdint>
 #include <mutex>
@@ -20,6 +22,7 @@
 #include "keel/fault_event.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/fault_detail.hpp"
+#include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
 
 namespace keel::fault {
@@ -37,6 +40,16 @@ struct Action {
 
 struct FaultReport {
   FaultEvent event;  // kind and detail; component = the accused; t_ns = detected
+  /// A fault the guard caught in a running callback gets its `event.detail` when its records
+  /// are written (describeEvent, on the fault manager's thread): making text is no part of the
+  /// recovery's path. Until then, what was caught and where.
+  struct Caught {
+    runtime::GuardOutcome outcome;
+    const char* callback = nullptr;  // a static name (runtime::callbackName)
+    const char* (*code_name)(int) = nullptr;
+  };
+  bool undescribed = false;  // `caught` holds the detail still to write
+  Caught caught;
   std::array<char, 48> detector{};
   std::uint64_t id = 0;
   std::int64_t injected_ns = 0;   // 0: not injected
@@ -64,6 +77,13 @@ struct FaultReport {
   std::uint8_t n_changes = 0;
   std::array<Change, 6> changes{};
 
+  /// Writes `event.detail` from `caught`, once.
+  void describeEvent() {
+    if (!undescribed) return;
+    caught.outcome.describe(event, caught.callback, caught.code_name);
+    undescribed = false;
+  }
+
   /// Keeps `change` for the log: with the detection, or with the action about to be added.
   void noteState(const runtime::StateChange& change, bool with_detection = false) {
     if (change.from == change.to || n_changes == changes.size()) return;
@@ -72,6 +92,19 @@ struct FaultReport {
 
   template <class... Args>
   void add(ActionKind kind, bool ok, std::int64_t t_ns, fmt::format_string<Args...> f, Args&&... args) {
+    addFormatted(kind, ok, t_ns, f, std::forward<Args>(args)...);
+  }
+  /// The same with FMT_COMPILE("..."): what a recovery adds before the recovered component's
+  /// next step. fmt's general formatting code, cold at a fault (faults are rare), costs a
+  /// microsecond or two there; a compiled format string is a few plain copies.
+  template <class S, class... Args, std::enable_if_t<fmt::detail::is_compiled_string<S>::value, int> = 0>
+  void add(ActionKind kind, bool ok, std::int64_t t_ns, const S& f, Args&&... args) {
+    addFormatted(kind, ok, t_ns, f, std::forward<Args>(args)...);
+  }
+
+ private:
+  template <class S, class... Args>
+  void addFormatted(ActionKind kind, bool ok, std::int64_t t_ns, const S& f, Args&&... args) {
     if (n_actions == actions.size()) return;  // never more than a handful: steps only go up
     Action& a = actions[n_actions++];
     a.kind = kind;

@@ -21,6 +21,7 @@
 namespace keel::runtime {
 class Executor;
 class ExecutionGate;
+struct GuardOutcome;
 namespace ipc {
 struct CheckpointArea;
 }
@@ -32,6 +33,12 @@ class FaultSink {
   virtual ~FaultSink() = default;
   /// A fault was detected in `c` (or raised by it). Called on the thread that noticed it.
   virtual void report(Component& c, const FaultEvent& fault) = 0;
+  /// A running callback of `c` (`callback`: its name) failed as the guard `caught` it; `fault`
+  /// has the kind, time and component, and no detail yet: `caught.describe(fault, callback,
+  /// code_name)` writes it. A sink may do that off the thread that noticed it, where the text
+  /// is needed; by default it is written here and the fault reported as any other.
+  virtual void reportCaught(Component& c, const FaultEvent& fault, const GuardOutcome& caught, const char* callback,
+                            const char* (*code_name)(int));
   /// A lifecycle callback of `c` (onInitialize, onStart, onStop, onDestroy) failed with
   /// `fault`. Reported like any fault, but no rule recovers a transition that did not happen:
   /// the component stays in Error until it is destroyed. Called on the thread of the call.

@@ -76,22 +76,31 @@ Component* runningComponent() {
   return frame ? frame->owner : nullptr;  // the innermost guarded call's, as calls nest
 }
 
+void FaultSink::reportCaught(Component& c, const FaultEvent& fault, const GuardOutcome& caught, const char* callback,
+                             const char* (*code_name)(int)) {
+  FaultEvent described = fault;
+  caught.describe(described, callback, code_name);
+  report(c, described);
+}
+
 void reportFailedCall(Component& c, const GuardOutcome& out, Callback cb) {
   detail::ComponentCore& core = coreOf(c);
   FaultEvent ev;
   ev.t_ns = out.t_ns ? out.t_ns : steadyNs();
   FaultEvent::copyInto(ev.component, core.instance_name);
-  out.describe(ev, callbackName(cb), core.code_name);
-  // A failed lifecycle callback leaves the component in Error (no rule recovers it); a fault
-  // of a running callback is the fault manager's to handle by the component's rules.
-  if (isLifecycle(cb)) {
-    core.transition_fault = ev.detailText();
-    State s = core.state.load(std::memory_order_acquire);
-    if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
-    if (core.fault_sink) core.fault_sink->reportFailedTransition(c, ev);
+  if (!isLifecycle(cb)) {
+    // A fault of a running callback is the fault manager's to handle by the component's rules;
+    // its text is written where it is needed (the fault's records), not on its recovery's way.
+    ev.kind = out.faultKind();
+    if (core.fault_sink) core.fault_sink->reportCaught(c, ev, out, callbackName(cb), core.code_name);
     return;
   }
-  if (core.fault_sink) core.fault_sink->report(c, ev);
+  // A failed lifecycle callback leaves the component in Error (no rule recovers it).
+  out.describe(ev, callbackName(cb), core.code_name);
+  core.transition_fault = ev.detailText();
+  State s = core.state.load(std::memory_order_acquire);
+  if (cb != Callback::Destroy && allowed(s, Transition::Fault)) setState(c, State::Error);
+  if (core.fault_sink) core.fault_sink->reportFailedTransition(c, ev);
 }
 
 StateChange setState(Component& c, State to) {

@@ -4,6 +4,7 @@
 #include "fault/fault_manager.hpp"
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <functional>
 #include <mutex>
@@ -13,6 +14,7 @@
 
 #include "log/schema.hpp"
 #include "runtime/component_core.hpp"
+#include "runtime/guard.hpp"
 #include "runtime/invoke.hpp"
 #include "support/fake_recovery_actions.hpp"
 #include "support/log_reader.hpp"
@@ -149,6 +151,24 @@ TEST(FaultManager, APassiveComponentFaultingInsideItsOwnCallbackIsResetAfterTheC
   // Not nested inside onExecute (its lock is recursive): the reset follows the callback.
   EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onExecute", "onError", "onReset", "onRecover"}));
   EXPECT_EQ(rig.arm.state(), State::Active);
+}
+
+// What the guard catches in a running callback reaches the fault manager as it was caught; its
+// text is written with the fault's records, and says what was caught and where.
+TEST(FaultManager, AFaultTheGuardCaughtIsDescribedInItsDetectedRecord) {
+  runtime::installSignalHandlers();
+  Rig rig;
+  rig.policy(Severity::Reset);
+  coreOf(rig.arm).fault_sink = &rig.manager;
+  rig.arm.during_execute = [] { ::raise(SIGSEGV); };
+
+  EXPECT_FALSE(runtime::invoke(rig.arm, runtime::Callback::Execute));
+
+  EXPECT_EQ(rig.arm.trace(), (std::vector<std::string>{"onError", "onReset", "onRecover"}));
+  const auto detected = test::eventsOf(rig.read(), ev::kDetected);
+  ASSERT_EQ(detected.size(), 1u);
+  EXPECT_EQ(detected[0][fd::kKind], "signal");
+  EXPECT_EQ(detected[0][fd::kDetail], "SIGSEGV in onExecute (raised by its own process: abort(), raise() or kill)");
 }
 
 TEST(FaultManager, WithoutAThreadAResetFaultIsLoggedFromDetectionToRecoveryUnderOneFaultId) {

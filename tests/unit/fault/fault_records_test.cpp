@@ -4,6 +4,7 @@
 #include "fault/fault_records.hpp"
 
 #include <gtest/gtest.h>
+#include <signal.h>
 
 #include <string>
 #include <vector>
@@ -112,6 +113,28 @@ TEST(FaultRecords, AnInjectedFaultIsLoggedAsInjectedBeforeItsDetectionWithTheSam
   EXPECT_EQ(log[1][fd::kEvent], ev::kDetected);
   ASSERT_EQ(records.detections().size(), 1u);
   EXPECT_EQ(records.detections()[0].injected_ns, t - 500'000);
+}
+
+// A fault caught by the guard travels undescribed; its detail is written once, with its records.
+TEST(FaultRecords, ACaughtFaultsDetailIsWrittenWithItsRecords) {
+  test::TempLog file;
+  FaultRecords records(file.log);
+  const std::int64_t t = runtime::steadyNs();
+  FaultReport r = reportOf(9, "arm", FaultKind::Signal, "", t);
+  r.caught.outcome.kind = runtime::GuardOutcome::Kind::Signal;
+  r.caught.outcome.signo = SIGFPE;
+  r.caught.outcome.addr = reinterpret_cast<const void*>(0x42);
+  r.caught.callback = "onExecute";
+  r.undescribed = true;
+  EXPECT_EQ(r.event.detailText(), "") << "nothing formatted on the way to the recovery";
+
+  records.logReport(r);
+
+  EXPECT_FALSE(r.undescribed);
+  EXPECT_EQ(r.event.detailText(), "SIGFPE in onExecute (instruction 0x42)");
+  const auto detected = test::eventsOf(file.read(), ev::kDetected);
+  ASSERT_EQ(detected.size(), 1u);
+  EXPECT_EQ(detected[0][fd::kDetail], "SIGFPE in onExecute (instruction 0x42)");
 }
 
 TEST(FaultRecords, TheDetectionIsWrittenOnceAndEachCallWritesOnlyTheNewActions) {
