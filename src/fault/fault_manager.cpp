@@ -36,10 +36,7 @@ void FaultManager::drain() { queue_.drain(); }
 std::uint64_t FaultManager::report(Component& reporter, const FaultEvent& fault, std::string_view detector,
                                    bool recoverable, const FaultReport::Caught* caught) {
   FaultReport r = diagnose(reporter, fault, detector, find_, ids_, recoverable);
-  if (caught) {
-    r.caught = *caught;
-    r.undescribed = true;
-  }
+  if (caught) r.caught = *caught;
   Component* accused = r.accused;
   if (r.first != Step::Ignore && r.first != Step::Done && allowed(accused->state(), Transition::Fault)) {
     r.noteState(runtime::setStateQuiet(*accused, State::Error), true);  // logged with the detection

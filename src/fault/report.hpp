@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,8 +49,7 @@ struct FaultReport {
     const char* callback = nullptr;  // a static name (runtime::callbackName)
     const char* (*code_name)(int) = nullptr;
   };
-  bool undescribed = false;  // `caught` holds the detail still to write
-  Caught caught;
+  std::optional<Caught> caught;  // set: `event.detail` is still to be written from it
   std::array<char, 48> detector{};
   std::uint64_t id = 0;
   std::int64_t injected_ns = 0;   // 0: not injected
@@ -79,9 +79,9 @@ struct FaultReport {
 
   /// Writes `event.detail` from `caught`, once.
   void describeEvent() {
-    if (!undescribed) return;
-    caught.outcome.describe(event, caught.callback, caught.code_name);
-    undescribed = false;
+    if (!caught) return;
+    caught->outcome.describe(event, caught->callback, caught->code_name);
+    caught.reset();
   }
 
   /// Keeps `change` for the log: with the detection, or with the action about to be added.

@@ -121,16 +121,17 @@ TEST(FaultRecords, ACaughtFaultsDetailIsWrittenWithItsRecords) {
   FaultRecords records(file.log);
   const std::int64_t t = runtime::steadyNs();
   FaultReport r = reportOf(9, "arm", FaultKind::Signal, "", t);
-  r.caught.outcome.kind = runtime::GuardOutcome::Kind::Signal;
-  r.caught.outcome.signo = SIGFPE;
-  r.caught.outcome.addr = reinterpret_cast<const void*>(0x42);
-  r.caught.callback = "onExecute";
-  r.undescribed = true;
+  FaultReport::Caught caught;
+  caught.outcome.kind = runtime::GuardOutcome::Kind::Signal;
+  caught.outcome.signo = SIGFPE;
+  caught.outcome.addr = reinterpret_cast<const void*>(0x42);
+  caught.callback = "onExecute";
+  r.caught = caught;
   EXPECT_EQ(r.event.detailText(), "") << "nothing formatted on the way to the recovery";
 
   records.logReport(r);
 
-  EXPECT_FALSE(r.undescribed);
+  EXPECT_FALSE(r.caught.has_value()) << "described once";
   EXPECT_EQ(r.event.detailText(), "SIGFPE in onExecute (instruction 0x42)");
   const auto detected = test::eventsOf(file.read(), ev::kDetected);
   ASSERT_EQ(detected.size(), 1u);
