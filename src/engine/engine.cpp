@@ -132,6 +132,7 @@ void Engine::buildExecutors() {
         inst.executor = ex.get();
       }
     }
+    ex->holdStop(stop_barrier_);  // none stops its members while another still cycles
     executors_.push_back(std::move(ex));
   }
 }
@@ -212,14 +213,19 @@ void Engine::shutdown() {
   }
   for (auto& ex : executors_) ex->requestStop();
   crossings_.stop();  // no more values from other processes into components that stop
+  // Every executor ends its last cycle before any stops its members: a call in a last cycle
+  // finds its provider Active. One stuck in a callback holds the others up to the timeout.
+  (void)stop_barrier_.waitClear(std::chrono::steady_clock::now() + options_.stop_timeout);
+  stop_barrier_.release();
   std::vector<const runtime::Executor*> abandoned;
   for (auto& ex : executors_) {
     if (!ex->abandoned() && ex->join(options_.stop_timeout)) continue;
     if (ex->abandoned() && ex->join(std::chrono::milliseconds(50))) continue;  // it came back meanwhile
     abandoned.push_back(ex.get());
-    if (!ex->abandoned())
-      warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components", ex->config().name,
-                       options_.stop_timeout.count()));
+    if (ex->abandoned()) continue;
+    warn(fmt::format("executor '{}' did not stop within {} ms; abandoned with its components", ex->config().name,
+                     options_.stop_timeout.count()));
+    ex->abandon();  // should it come back, it touches neither its members nor the engine
   }
   // A component whose executor is abandoned may still be in use by its stuck thread.
   auto stuck = [&abandoned](const Component& c) {

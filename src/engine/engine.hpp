@@ -60,7 +60,8 @@ struct EngineOptions {
   std::vector<std::string> search_path = runtime::Loader::defaultSearchPath();
   /// Warnings (e.g. a scheduling policy the OS refused); default prints to stderr.
   runtime::Warn warn;
-  std::chrono::milliseconds stop_timeout{2000};  // per executor, before it is abandoned
+  // To end the last cycles, then per executor to stop its members, before one is abandoned.
+  std::chrono::milliseconds stop_timeout{2000};
   std::optional<injection::Scenario> scenario;   // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.
   std::vector<plan::PropertySetting> property_settings;
@@ -213,6 +214,7 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
   // Opened once every executor has started its members: no first cycle before that (runComponents).
   std::atomic<std::uint32_t> first_cycle_{0};
+  runtime::StopBarrier stop_barrier_;  // every executor's last cycle before any member stops
   std::vector<std::unique_ptr<runtime::Executor>> executors_;
   fault::FaultManager fault_manager_;
   std::unique_ptr<fault::Watchdog> watchdog_;

@@ -90,7 +90,29 @@ void Executor::waitStarted() const {
 
 void Executor::abandon() {
   abandoned_.store(true, std::memory_order_release);
+  leaveStopBarrier();  // a fresh executor cycles in its place, or none
   requestStop();
+}
+
+void Executor::leaveStopBarrier() {
+  if (stop_barrier_ && !left_stop_barrier_.exchange(true, std::memory_order_acq_rel)) stop_barrier_->leave();
+}
+
+void Executor::waitStopBarrier() {
+  if (stop_barrier_ == nullptr) return;
+  while (!stop_barrier_->clear()) {
+    runMail();  // a call from a component still in its last cycle
+    const auto poll = std::chrono::steady_clock::now() + std::chrono::milliseconds(1);
+    sleepUntil(&poll);
+  }
+}
+
+bool StopBarrier::waitClear(std::chrono::steady_clock::time_point deadline) const {
+  while (!clear()) {
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return true;
 }
 
 void Executor::requestStop() {
@@ -168,6 +190,7 @@ void Executor::setUpThread() {
 void Executor::threadMain() {
   setUpThread();
   run();
+  leaveStopBarrier();  // a parked thread asked to stop, or one that came back after it was abandoned
   // Every way out: at_exit_ first (the thread may hold what only it can release), then exited_.
   if (at_exit_) at_exit_();
   exited_.store(true, std::memory_order_release);
@@ -194,6 +217,8 @@ void Executor::run() {
   else runAperiodic();
   if (abandoned_.load(std::memory_order_acquire)) return;  // came back after all: the members are not ours
   serviceBetweenCycles();
+  leaveStopBarrier();
+  waitStopBarrier();  // no member stops while another component may still call it
   for (auto it = members_.rbegin(); it != members_.rend(); ++it) transition(**it, Transition::Stop);
   runMail();  // answer calls that arrived meanwhile (they fail fast: provider not active)
 }

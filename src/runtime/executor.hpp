@@ -46,6 +46,30 @@ class ExternalInput {
   virtual bool drain() = 0;
 };
 
+/// The end of a run in two steps, so that no component's last cycle calls one already stopped:
+/// every executor holding the barrier ends its cycles, still answering calls meanwhile, and none
+/// stops its members (onStop) before all have ended theirs, or the engine has let them go on
+/// (one is stuck in a callback). Thread-safe.
+class StopBarrier {
+ public:
+  /// An executor that cycles (Executor::holdStop).
+  void enter() { cycling_.fetch_add(1, std::memory_order_acq_rel); }
+  /// It cycles no more; once per enter().
+  void leave() { cycling_.fetch_sub(1, std::memory_order_acq_rel); }
+  /// True once every executor has left, or after release().
+  bool clear() const {
+    return released_.load(std::memory_order_acquire) || cycling_.load(std::memory_order_acquire) <= 0;
+  }
+  /// Waits for clear() until `deadline`; false if it was not by then.
+  bool waitClear(std::chrono::steady_clock::time_point deadline) const;
+  /// Lets the executors waiting on it go on, whoever still cycles.
+  void release() { released_.store(true, std::memory_order_release); }
+
+ private:
+  std::atomic<int> cycling_{0};
+  std::atomic<bool> released_{false};
+};
+
 enum class ExecutorKind { Periodic, Aperiodic };
 
 struct ExecutorConfig {
@@ -92,6 +116,13 @@ class Executor {
   /// all go: no component's first onExecute finds another not yet started (a service it calls
   /// in its first cycle, OPRoS's helloworld does, is Active). `go` outlives the executor.
   void holdFirstCycle(std::atomic<std::uint32_t>* go) { go_ = go; }
+  /// Before start(): at its end the executor waits, answering calls, until `barrier` is clear
+  /// before it stops its members. Enters the barrier now; the executor leaves it once, when its
+  /// cycles end or it is abandoned. `barrier` outlives the executor.
+  void holdStop(StopBarrier& barrier) {
+    stop_barrier_ = &barrier;
+    barrier.enter();
+  }
   /// Starts the thread ahead, set up (name, policy, stack) and parked before its members start:
   /// start() then only lets it go on (a standby host's takeover creates no thread). A parked
   /// thread asked to stop exits without starting or stopping its members.
@@ -142,6 +173,8 @@ class Executor {
   bool sleepUntil(const std::chrono::steady_clock::time_point* deadline);
   void drainInputs();
   void runMail();
+  void leaveStopBarrier();
+  void waitStopBarrier();  // answering calls meanwhile
 
   ExecutorConfig config_;
   Warn warn_;
@@ -162,6 +195,8 @@ class Executor {
   std::function<void()> at_exit_;
   std::atomic<std::uint32_t> gate_{1};        // 0 while a prepared thread is parked
   std::atomic<std::uint32_t>* go_ = nullptr;  // holdFirstCycle's; null: no wait
+  StopBarrier* stop_barrier_ = nullptr;       // holdStop's; null: no wait
+  std::atomic<bool> left_stop_barrier_{false};
   std::mutex mail_mutex_;
   std::vector<std::function<void()>> mail_;
   std::atomic<bool> has_mail_{false};

@@ -1,9 +1,12 @@
-// How a run starts: every component is started (onStart) before any runs its first cycle, so a
-// first onExecute that calls another component's service finds it Active, whichever executor
-// was started first.
+// How a run starts and ends: every component is started (onStart) before any runs its first
+// cycle, and every executor has ended its last cycle before any component is stopped (onStop),
+// so a first or last onExecute that calls another component's service finds it Active,
+// whichever executor was started or stopped first.
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <string>
+#include <vector>
 
 #include "log/schema.hpp"
 #include "support/log_reader.hpp"
@@ -24,6 +27,22 @@ TEST(Start, AFirstCycleFindsEveryOtherComponentStarted) {
         {KEEL_CLI, "run", std::string(KEEL_TEST_PROFILES) + "/first_cycle.xml", "--duration", "0.1", "--log", log});
     ASSERT_EQ(r.status, 0) << r.out << r.err;
     EXPECT_TRUE(test::eventsOf(test::readLog(log), log::schema::event::kDetected).empty()) << "run " << run << r.out;
+  }
+  std::filesystem::remove(log);
+}
+
+TEST(Start, ALastCycleFindsEveryOtherComponentStillActive) {
+  ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1);
+  const std::string log = test::tempPath("keel_last_cycle_test");
+  // Without the barrier at the end, the server's executor (5 ms cycles) stops it while the
+  // caller is still 40 ms into its last cycle, whose call then fails: a fault in every run.
+  for (int run = 0; run < 3; ++run) {
+    auto r = test::runProcess(
+        {KEEL_CLI, "run", std::string(KEEL_TEST_PROFILES) + "/last_cycle.xml", "--duration", "0.2", "--log", log});
+    ASSERT_EQ(r.status, 0) << r.out << r.err;
+    const auto records = test::readLog(log);
+    EXPECT_TRUE(test::eventsOf(records, log::schema::event::kDetected).empty()) << "run " << run << r.out;
+    EXPECT_EQ(test::statesOf(records, "server"), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
   }
   std::filesystem::remove(log);
 }

@@ -106,6 +106,25 @@ class Caller : public keel::Component {
   int n_ = 0;
 };
 
+/// Works `work_ms`, then calls: at a run's end its last cycle is still working when the others
+/// have ended theirs.
+class SlowCaller : public keel::Component {
+ public:
+  keel::RequiredServicePort<int(int)> twice{this, "twice"};
+  keel::ReturnCode onInitialize() override {
+    work_ms_ = property<double>("work_ms");
+    return keel::ReturnCode::Ok;
+  }
+  keel::ReturnCode onExecute() override {
+    std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(work_ms_));
+    return twice.call(++n_) ? keel::ReturnCode::Ok : keel::ReturnCode::CallApiError;
+  }
+
+ private:
+  double work_ms_ = 0;
+  int n_ = 0;
+};
+
 }  // namespace itest
 
 KEEL_REGISTER_COMPONENT_AS(itest::Counter, "Counter")
@@ -114,6 +133,7 @@ KEEL_REGISTER_COMPONENT_AS(itest::EventLogger, "EventLogger")
 KEEL_REGISTER_COMPONENT_AS(itest::Crasher, "Crasher")
 KEEL_REGISTER_COMPONENT_AS(itest::Doubler, "Doubler")
 KEEL_REGISTER_COMPONENT_AS(itest::Caller, "Caller")
+KEEL_REGISTER_COMPONENT_AS(itest::SlowCaller, "SlowCaller")
 
 namespace itest {
 
