@@ -62,7 +62,7 @@ struct EngineOptions {
   runtime::Warn warn;
   // To end the last cycles, then per executor to stop its members, before one is abandoned.
   std::chrono::milliseconds stop_timeout{2000};
-  std::optional<injection::Scenario> scenario;   // faults to inject (keel run --inject)
+  std::optional<injection::Scenario> scenario;  // faults to inject (keel run --inject)
   /// Properties set for this run (keel run --set), applied after the profiles' overrides.
   std::vector<plan::PropertySetting> property_settings;
   /// Hold the CPUs' wake-up latency at this many µs while running (keel run --cpu-dma-latency;

@@ -129,7 +129,7 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
   // abandon() makes sure it never does again should it come back.
   const std::vector<Component*> members = old->members();
   fresh->holdStop(stop_barrier_);  // in the barrier before the old one leaves it
-  old->abandon();  // reads no input from other processes any more either: the fresh one does
+  old->abandon();                  // reads no input from other processes any more either: the fresh one does
   for (runtime::ExternalInput* in : old->inputs()) fresh->addInput(*in);
   for (Component* m : members) {
     if (m != &hung) {
