@@ -7,11 +7,14 @@
 // path stays warm) and one every third cycle (as `keel bench detection` strikes): what a few
 // quiet milliseconds cost the kernel's delivery and the unwinder.
 //   build/bin/keel_bench_signal_floor [--n 1000]
+#include <charconv>
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <thread>
 #include <vector>
 
@@ -34,7 +37,14 @@ void report(const char* what, std::vector<std::int64_t> v) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  int n = (argc > 2 && std::string(argv[1]) == "--n") ? std::atoi(argv[2]) : 1000;
+  int n = 1000;
+  if (argc > 2 && std::string(argv[1]) == "--n") {
+    const std::string_view arg(argv[2]);
+    if (std::from_chars(arg.data(), arg.data() + arg.size(), n).ec != std::errc() || n <= 0) {
+      std::fprintf(stderr, "usage: %s [--n FAULTS]\n", argv[0]);
+      return 2;
+    }
+  }
   std::printf(
       "| fault right after a 1 ms sleep, interleaved | n | p50 µs | p99 µs | max µs |\n|---|---|---|---|---|\n");
   std::thread t([n] {

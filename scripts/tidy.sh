@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Runs clang-tidy with the checks in .clang-tidy over keel's own sources under src/ (and, through
-# them, keel's headers), using the compile database of a build tree
+# Runs clang-tidy with the checks in .clang-tidy over keel's own sources (and, through them,
+# keel's headers), using the compile database of a build tree
 # (docs/decisions/0008-format-and-lint.md).
 #
 #   scripts/tidy.sh [--no-analyzer] [BUILD_DIR]    default: build
@@ -16,12 +16,13 @@
 # '*'), or when clang-tidy fails on a file. clang-tidy is the one on PATH ($CLANG_TIDY overrides
 # it), installed with apt-get as scripts/deps.sh does when there is none (Debian 12: clang-tidy 14,
 # the version the check set is chosen for). Jobs: $KEEL_JOBS, else the number of cores.
-# $KEEL_TIDY_DIRS: the top directories whose sources are checked, default `src` (e.g.
-# KEEL_TIDY_DIRS="src tests bench robot examples components" for every source of keel's).
+# $KEEL_TIDY_DIRS: the top directories whose sources are checked, default every one the build
+# compiles, "src tests bench robot examples components" (e.g. KEEL_TIDY_DIRS=src for the
+# library alone). fuzz/ is compiled by the asan-ubsan build only: run on build-asan for it.
 set -euo pipefail
 
 case "${1:-}" in
-  -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 checks=""
 if [[ "${1:-}" == --no-analyzer ]]; then
@@ -62,30 +63,44 @@ if [[ ! -f "$db" ]]; then
   [[ -f "$db" ]] || { echo "tidy.sh: configuring did not write $db" >&2; exit 1; }
 fi
 
-# keel's translation units under $KEEL_TIDY_DIRS, as the database names them.
+jobs=${KEEL_JOBS:-$(nproc 2>/dev/null || echo 2)}
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+trap 'exit 130' INT TERM  # so that the EXIT trap cleans up
+
+# keel's translation units under $KEEL_TIDY_DIRS, as the database names them, and the database
+# as clang reads it: GCC's precompiled header (the tests') is not clang's, so a compile command's
+# `-include .../cmake_pch.hxx` becomes the header's text (-Xclang -include: the driver would look
+# for the .gch beside it and refuse it).
+dirs=${KEEL_TIDY_DIRS:-src tests bench robot examples components}
+mkdir -p "$out/db"
 # shellcheck disable=SC2086  # the directories, split on purpose
-mapfile -d '' files < <(python3 - "$db" "$root" ${KEEL_TIDY_DIRS:-src} <<'PY'
-import json, os, sys
-db, root = sys.argv[1], os.path.realpath(sys.argv[2])
-dirs = tuple(os.path.join(root, d) + os.sep for d in sys.argv[3:])
-seen = set()
+mapfile -d '' files < <(python3 - "$db" "$root" "$out/db/compile_commands.json" $dirs <<'PY'
+import json, os, shlex, sys
+db, root, clang_db = sys.argv[1], os.path.realpath(sys.argv[2]), sys.argv[3]
+dirs = tuple(os.path.join(root, d) + os.sep for d in sys.argv[4:])
+seen, entries = set(), []
 for entry in json.load(open(db)):
     path = os.path.realpath(os.path.join(entry.get("directory", ""), entry["file"]))
+    args = list(entry["arguments"]) if "arguments" in entry else shlex.split(entry["command"])
+    clang_args = []
+    for i, a in enumerate(args):
+        if a == "-include" and i + 1 < len(args) and args[i + 1].endswith("cmake_pch.hxx"):
+            clang_args += ["-Xclang", "-include", "-Xclang"]
+        else:
+            clang_args.append(a)
+    entries.append({"directory": entry.get("directory", ""), "file": entry["file"], "arguments": clang_args})
     if path.startswith(dirs) and path.endswith(".cpp") and path not in seen:
         seen.add(path)
+json.dump(entries, open(clang_db, "w"))
 for path in sorted(seen):
     sys.stdout.write(path + "\0")
 PY
 )
 if ((${#files[@]} == 0)); then
-  echo "tidy.sh: $db lists no sources under $root/src/ (a build tree of another checkout?)" >&2
+  echo "tidy.sh: $db lists no sources under $dirs of $root (a build tree of another checkout?)" >&2
   exit 1
 fi
-
-jobs=${KEEL_JOBS:-$(nproc 2>/dev/null || echo 2)}
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
-trap 'exit 130' INT TERM  # so that the EXIT trap cleans up
 
 # A file's result is reused from the cache when everything it depends on is the same
 # (scripts/lib/tidy_cache.py: clang-tidy's version, .clang-tidy, these flags, the compile command
@@ -100,19 +115,25 @@ if [[ "$cache" == off ]]; then
   echo "0 ${#files[@]}" >"$out/hits"
 else
   mkdir -p "$cache"
-  mapfile -d '' todo < <(KEEL_JOBS=$jobs python3 "$root/scripts/lib/tidy_cache.py" lookup "$db" "$root" "$build" \
+  mapfile -d '' todo < <(KEEL_JOBS=$jobs python3 "$root/scripts/lib/tidy_cache.py" lookup "$out/db/compile_commands.json" "$root" "$build" \
     "$cache" "$out" "$clang_tidy" "$flags" "${files[@]}")
 fi
 read -r hits _ <"$out/hits"
-echo "tidy.sh: $version on ${#files[@]} files of src/ ($db, -j$jobs${checks:+, without the static analyzer}; $hits from the cache)"
+echo "tidy.sh: $version on ${#files[@]} files of $dirs ($db, -j$jobs${checks:+, without the static analyzer}; $hits from the cache)"
 # One output file per translation unit, so that parallel runs never interleave. GCC-only warning
-# options in the database (sanitizer presets) are not clang-tidy's business.
+# options in the database (sanitizer presets) are not clang-tidy's business. clang-tidy exits
+# non-zero on a finding (WarningsAsErrors) and when it could not compile the file ("Error while
+# processing"): only the second is a failure to check it (NAME.failed); NAME.found marks the first.
 if ((${#todo[@]} > 0)); then
   printf '%s\0' "${todo[@]}" | xargs -0 -n 1 -P "$jobs" sh -c '
     name=$(printf "%s" "$5" | tr "/" "_")
     if ! "$0" -p "$1" $4 "$5" >"$3/$name.out" 2>"$3/$name.err"; then
-      echo "$5" >>"$3/$name.failed"
-    fi' "$clang_tidy" "$build" "$root" "$out" "$flags"
+      if grep -q "^Error while processing" "$3/$name.err" "$3/$name.out"; then
+        echo "$5" >>"$3/$name.failed"
+      else
+        echo "$5" >>"$3/$name.found"
+      fi
+    fi' "$clang_tidy" "$out/db" "$root" "$out" "$flags"
 fi
 [[ "$cache" == off ]] || python3 "$root/scripts/lib/tidy_cache.py" store "$root" "$build" "$cache" "$out"
 
@@ -158,8 +179,8 @@ PY
 count=$(cat "$out/count")
 failed=$(cat "$out"/*.failed 2>/dev/null | sort || true)
 elapsed=$((SECONDS - start))
-if [[ -n "$failed" && "$count" == 0 ]]; then
-  # clang-tidy failed without a finding to show for it: show what it said.
+if [[ -n "$failed" ]]; then
+  # A file clang-tidy could not check is a failure, findings elsewhere or not: show what it said.
   for f in $failed; do
     name=$(printf '%s' "$f" | tr '/' '_')
     echo "tidy.sh: clang-tidy failed on ${f#"$root"/}:" >&2

@@ -80,20 +80,20 @@ BenchRun::~BenchRun() {
 }
 
 std::string BenchRun::start(const std::vector<std::pair<std::string, std::string>>& files, const std::string& package,
-                            const std::vector<std::string>& launcher) {
+                            const std::vector<std::string>& launcher, std::vector<EnvChange> env) {
   if (dir_.path().empty()) return "mkdtemp failed";
   if (auto e = page_.create(); !e.empty()) return e;
   for (const auto& [name, text] : files) std::ofstream(dir_.path() + "/" + name) << text;
   log_.reset(dir_.path() + "/fault.jsonl");
   out_path_ = dir_.path() + "/keel-run.out";
   const int out = ::open(out_path_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0600);
-  ::setenv("KEEL_COMPONENT_PATH", paths_.components.c_str(), 1);
+  env.push_back({"KEEL_COMPONENT_PATH", paths_.components});
   std::vector<std::string> argv = launcher;
   for (std::string a :
        {paths_.bin + "/keel", std::string("run"), dir_.path() + "/" + package, std::string("--duration"),
         std::string("86400"), std::string("--log"), dir_.path() + "/fault.jsonl"})
     argv.push_back(std::move(a));
-  auto spawned = Process::spawn(argv, {.out = out, .err = out}, false, true);
+  auto spawned = Process::spawn(argv, {.out = out, .err = out}, false, true, env);
   ::close(out);
   if (!spawned) return "keel run: " + spawned.error().message;
   proc_.emplace(std::move(*spawned));

@@ -76,9 +76,10 @@ class BenchRun {
 
   /// Writes `files` (name → text) beside each other, maps a fresh page and starts keel run on
   /// `package`, its argv after `launcher` when one is given (`ip netns exec NS`: it execs keel
-  /// run, whose pid stays the one started); empty, or why not.
+  /// run, whose pid stays the one started), its environment the harness's with `env`'s changes
+  /// and KEEL_COMPONENT_PATH set to the benchmark's components; empty, or why not.
   std::string start(const std::vector<std::pair<std::string, std::string>>& files, const std::string& package,
-                    const std::vector<std::string>& launcher = {});
+                    const std::vector<std::string>& launcher = {}, std::vector<EnvChange> env = {});
 
   /// Why keel run is not running as it should: its last lines.
   std::string failure(const std::string& what) const;

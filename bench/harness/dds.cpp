@@ -101,7 +101,7 @@ DdsCell pingPong(const std::vector<std::string>& command, const std::string& pre
   ping_argv.insert(ping_argv.end(), {"ping", ping_topic, pong_topic, std::to_string(n), std::to_string(kPeriodUs)});
   DdsCell cell;
   Fd quiet(::open("/dev/null", O_WRONLY | O_CLOEXEC));
-  auto pong = Process::spawn(std::move(pong_argv), {.out = quiet.get(), .err = quiet.get()}, false, true);
+  auto pong = Process::spawn(pong_argv, {.out = quiet.get(), .err = quiet.get()}, false, true);
   if (!pong) {
     cell.error = "pong: " + pong.error().message;
     return cell;
@@ -111,7 +111,7 @@ DdsCell pingPong(const std::vector<std::string>& command, const std::string& pre
     cell.error = "pipe";
     return cell;
   }
-  auto ping = Process::spawn(std::move(ping_argv), {.out = out.write.get(), .err = out.write.get()}, false, true);
+  auto ping = Process::spawn(ping_argv, {.out = out.write.get(), .err = out.write.get()}, false, true);
   out.write.reset();
   if (!ping) {
     cell.error = "ping: " + ping.error().message;
@@ -198,37 +198,28 @@ class TwoHosts {
   std::string error_;
 };
 
-/// Unsets CYCLONEDDS_URI while it lives (CycloneDDS's default: the first interface, multicast).
-class DefaultCyclone {
- public:
-  DefaultCyclone() {
-    if (const char* v = std::getenv("CYCLONEDDS_URI")) saved_ = v;
-    ::unsetenv("CYCLONEDDS_URI");
-  }
-  ~DefaultCyclone() {
-    if (saved_) ::setenv("CYCLONEDDS_URI", saved_->c_str(), 1);
-  }
-  DefaultCyclone(const DefaultCyclone&) = delete;
-  DefaultCyclone& operator=(const DefaultCyclone&) = delete;
-
- private:
-  std::optional<std::string> saved_;
-};
+/// ROS_DOMAIN_ID when it names a domain, else one from the pid.
+int domainOf(const char* env) {
+  int v = -1;
+  if (env != nullptr && *env != '\0' && std::from_chars(env, env + std::string_view(env).size(), v).ec == std::errc() &&
+      v >= 0 && v <= 232)
+    return v;
+  return 1 + ::getpid() % 100;
+}
 
 }  // namespace
 
-DdsEnvironment::DdsEnvironment() : dir_("keel-bench-dds-env-") {
+// The harness's own environment, not only its children's: the remote cell's engine runs in this
+// process, and its CycloneDDS reads the same variables. Set on the main thread before the
+// benchmark starts any thread (ddsBenchmark makes this first), so that no getenv runs beside a
+// setenv.
+DdsEnvironment::DdsEnvironment() : dir_("keel-bench-dds-env-"), domain_(domainOf(std::getenv("ROS_DOMAIN_ID"))) {
   const std::string& dir = dir_.path();
   std::ofstream(dir + "/cyclonedds.xml") << kCycloneLoopbackConfig;
   std::ofstream(dir + "/fastdds.xml") << kFastDdsConfig;
-  ::setenv("CYCLONEDDS_URI", ("file://" + dir + "/cyclonedds.xml").c_str(), 1);
-  ::setenv("FASTDDS_DEFAULT_PROFILES_FILE", (dir + "/fastdds.xml").c_str(), 1);
-  domain_ = 1 + ::getpid() % 100;
-  if (const char* d = std::getenv("ROS_DOMAIN_ID"); d && *d) {
-    int v = -1;
-    if (std::from_chars(d, d + std::string_view(d).size(), v).ec == std::errc() && v >= 0 && v <= 232) domain_ = v;
-  }
-  ::setenv("ROS_DOMAIN_ID", std::to_string(domain_).c_str(), 1);
+  ::setenv("CYCLONEDDS_URI", ("file://" + dir + "/cyclonedds.xml").c_str(), 1);  // NOLINT(concurrency-mt-unsafe): above
+  ::setenv("FASTDDS_DEFAULT_PROFILES_FILE", (dir + "/fastdds.xml").c_str(), 1);  // NOLINT(concurrency-mt-unsafe): above
+  ::setenv("ROS_DOMAIN_ID", std::to_string(domain_).c_str(), 1);                 // NOLINT(concurrency-mt-unsafe): above
 }
 
 DdsCell measureKeelRoundTrip(const Paths& paths, int n) {
@@ -371,7 +362,8 @@ DdsCell measureFailover(const Paths& paths, int n) {
     cell.error = hosts.error();
     return cell;
   }
-  const DefaultCyclone veth;  // each host's interface, multicast discovery, as on a robot's network
+  // CycloneDDS's default: each host's interface, multicast discovery, as on a robot's network.
+  const std::vector<EnvChange> veth{{"CYCLONEDDS_URI", std::nullopt}};
   auto role = [](int who, int strength) {
     return packageXml(fmt::format("bench_nav_{}", who),
                       subcomponent("nav", "BenchDdsStamp",
@@ -389,8 +381,8 @@ DdsCell measureFailover(const Paths& paths, int n) {
                                         fmt::format(R"( ownership="exclusive" liveliness="{}")", kFailoverLeaseMs))));
   files.emplace_back("primary.xml", role(1, 10));
   files.emplace_back("standby.xml", role(2, 5));
-  if (cell.error = reader.start(files, "reader.xml", hosts.on(0)); !cell.error.empty()) return cell;
-  if (cell.error = standby.start(files, "standby.xml", hosts.on(1)); !cell.error.empty()) return cell;
+  if (cell.error = reader.start(files, "reader.xml", hosts.on(0), veth); !cell.error.empty()) return cell;
+  if (cell.error = standby.start(files, "standby.xml", hosts.on(1), veth); !cell.error.empty()) return cell;
   BenchPage& page = reader.page();
   if (!pollUntil([&] { return page.active_pid.load(std::memory_order_acquire) == 2; }, kStartBound)) {
     cell.error = reader.failure(standby.failure("the reader heard no standby within 20 s"));
@@ -398,7 +390,7 @@ DdsCell measureFailover(const Paths& paths, int n) {
   }
   for (int i = 0; i <= n; ++i) {  // trial 0 warms up, uncounted
     BenchRun primary(paths, "keel-bench-dds-");
-    if (cell.error = primary.start(files, "primary.xml", hosts.on(0)); !cell.error.empty()) break;
+    if (cell.error = primary.start(files, "primary.xml", hosts.on(0), veth); !cell.error.empty()) break;
     if (!pollUntil([&] { return page.active_pid.load(std::memory_order_acquire) == 1; }, kStartBound)) {
       cell.error = primary.failure(fmt::format("trial {}: the reader did not hear the primary within 20 s", i));
       break;

@@ -64,8 +64,11 @@ inline constexpr int kFailoverLeaseMs = 200;  // failover: the writers' liveline
 class DdsEnvironment {
  public:
   DdsEnvironment();
+  ~DdsEnvironment() = default;
   DdsEnvironment(const DdsEnvironment&) = delete;
   DdsEnvironment& operator=(const DdsEnvironment&) = delete;
+  DdsEnvironment(DdsEnvironment&&) = delete;
+  DdsEnvironment& operator=(DdsEnvironment&&) = delete;
   int domain() const { return domain_; }
 
  private:

@@ -54,26 +54,22 @@ DdsResult runDdsPeer(int n, bool fifo) {
   const TempDir dir("keel-bench-dds-");
   const std::string config = dir.path() + "/cyclonedds.xml";
   std::ofstream(config) << kCycloneLoopbackConfig;
-  const char* before = std::getenv("CYCLONEDDS_URI");
-  const std::string saved = before ? before : "";
-  ::setenv("CYCLONEDDS_URI", ("file://" + config).c_str(), 1);
+  const std::vector<EnvChange> env{{"CYCLONEDDS_URI", "file://" + config}};
   const int seconds = std::max(5, n / 1000) + 1;        // the first second is discovery: dropped
   Fd quiet(::open("/dev/null", O_WRONLY | O_CLOEXEC));  // pong prints its own statistics
   auto pong = Process::spawn({ddsperf, "-D", std::to_string(seconds + 3), "pong", "waitset"},
-                             {.out = quiet.get(), .err = quiet.get()}, fifo, true);
+                             {.out = quiet.get(), .err = quiet.get()}, fifo, true, env);
   Pipe out;
   std::optional<Process> ping;
   if (pong && out.open()) {
     std::this_thread::sleep_for(500ms);
     auto spawned = Process::spawn({ddsperf, "-D", std::to_string(seconds), "ping", "1kHz", "size", "64", "waitset"},
-                                  {.out = out.write.get(), .err = out.write.get()}, fifo, true);
+                                  {.out = out.write.get(), .err = out.write.get()}, fifo, true, env);
     if (spawned) ping.emplace(std::move(*spawned));
     else r.skipped = "ddsperf ping: " + spawned.error().message;
   } else {
     r.skipped = pong ? "pipe" : "ddsperf pong: " + pong.error().message;
   }
-  if (before) ::setenv("CYCLONEDDS_URI", saved.c_str(), 1);
-  else ::unsetenv("CYCLONEDDS_URI");
   if (!ping) return r;
   out.write.reset();
   std::vector<double> p50, p99;

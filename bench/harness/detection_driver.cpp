@@ -89,7 +89,7 @@ int detectionBenchmark(Options o, const Paths& paths) {
   printFloorRatios(rows, std::cout);
   nlohmann::json j = nlohmann::json::array();
   for (const auto& r : rows) j.push_back(toJson(r, true));
-  finish(o, paths, "detection", std::move(j));
+  finish(o, paths, "detection", j);
   return 0;
 }
 

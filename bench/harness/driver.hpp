@@ -4,6 +4,7 @@
 // isolation_driver.cpp, dds_driver.cpp.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <optional>
 #include <string>
@@ -70,6 +71,7 @@ int ddsBenchmark(Options o, const Paths& paths);
 /// A name --only of `keel bench detection` takes besides the injected kinds: a floor's.
 bool isDetectionFloor(std::string_view name);
 /// The cells of `keel bench dds`.
-extern const std::vector<std::string> kDdsCells;
+inline constexpr std::array<std::string_view, 5> kDdsCells{"roundtrip_keel", "roundtrip_raw", "roundtrip_rclpy",
+                                                           "remote", "failover"};
 
 }  // namespace keel::bench

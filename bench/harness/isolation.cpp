@@ -87,7 +87,7 @@ IsolationCell measureTakeover(const Paths& paths, bool standby, bool fifo, int n
   for (int i = 0; i <= n; ++i) {  // kill 0 warms up, uncounted
     // The standby the last takeover started is waiting (or, without one, the process runs).
     if (standby &&
-        !pollUntil([&] { return run.hostPhases("standby") >= static_cast<std::size_t>(i + 1); }, kTrialBound)) {
+        !pollUntil([&] { return run.hostPhases("standby") >= static_cast<std::size_t>(i) + 1; }, kTrialBound)) {
       cell.error = run.failure(fmt::format("no new standby after kill {}", i));
       break;
     }

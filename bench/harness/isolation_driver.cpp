@@ -105,7 +105,7 @@ int isolationBenchmark(Options o, const Paths& paths) {
     }
   }
   o.no_plot = true;  // tables only
-  finish(o, paths, "isolation", std::move(j));
+  finish(o, paths, "isolation", j);
   return 0;
 }
 

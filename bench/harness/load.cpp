@@ -7,11 +7,14 @@
 
 #include <algorithm>
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <thread>
 #include <tuple>
 #include <vector>
@@ -73,7 +76,10 @@ int runGuarded(int argc, char** argv) {
   if (argc < 4) return 2;
   if (::prctl(PR_SET_PDEATHSIG, SIGTERM) != 0) return 126;
   // The parent may have died before the prctl: then no signal would ever come.
-  if (::getppid() != static_cast<pid_t>(std::atoll(argv[2]))) return 1;
+  pid_t parent = 0;
+  const std::string_view arg(argv[2]);
+  if (std::from_chars(arg.data(), arg.data() + arg.size(), parent).ec != std::errc()) return 2;
+  if (::getppid() != parent) return 1;
   ::execv(argv[3], argv + 3);
   return 127;
 }

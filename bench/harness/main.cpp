@@ -23,9 +23,12 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cstdlib>
 #include <iostream>
 #include <string>
+#include <string_view>
+#include <system_error>
 #include <thread>
 
 #include "driver.hpp"
@@ -58,9 +61,15 @@ void commonOptions(CLI::App& sub, Options& o, const std::string& items_help) {
 }  // namespace
 }  // namespace keel::bench
 
-int main(int argc, char** argv) {
+int main(int argc, char** argv) try {
   using namespace keel::bench;
-  if (argc == 3 && std::string(argv[1]) == "_load") return runInternalLoad(std::atoi(argv[2]));
+  if (argc == 3 && std::string(argv[1]) == "_load") {
+    int percent = 0;
+    const std::string_view arg(argv[2]);
+    if (std::from_chars(arg.data(), arg.data() + arg.size(), percent).ec != std::errc() || percent < 0 || percent > 100)
+      return 2;
+    return runInternalLoad(percent);
+  }
   if (argc >= 2 && std::string(argv[1]) == "_guard") return runGuarded(argc, argv);
   CLI::App app{"keel bench: recovery and detection latency under CPU load beside peers, and scale"};
   app.require_subcommand(1);
@@ -108,47 +117,48 @@ int main(int argc, char** argv) {
   }
   if (o.quick) o.n = 20;
   const Paths paths = findPaths();
-  try {
-    const std::vector<std::string> mechanisms{
-        "reset",       "replace_cold", "replace_preloaded", "reset_opros", "replace_preloaded_opros", "reset_hang",
-        "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer", "reset_monitored"};
-    const std::vector<std::string> cells{"port_process", "port_thread", "port_dds", "takeover",
-                                         "floor_robust", "respawn",     "standby"};
-    if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // the two: idle, and 80 % loaded
-    if (dds_cmd->parsed() && !dds_cmd->count("--loads")) o.loads = {0};
-    if (dds_cmd->parsed() && o.policy == "fifo") {
-      std::cerr << "keel bench dds: --policy fifo: its cells run under SCHED_OTHER only\n";
+  const std::vector<std::string> mechanisms{
+      "reset",       "replace_cold", "replace_preloaded", "reset_opros", "replace_preloaded_opros", "reset_hang",
+      "peer_erlang", "peer_respawn", "floor_wake",        "floor_timer", "reset_monitored"};
+  const std::vector<std::string> cells{"port_process", "port_thread", "port_dds", "takeover",
+                                       "floor_robust", "respawn",     "standby"};
+  if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // its goals' two: idle, and 80 % loaded
+  if (dds_cmd->parsed() && !dds_cmd->count("--loads")) o.loads = {0};
+  if (dds_cmd->parsed() && o.policy == "fifo") {
+    std::cerr << "keel bench dds: --policy fifo: its cells run under SCHED_OTHER only\n";
+    return 2;
+  }
+  for (const auto& w : o.which) {
+    const bool ok = dds_cmd->parsed() ? std::find(kDdsCells.begin(), kDdsCells.end(), w) != kDdsCells.end()
+                    : iso->parsed()   ? std::find(cells.begin(), cells.end(), w) != cells.end()
+                    : rec->parsed()   ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
+                                      : keel::runtime::parseInjectKind(w).has_value() || isDetectionFloor(w);
+    if (!ok) {
+      std::cerr << "keel bench: --only: unknown '" << w << "'\n";
       return 2;
     }
-    for (const auto& w : o.which) {
-      const bool ok = dds_cmd->parsed() ? std::find(kDdsCells.begin(), kDdsCells.end(), w) != kDdsCells.end()
-                      : iso->parsed()   ? std::find(cells.begin(), cells.end(), w) != cells.end()
-                      : rec->parsed()   ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
-                                        : keel::runtime::parseInjectKind(w).has_value() || isDetectionFloor(w);
-      if (!ok) {
-        std::cerr << "keel bench: --only: unknown '" << w << "'\n";
-        return 2;
-      }
-    }
-    if (rec->parsed()) return recoveryBenchmark(o, paths);
-    if (det->parsed()) return detectionBenchmark(o, paths);
-    if (iso->parsed()) return isolationBenchmark(o, paths);
-    if (dds_cmd->parsed()) return ddsBenchmark(o, paths);
-    if (guard->parsed()) return guardBenchmark(g, paths);
-    std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
-                             fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())
-              << std::flush;
-    const auto rows = measureScale(paths, sizes, o.quick ? 1 : trials);
-    printScale(rows, std::cout);
-    nlohmann::json j = nlohmann::json::array();
-    for (const auto& r : rows) j.push_back(toJson(r));
-    if (!o.json.empty()) {
-      writeJson(j, o.json);
-      std::cout << "\njson: " << o.json << '\n';
-    }
-    return 0;
-  } catch (const std::exception& e) {
-    std::cerr << "keel bench: " << e.what() << '\n';
-    return 1;
   }
+  if (rec->parsed()) return recoveryBenchmark(o, paths);
+  if (det->parsed()) return detectionBenchmark(o, paths);
+  if (iso->parsed()) return isolationBenchmark(o, paths);
+  if (dds_cmd->parsed()) return ddsBenchmark(o, paths);
+  if (guard->parsed()) return guardBenchmark(g, paths);
+  std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
+                           fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())
+            << std::flush;
+  const auto rows = measureScale(paths, sizes, o.quick ? 1 : trials);
+  printScale(rows, std::cout);
+  nlohmann::json j = nlohmann::json::array();
+  for (const auto& r : rows) j.push_back(toJson(r));
+  if (!o.json.empty()) {
+    writeJson(j, o.json);
+    std::cout << "\njson: " << o.json << '\n';
+  }
+  return 0;
+} catch (const std::exception& e) {
+  std::cerr << "keel bench: " << e.what() << '\n';
+  return 1;
+} catch (...) {
+  std::cerr << "keel bench: unknown exception\n";
+  return 1;
 }

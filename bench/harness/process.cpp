@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <string_view>
 #include <system_error>
 #include <utility>
 
@@ -111,10 +112,24 @@ std::optional<std::string> LineReader::next(Deadline deadline) {
   return std::exchange(buf_, {});
 }
 
-Result<Process> Process::spawn(const std::vector<std::string>& argv, Stdio io, bool fifo, bool ownGroup) {
+Result<Process> Process::spawn(const std::vector<std::string>& argv, Stdio io, bool fifo, bool ownGroup,
+                               const std::vector<EnvChange>& env) {
   std::vector<char*> args;
+  args.reserve(argv.size() + 1);
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
+  // The harness's environment less the variables `env` changes, then those it sets.
+  std::vector<std::string> changed;
+  std::vector<char*> envp;
+  for (char** e = environ; *e != nullptr; ++e) {
+    const std::string_view entry(*e);
+    const std::string_view name = entry.substr(0, entry.find('='));
+    if (std::none_of(env.begin(), env.end(), [&](const EnvChange& c) { return c.name == name; })) envp.push_back(*e);
+  }
+  for (const EnvChange& c : env)
+    if (c.value) changed.push_back(c.name + "=" + *c.value);
+  for (std::string& e : changed) envp.push_back(e.data());
+  envp.push_back(nullptr);
   posix_spawn_file_actions_t actions;
   posix_spawnattr_t attr;
   posix_spawn_file_actions_init(&actions);
@@ -122,7 +137,7 @@ Result<Process> Process::spawn(const std::vector<std::string>& argv, Stdio io, b
   setStdio(actions, io);
   setAttributes(attr, fifo, ownGroup);
   pid_t pid = -1;
-  const int rc = posix_spawn(&pid, args[0], &actions, &attr, args.data(), environ);
+  const int rc = posix_spawn(&pid, args[0], &actions, &attr, args.data(), envp.data());
   posix_spawnattr_destroy(&attr);
   posix_spawn_file_actions_destroy(&actions);
   if (rc == EPERM && fifo) return fail(std::string("SCHED_FIFO not permitted: ") + std::generic_category().message(rc));
@@ -180,7 +195,7 @@ std::string findInPath(const std::string& name) {
   for (std::size_t start = 0; start <= dirs.size();) {
     std::size_t end = dirs.find(':', start);
     if (end == std::string::npos) end = dirs.size();
-    const std::string candidate = dirs.substr(start, end - start) + "/" + name;
+    std::string candidate = dirs.substr(start, end - start) + "/" + name;
     if (end > start && access(candidate.c_str(), X_OK) == 0) return candidate;
     start = end + 1;
   }

@@ -69,12 +69,21 @@ struct Stdio {
   int in = -1, out = -1, err = -1;
 };
 
+/// A variable of a spawned process's environment that differs from the harness's own: set to
+/// `value`, or removed when it has none. The harness's environment itself is not changed.
+struct EnvChange {
+  std::string name;
+  std::optional<std::string> value;
+};
+
 /// A spawned child process. Destroying it kills (SIGKILL) and reaps it if it is still there.
 class Process {
  public:
   /// posix_spawn of argv[0] (a path): empty signal mask, default dispositions; `fifo`: under
-  /// SCHED_FIFO kFifoPriority; `ownGroup`: in a process group of its own, killed as a whole.
-  static Result<Process> spawn(const std::vector<std::string>& argv, Stdio io, bool fifo, bool ownGroup);
+  /// SCHED_FIFO kFifoPriority; `ownGroup`: in a process group of its own, killed as a whole;
+  /// the harness's environment with `env`'s changes.
+  static Result<Process> spawn(const std::vector<std::string>& argv, Stdio io, bool fifo, bool ownGroup,
+                               const std::vector<EnvChange>& env = {});
 
   Process(Process&& other) noexcept;
   Process& operator=(Process&&) = delete;

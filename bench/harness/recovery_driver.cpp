@@ -67,7 +67,7 @@ int recoveryBenchmark(Options o, const Paths& paths) {
   nlohmann::json j = nlohmann::json::array();
   for (const auto& r : rows) j.push_back(toJson(r, false));
   addPeerRatios(j);
-  finish(o, paths, "recovery", std::move(j));
+  finish(o, paths, "recovery", j);
   return 0;
 }
 

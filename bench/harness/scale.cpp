@@ -254,7 +254,7 @@ ScaleRow measureSize(const Paths& paths, const std::string& dir, int n, int tria
 
 std::string writeScalePackage(const std::string& dir, const Paths& paths, int components) {
   const std::string name = fmt::format("scale_package_{}", components);
-  const std::string path = dir + "/" + name + ".xml";
+  std::string path = dir + "/" + name + ".xml";
   writeFile(path, packageXml(name, components, componentProfile(paths)));
   return path;
 }
@@ -271,7 +271,7 @@ std::string writeScaleSystem(const std::string& dir, const Paths& paths, int com
     list += fmt::format("    <application name=\"a{}\" reference=\"{}.xml\">{}</application>\n", a,
                         a + 1 == apps ? rest : full, depends);
   }
-  const std::string path = fmt::format("{}/scale_system_{}.xml", dir, components);
+  std::string path = fmt::format("{}/scale_system_{}.xml", dir, components);
   writeFile(path, fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<system_profile>\n  <name>scale_{}</name>\n"
                               "  <applications>\n{}  </applications>\n</system_profile>\n",
                               components, list));
@@ -287,6 +287,7 @@ std::vector<ScaleRow> measureScale(const Paths& paths, const std::vector<int>& s
     return {row};
   }
   trials = std::max(trials, 1);
+  rows.reserve(sizes.size());
   {  // warm-up, not measured: the process's one-time costs belong to no row
     SizeRun warm;
     warm.n = 1;

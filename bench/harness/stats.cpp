@@ -1,6 +1,7 @@
 #include "stats.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace keel::bench {
 
@@ -10,7 +11,7 @@ Summary summarise(std::vector<std::int64_t> s) {
   if (s.empty()) return out;
   std::sort(s.begin(), s.end());
   auto at = [&s](double q) {
-    auto i = static_cast<std::size_t>(q * static_cast<double>(s.size() - 1) + 0.5);
+    auto i = static_cast<std::size_t>(std::lround(q * static_cast<double>(s.size() - 1)));
     return static_cast<double>(s[std::min(i, s.size() - 1)]) / 1e3;
   };
   out.p50_us = at(0.50);

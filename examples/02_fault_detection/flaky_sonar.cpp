@@ -21,8 +21,8 @@ class FlakySonar : public keel::Component {
     ++reading_;
     if (reading_ == fail_at_) {
       if (fault_ == "segfault") {
-        volatile std::uintptr_t bad = 0x10;  // a driver bug: a dangling pointer
-        *reinterpret_cast<volatile int*>(bad) = 0;
+        volatile std::uintptr_t bad = 0x10;         // a driver bug: a dangling pointer
+        *reinterpret_cast<volatile int*>(bad) = 0;  // NOLINT(performance-no-int-to-ptr): the bug shown
       }
       if (fault_ == "throw") throw std::runtime_error("serial port read failed");
       if (fault_ == "error_code") return keel::ReturnCode::InternalFault;

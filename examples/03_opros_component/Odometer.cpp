@@ -36,8 +36,10 @@ void Odometer::portSetup() {
 
 ReturnType Odometer::onInitialize() {
   // The profile's properties arrive as text, as in OPRoS.
-  period = atof(getProperty("period_s").c_str());
-  if (period <= 0) return OPROS_BAD_INPUT_PARAMETER;
+  const std::string text = getProperty("period_s");
+  char* end = nullptr;
+  period = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || *end != '\0' || period <= 0) return OPROS_BAD_INPUT_PARAMETER;
   critical(&pose, sizeof pose);  // keel backs it up and restores it after a fault
   return OPROS_SUCCESS;
 }
@@ -63,7 +65,7 @@ ReturnType Odometer::onRecover() {
 
 ReturnType Odometer::onDestroy() { return OPROS_SUCCESS; }
 
-ReturnType Odometer::onEvent(Event* evt) { return OPROS_SUCCESS; }
+ReturnType Odometer::onEvent(Event* /*evt*/) { return OPROS_SUCCESS; }
 
 ReturnType Odometer::onExecute() {
   opros_any* pData = wheelSpeed.pop();

@@ -25,7 +25,7 @@ class Odometer : public Component, public IOdometry {
 
  public:
   Odometer();
-  Odometer(const std::string& compId);
+  Odometer(const std::string& name);
   ~Odometer() override;
   virtual void portSetup();
 

@@ -79,6 +79,7 @@ void BoardLink::spawn(const BoardLinkConfig& config) {
     args.push_back(config.sim.truth_path);
   }
   std::vector<char*> argv;
+  argv.reserve(args.size() + 1);
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   int out[2];

@@ -60,7 +60,7 @@ class TwistCommand : public Component {
 
   ReturnCode onExecute() override {
     std::optional<msg::geometry_msgs::Twist> newest;
-    while (auto t = cmd_vel.pop()) newest = std::move(t);
+    while (auto t = cmd_vel.pop()) newest = t;
     if (newest) push(twistToMotion(newest->linear.x, newest->angular.z, geometry_));
     return ReturnCode::Ok;
   }

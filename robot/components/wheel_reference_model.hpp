@@ -20,8 +20,8 @@ class WheelReferenceModel : public Component {
   OutputDataPort<double> right_reference{this, "right_reference"};
 
   ReturnCode onInitialize() override {
-    const double tau_ms = property<double>("time_constant_ms", 150.0);
-    const double sample_ms = property<double>("sample_ms", 20.0);
+    const auto tau_ms = property<double>("time_constant_ms", 150.0);
+    const auto sample_ms = property<double>("sample_ms", 20.0);
     if (!(tau_ms > 0)) rejectProperty("time_constant_ms", "must be > 0");
     if (!(sample_ms > 0)) rejectProperty("sample_ms", "must be > 0");
     model_.emplace(tau_ms / 1000.0, sample_ms / 1000.0);

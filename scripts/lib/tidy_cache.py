@@ -4,9 +4,10 @@
 
   tidy_cache.py lookup DB ROOT BUILD CACHE OUT TIDY FLAGS FILE...
       For each FILE (a translation unit of DB): its key is the hash of clang-tidy's version, the
-      configuration (ROOT/.clang-tidy), the flags tidy.sh passes it (FLAGS, one string), the
-      file's compile command, and its preprocessed source with comments kept (`clang -E -C`:
-      every header it includes, every NOLINT); paths under BUILD and ROOT are written as
+      configuration (ROOT/.clang-tidy, and any .clang-tidy between ROOT and the file), the
+      flags tidy.sh passes it (FLAGS, one string), the file's compile command, and its
+      preprocessed source with comments kept (`clang -E -C`: every header it includes, every
+      NOLINT); paths under BUILD and ROOT are written as
       placeholders, so that a clone at another path has the same keys. A key found in CACHE
       writes the file's clang-tidy output to OUT as a run would have; the other files are
       printed, NUL-separated, for tidy.sh to run clang-tidy on, with their keys left in OUT.
@@ -61,6 +62,16 @@ def lookup(db, root, build, cache, out, tidy, flags, files):
         entries.setdefault(path, e)
     version = subprocess.run([tidy, "--version"], capture_output=True, text=True, check=True).stdout
     config = open(os.path.join(root, ".clang-tidy"), "rb").read()
+
+    def nested_configs(path):
+        """The .clang-tidy files between ROOT and the file's directory (tests/.clang-tidy)."""
+        parts, d = [], os.path.dirname(path)
+        while d.startswith(root + os.sep):
+            c = os.path.join(d, ".clang-tidy")
+            if os.path.exists(c):
+                parts.append(placeholders(c, root, build).encode() + b"\0" + open(c, "rb").read())
+            d = os.path.dirname(d)
+        return parts
     clang = os.environ.get("KEEL_TIDY_CLANG", "clang++-14")
     common = hashlib.sha256()
     for part in (version.encode(), config, flags.encode()):
@@ -77,7 +88,7 @@ def lookup(db, root, build, cache, out, tidy, flags, files):
         except (OSError, subprocess.CalledProcessError):
             return None
         h = common.copy()
-        for part in (placeholders(" ".join(args[1:]), root, build).encode(),
+        for part in (*nested_configs(path), placeholders(" ".join(args[1:]), root, build).encode(),
                      placeholders(path, root, build).encode(),
                      placeholders(pre.decode("utf-8", "replace"), root, build).encode()):
             h.update(len(part).to_bytes(8, "little") + part)
@@ -108,8 +119,8 @@ def store(root, build, cache, out):
         if not entry.endswith(".key"):
             continue
         name = entry[:-4]
-        if os.path.exists(os.path.join(out, name + ".failed")):
-            continue
+        if any(os.path.exists(os.path.join(out, name + end)) for end in (".failed", ".found")):
+            continue  # not checked, or with findings: run again next time
         key = open(os.path.join(out, entry)).read().strip()
         text = open(os.path.join(out, name + ".out"), encoding="utf-8", errors="replace").read()
         os.makedirs(os.path.join(cache, key[:2]), exist_ok=True)

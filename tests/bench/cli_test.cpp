@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "support/env.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
 
@@ -23,6 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 using keel::test::runProcess;
 
+// NOLINTNEXTLINE(bugprone-exception-escape): its implicit moves, nlohmann::json's, never throw
 struct QuickRun {
   keel::test::Ran ran;
   nlohmann::json cells;
@@ -240,14 +242,14 @@ TEST(BenchCli, QuickIsolationMeasuresPortsTakeoverRespawnBesideTheirFloorsAndAWa
   EXPECT_NE(r.ran.out.find("Takeover (p50 / p99"), std::string::npos) << r.ran.out;
 }
 
-/// A ROS domain no other test of this machine holds (tests/dds/domains.py's flocks), set as
-/// ROS_DOMAIN_ID; held until its lock file, returned, is closed (-1: none free).
-int holdRosDomain() {
+/// A ROS domain no other test of this machine holds (tests/dds/domains.py's flocks), -1 when
+/// none is free; `lock` is set to its lock file, which holds it until closed.
+int holdRosDomain(int& lock) {
   for (int d = 1; d <= 100; ++d) {
     const int fd = ::open(("/tmp/keel-ros-domain-" + std::to_string(d)).c_str(), O_WRONLY | O_CREAT | O_CLOEXEC, 0666);
     if (fd >= 0 && ::flock(fd, LOCK_EX | LOCK_NB) == 0) {
-      ::setenv("ROS_DOMAIN_ID", std::to_string(d).c_str(), 1);
-      return fd;
+      lock = fd;
+      return d;
     }
     if (fd >= 0) ::close(fd);
   }
@@ -258,13 +260,18 @@ int holdRosDomain() {
 // against the times they cannot beat: a deadline's fault is not seen long before the deadline
 // has passed since the kill, a standby not heard before the primary's lease could expire.
 TEST(BenchCli, QuickDdsMeasuresRoundTripsBesideCycloneDdsAndRclpyRemoteFaultsAndFailover) {
-  const int domain = holdRosDomain();
+  int lock = -1;
+  const int domain = holdRosDomain(lock);
   ASSERT_GE(domain, 0) << "every ROS domain 1-100 is held";
-  if (::access(KEEL_RCLPY_PYTHON, X_OK) == 0) ::setenv("KEEL_RCLPY_PYTHON", KEEL_RCLPY_PYTHON, 1);
-  const auto r = quick({"dds"});
-  ::unsetenv("KEEL_RCLPY_PYTHON");
-  ::unsetenv("ROS_DOMAIN_ID");
-  ::close(domain);
+  QuickRun r;
+  {
+    const keel::test::ScopedEnv ros_domain("ROS_DOMAIN_ID", std::to_string(domain));
+    const keel::test::ScopedEnv rclpy("KEEL_RCLPY_PYTHON", ::access(KEEL_RCLPY_PYTHON, X_OK) == 0
+                                                               ? std::optional<std::string>(KEEL_RCLPY_PYTHON)
+                                                               : std::nullopt);
+    r = quick({"dds"});
+  }
+  ::close(lock);
   ASSERT_EQ(r.ran.status, 0) << r.ran.err;
   ASSERT_TRUE(r.cells.is_array()) << r.ran.out;
   expectCellsSound(r.cells, "mechanism");

@@ -12,9 +12,11 @@
 
 #include "floor.hpp"
 #include "load.hpp"
+#include "process.hpp"
 #include "report.hpp"
 #include "runtime/guard.hpp"
 #include "stats.hpp"
+#include "support/env.hpp"
 #include "support/paths.hpp"
 
 namespace keel::bench {
@@ -22,7 +24,7 @@ namespace {
 
 TEST(BenchStats, PercentilesAreNearestRankInMicroseconds) {
   std::vector<std::int64_t> ns;
-  for (int i = 1; i <= 100; ++i) ns.push_back(i * 1000);  // 1..100 µs, shuffled below
+  for (std::int64_t i = 1; i <= 100; ++i) ns.push_back(i * 1000);  // 1..100 µs, shuffled below
   std::reverse(ns.begin(), ns.end());
   const Summary s = summarise(ns);
   EXPECT_EQ(s.n, 100u);
@@ -30,6 +32,31 @@ TEST(BenchStats, PercentilesAreNearestRankInMicroseconds) {
   EXPECT_DOUBLE_EQ(s.p99_us, 99.0);
   EXPECT_DOUBLE_EQ(s.max_us, 100.0);
   EXPECT_EQ(summarise({}).n, 0u);
+}
+
+// A child gets the harness's environment with its own changes (the DDS benchmark's keel runs
+// their CycloneDDS configuration, a failover host none), and the harness's stays as it was.
+TEST(BenchProcess, ASpawnedChildGetsTheEnvironmentChangesAndTheHarnessKeepsItsOwn) {
+  const keel::test::ScopedEnv kept("KEEL_BENCH_TEST_KEPT", "kept");
+  const keel::test::ScopedEnv removed("KEEL_BENCH_TEST_REMOVED", "here");
+  const keel::test::ScopedEnv changed("KEEL_BENCH_TEST_CHANGED", "before");
+  keel::bench::Pipe out;
+  ASSERT_TRUE(out.open());
+  auto child = keel::bench::Process::spawn(
+      {"/bin/sh", "-c",
+       R"(echo "$KEEL_BENCH_TEST_KEPT ${KEEL_BENCH_TEST_REMOVED-unset} $KEEL_BENCH_TEST_CHANGED $KEEL_BENCH_TEST_ADDED")"},
+      {.out = out.write.get()}, false, true,
+      {{"KEEL_BENCH_TEST_REMOVED", std::nullopt},
+       {"KEEL_BENCH_TEST_CHANGED", "after"},
+       {"KEEL_BENCH_TEST_ADDED", "added"}});
+  ASSERT_TRUE(child.ok()) << child.error().message;
+  out.write.reset();
+  keel::bench::LineReader lines(out.read.get());
+  EXPECT_EQ(lines.next(std::chrono::steady_clock::now() + std::chrono::seconds(10)).value_or(""),
+            "kept unset after added");
+  EXPECT_STREQ(std::getenv("KEEL_BENCH_TEST_REMOVED"), "here");
+  EXPECT_STREQ(std::getenv("KEEL_BENCH_TEST_CHANGED"), "before");
+  EXPECT_EQ(std::getenv("KEEL_BENCH_TEST_ADDED"), nullptr);
 }
 
 TEST(BenchLoad, TheInternalLoadKeepsTheCpusBusyAndIsReapedWhenDestroyed) {

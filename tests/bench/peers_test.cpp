@@ -9,13 +9,14 @@
 #include <unistd.h>
 
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <optional>
+#include <sstream>
 #include <string>
 
 #include "peers.hpp"
+#include "support/env.hpp"
 #include "support/paths.hpp"
 
 namespace fs = std::filesystem;
@@ -45,9 +46,10 @@ int childCount() {
     if (!std::getline(stat, line)) continue;
     const auto close = line.rfind(')');  // "pid (comm) state ppid ...": comm may hold spaces
     if (close == std::string::npos) continue;
+    std::istringstream fields(line.substr(close + 1));
     char state = 0;
     long ppid = 0;
-    if (std::sscanf(line.c_str() + close + 1, " %c %ld", &state, &ppid) == 2 && ppid == getpid()) ++count;
+    if (fields >> state >> ppid && ppid == getpid()) ++count;
   }
   return count;
 }
@@ -68,25 +70,6 @@ void expectEveryFaultRecovered(const PeerResult& r, int n) {
   }
 }
 
-/// Sets an environment variable for the scope, restoring the old value after.
-class ScopedEnv {
- public:
-  ScopedEnv(const char* name, const std::string& value) : name_(name) {
-    if (const char* old = std::getenv(name)) old_ = old;
-    setenv(name, value.c_str(), 1);
-  }
-  ~ScopedEnv() {
-    if (old_) setenv(name_, old_->c_str(), 1);
-    else unsetenv(name_);
-  }
-  ScopedEnv(const ScopedEnv&) = delete;
-  ScopedEnv& operator=(const ScopedEnv&) = delete;
-
- private:
-  const char* name_;
-  std::optional<std::string> old_;
-};
-
 /// An empty directory of this test's own, removed after.
 struct EmptyDir {
   fs::path path;
@@ -95,6 +78,10 @@ struct EmptyDir {
     if (mkdtemp(tmpl.data()) != nullptr) path = tmpl;
   }
   ~EmptyDir() { fs::remove_all(path); }
+  EmptyDir(const EmptyDir&) = delete;
+  EmptyDir& operator=(const EmptyDir&) = delete;
+  EmptyDir(EmptyDir&&) = delete;
+  EmptyDir& operator=(EmptyDir&&) = delete;
   bool empty() const { return fs::is_empty(path); }
 };
 
@@ -150,7 +137,7 @@ TEST(PeerRespawn, AChildThatNeverReportsReadyIsSkippedWithinTheBoundAndReaped) {
 
 TEST(PeerErlang, RestartsEveryCrashedWorkerAndLeavesNothingBehind) {
   const EmptyDir tmp;
-  const ScopedEnv tmpdir("TMPDIR", tmp.path.string());  // where the compiled peer goes
+  const keel::test::ScopedEnv tmpdir("TMPDIR", tmp.path.string());  // where the compiled peer goes
   const int fds = openFdCount();
 
   const PeerResult r = runErlangPeer(benchPaths(), kFaults, false);
@@ -174,7 +161,7 @@ TEST(PeerErlang, UnderFifoRunsOrSaysWhyNot) {
 
 TEST(PeerErlang, WithoutErlOnThePathIsSkippedWithTheInstallHint) {
   const EmptyDir nothing;
-  const ScopedEnv path("PATH", nothing.path.string());
+  const keel::test::ScopedEnv path("PATH", nothing.path.string());
 
   const PeerResult r = runErlangPeer(benchPaths(), kFaults, false);
 

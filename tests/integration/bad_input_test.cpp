@@ -10,6 +10,7 @@
 #include <string>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -25,7 +26,7 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class BadInput : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override {
     std::filesystem::remove(log_);
     std::filesystem::remove(scenario_);

@@ -9,6 +9,7 @@
 #include <regex>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -27,7 +28,7 @@ class Cli : public ::testing::Test {
  protected:
   // The CLI finds the test component library the way a user's installation would: through
   // KEEL_COMPONENT_PATH.
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override { std::filesystem::remove(log_); }
   std::string log_ = test::tempPath("keel_cli_test");
 };

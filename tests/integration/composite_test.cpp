@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -29,7 +30,7 @@ std::vector<std::string> compositeStates(const std::vector<nlohmann::json>& log,
 
 class Composites : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override { std::filesystem::remove(log_); }
   std::string log_ = test::tempPath("keel_composite_test");
 };

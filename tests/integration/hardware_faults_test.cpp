@@ -9,6 +9,7 @@
 #include <set>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -34,7 +35,7 @@ std::vector<Received> received(const std::string& out) {
 
 class HardwareFaults : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override { std::filesystem::remove(log_); }
   test::Ran run(const std::string& scenario) {
     return test::runProcess(

@@ -21,6 +21,7 @@
 #include <sstream>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -62,7 +63,7 @@ std::vector<nlohmann::json> processFaults(const std::vector<nlohmann::json>& log
 /// Whether `pid` is gone (or a zombie nobody reaped yet: it runs nothing).
 class Isolation : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override {
     for (const auto& f : {log_, report_, scenario_, trace_}) std::filesystem::remove(f);
   }
@@ -164,10 +165,8 @@ TEST_F(Isolation, AKilledProcessIsTakenOverByItsStandbyWithItsCheckpointAndAFres
 // within twice that). The sanitizer presets run 50, 300 ms apart: a host starts slower there,
 // and a kill must find a live process to be one.
 TEST_F(Isolation, AThousandKillsAtRandomMomentsAreEachDetectedAndRecoveredAndNothingIsTorn) {
-  const char* count = std::getenv("KEEL_KILL_CAMPAIGN");
-  const char* least = std::getenv("KEEL_KILL_GAP_MS");
-  const int kills = count ? std::atoi(count) : 1000;
-  const int least_ms = least ? std::atoi(least) : 20;  // a standby is ready again in < 20 ms here
+  const int kills = test::intFromEnv("KEEL_KILL_CAMPAIGN", 1000);
+  const int least_ms = test::intFromEnv("KEEL_KILL_GAP_MS", 20);  // a standby is ready again in < 20 ms here
   std::mt19937 random(20261125);
   std::uniform_int_distribution<int> gap(least_ms, 2 * least_ms);
   std::string faults;

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/pipe_reader.hpp"
@@ -32,7 +33,7 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class LogTee : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override {
     for (const auto& f : {log_, tee_, report_}) std::filesystem::remove(f);
   }

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 
+#include "support/env.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
 #include "support/temp_log.hpp"
@@ -19,7 +20,7 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class MonitorCli : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
 };
 
 TEST_F(MonitorCli, AMonitorAddressThatIsNoPortIsRefusedBeforeAnythingLoads) {

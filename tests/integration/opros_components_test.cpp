@@ -4,12 +4,14 @@
 // fault mechanisms. docs/opros.md, "OPRoS component sources".
 #include <gtest/gtest.h>
 
+#include <charconv>
 #include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -37,7 +39,7 @@ Trace readTrace(const std::string& path) {
 class OprosComponents : public ::testing::Test {
  protected:
   // The libraries are found as a user's would be: through KEEL_COMPONENT_PATH.
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_OPROS_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_OPROS_COMPONENTS};
   void TearDown() override {
     std::filesystem::remove(log_);
     for (const auto& t : traces_) std::filesystem::remove(t);
@@ -220,7 +222,9 @@ TEST_F(OprosComponents, TheExampleRecoversItsOprosComponentFromInjectedFaults) {
   for (std::size_t at = r.out.find("odometer: recovered at "); at != std::string::npos;
        at = r.out.find("odometer: recovered at ", at + 1)) {
     ++recovered;
-    const long cycle = std::atol(r.out.c_str() + r.out.find("cycle ", at) + 6);
+    const std::size_t digits = r.out.find("cycle ", at) + 6;
+    long cycle = -1;
+    std::from_chars(r.out.data() + digits, r.out.data() + r.out.size(), cycle);
     EXPECT_GT(cycle, 10) << r.out.substr(at, 60);
   }
   EXPECT_EQ(recovered, 2u) << r.out;

@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -17,12 +18,12 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class SetOption : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override { std::filesystem::remove(log_); }
   test::Ran run(const std::string& name, std::vector<std::string> sets, const std::string& duration = "30") {
     std::vector<std::string> argv = {KEEL_CLI, "run", profile(name), "--duration", duration, "--log", log_};
     for (auto& s : sets) {
-      argv.push_back("--set");
+      argv.emplace_back("--set");
       argv.push_back(std::move(s));
     }
     return test::runProcess(argv);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 
+#include "support/env.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
 
@@ -36,7 +37,7 @@ class Report : public ::testing::Test {
   }
   /// A copy of the recording with only its first `size` bytes, as a kill -9 leaves it.
   static std::string cutRecording(std::uintmax_t size) {
-    const std::string cut = path("cut_" + std::to_string(size) + ".mcap");
+    std::string cut = path("cut_" + std::to_string(size) + ".mcap");
     fs::copy_file(path("run.mcap"), cut, fs::copy_options::overwrite_existing);
     fs::resize_file(cut, size);
     return cut;
@@ -124,7 +125,7 @@ TEST_F(Report, AFaultLogWhoseLastLineIsTornIsReported) {
   EXPECT_NE(r.out.find("1 line(s) of the log are not JSON records"), std::string::npos) << r.out;
 }
 
-bool haveMatplotlib() { return std::system("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") == 0; }
+bool haveMatplotlib() { return test::runProcess({"/usr/bin/python3", "-c", "import matplotlib"}).status == 0; }
 
 TEST_F(Report, PlotsDrawTheFaultTimeline) {
   if (!haveMatplotlib()) GTEST_SKIP() << "no matplotlib for /usr/bin/python3 (scripts/deps.sh installs it)";
@@ -141,10 +142,9 @@ TEST_F(Report, PlotsDrawTheFaultTimeline) {
 }
 
 TEST_F(Report, PlotsWithoutPythonSaySoWithoutATraceback) {
-  const std::string saved = std::getenv("PATH") ? std::getenv("PATH") : "";
-  ::setenv("PATH", "/nonexistent", 1);
+  test::ScopedEnv no_python("PATH", "/nonexistent");
   const auto r = report({path("run.jsonl"), "--plots", path("no_python")});
-  ::setenv("PATH", saved.c_str(), 1);
+  no_python.set(std::getenv("PATH"));
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(r.out.starts_with(run_.out)) << r.out;  // the summary first
   EXPECT_NE(r.err.find("--plots needs python3 with matplotlib, and there is no python3 on PATH"), std::string::npos)

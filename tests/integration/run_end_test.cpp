@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -18,7 +19,7 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class RunEnd : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override { std::filesystem::remove(log_); }
 
   test::Ran run(const std::string& name, const std::string& duration) {

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -23,7 +24,7 @@ std::string profile(const std::string& name) { return std::string(KEEL_TEST_PROF
 
 class Soak : public ::testing::Test {
  protected:
-  void SetUp() override { ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1); }
+  keel::test::ScopedEnv component_path_{"KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS};
   void TearDown() override { std::filesystem::remove(log_); }
   std::string log_ = test::tempPath("keel_soak_test");
 };

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -18,7 +19,7 @@ namespace keel {
 namespace {
 
 TEST(Start, AFirstCycleFindsEveryOtherComponentStarted) {
-  ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1);
+  const test::ScopedEnv components("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS);
   const std::string log = test::tempPath("keel_start_test");
   // Several runs: without the hold, the caller's executor (started first) runs its first cycle
   // while the server's is still being started, and its call fails.
@@ -32,7 +33,7 @@ TEST(Start, AFirstCycleFindsEveryOtherComponentStarted) {
 }
 
 TEST(Start, ALastCycleFindsEveryOtherComponentStillActive) {
-  ::setenv("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS, 1);
+  const test::ScopedEnv components("KEEL_COMPONENT_PATH", KEEL_TEST_COMPONENTS);
   const std::string log = test::tempPath("keel_last_cycle_test");
   // Without the barrier at the end, the server's executor (5 ms cycles) stops it while the
   // caller is still 40 ms into its last cycle, whose call then fails: a fault in every run.
@@ -42,7 +43,8 @@ TEST(Start, ALastCycleFindsEveryOtherComponentStillActive) {
     ASSERT_EQ(r.status, 0) << r.out << r.err;
     const auto records = test::readLog(log);
     EXPECT_TRUE(test::eventsOf(records, log::schema::event::kDetected).empty()) << "run " << run << r.out;
-    EXPECT_EQ(test::statesOf(records, "server"), (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
+    EXPECT_EQ(test::statesOf(records, "server"),
+              (std::vector<std::string>{"Ready", "Active", "Inactive", "Destroyed"}));
   }
   std::filesystem::remove(log);
 }

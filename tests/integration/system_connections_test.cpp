@@ -1,5 +1,6 @@
 // A system profile whose applications exchange data: the system's <port_connections> join one
 // application's component to another's at run time, and `keel graph` draws the edge.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -72,7 +73,7 @@ TEST_F(SystemConnections, AreValidatedByKeelValidate) {
   const std::string dir = std::filesystem::path(linked()).parent_path().string();
   for (const std::string app : {"producer", "consumer"}) {  // the copy elsewhere names them whole
     const std::string ref = "reference=\"" + app + ".xml\"";
-    text.replace(text.find(ref), ref.size(), "reference=\"" + dir + "/" + app + ".xml\"");
+    text.replace(text.find(ref), ref.size(), fmt::format("reference=\"{}/{}.xml\"", dir, app));
   }
   const std::string port = "port_name=\"in\"";
   text.replace(text.find(port), port.size(), "port_name=\"inn\"");

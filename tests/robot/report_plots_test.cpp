@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -19,7 +18,7 @@ namespace fs = std::filesystem;
 class RobotReport : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (std::system("/usr/bin/python3 -c 'import matplotlib' 2>/dev/null") != 0)
+    if (test::runProcess({"/usr/bin/python3", "-c", "import matplotlib"}).status != 0)
       GTEST_SKIP() << "no matplotlib for /usr/bin/python3 (scripts/deps.sh installs it)";
     dir_ = fs::temp_directory_path() / ("keel_robot_report_" + std::to_string(::getpid()));
     fs::create_directories(dir_);

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "log/schema.hpp"
+#include "support/env.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -26,6 +27,7 @@ namespace fd = log::schema::field;
 using nlohmann::json;
 namespace fs = std::filesystem;
 
+// NOLINTNEXTLINE(bugprone-exception-escape): its implicit moves, nlohmann::json's, never throw
 struct RobotRun {
   Ran ran;
   std::vector<json> log;
@@ -84,7 +86,7 @@ class Robot : public ::testing::Test {
                                      prefix + "camera.seed=" + std::to_string(seed)};
     argv.insert(argv.end(), extra.begin(), extra.end());
     if (!scenario.empty()) {
-      argv.push_back("--inject");
+      argv.emplace_back("--inject");
       argv.push_back(std::string(KEEL_ROBOT) + "/scenarios/" + scenario);
     }
     RobotRun r;
@@ -144,8 +146,7 @@ class Robot : public ::testing::Test {
 
 TEST_F(Robot, NominalRunsReachTheTargetWithoutCollisionOrFaultForTenSeeds) {
   // KEEL_ROBOT_SEEDS: fewer seeds where every run is slow (the asan-ubsan preset's 3).
-  const char* seeds = std::getenv("KEEL_ROBOT_SEEDS");
-  const int last = seeds ? std::atoi(seeds) : 10;
+  const int last = test::intFromEnv("KEEL_ROBOT_SEEDS", 10);
   for (int seed = 1; seed <= last; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const RobotRun r = run("navigation.xml", "", seed);

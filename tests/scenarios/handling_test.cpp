@@ -510,9 +510,10 @@ class HandlingFaultStop : public Handling {
       }
     }
     for (const std::string app : {"A", "B", "C", "D"}) {
-      for (const std::string inst : {"a1", "c1", "b1"}) {
-        Component* c = engine_->find(app + "." + inst);
-        if (c == nullptr || components.count(app + "." + inst)) continue;
+      for (const char* inst : {"a1", "c1", "b1"}) {
+        const std::string name = app + "." + inst;
+        Component* c = engine_->find(name);
+        if (c == nullptr || components.count(name)) continue;
         EXPECT_EQ(c->state(), State::Active) << app << "." << inst;
       }
     }
@@ -684,6 +685,7 @@ TEST_F(Handling, PastTheRestartIntensityAResetEscalatesToTheAlternativeThenToSto
 
   auto actions = [](const std::vector<fault::Handling>& hs) {
     std::vector<std::string> out;
+    out.reserve(hs.size());
     for (const auto& h : hs) out.push_back(h.actions);
     return out;
   };

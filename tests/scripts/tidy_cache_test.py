@@ -53,8 +53,8 @@ class TidyCache(unittest.TestCase):
             name = path.replace("/", "_")
             r = subprocess.run([TIDY, "-p", top / "build", *FLAGS.split(), path], capture_output=True, text=True)
             (out / f"{name}.out").write_text(r.stdout)
-            if r.returncode != 0:
-                (out / f"{name}.failed").write_text(path)
+            if r.returncode != 0:  # a finding (WarningsAsErrors), as tidy.sh marks it
+                (out / f"{name}.found").write_text(path)
         subprocess.run([sys.executable, CACHE_PY, "store", top, top / "build", self.cache, out], check=True)
 
     def test_a_result_is_reused_at_another_path_and_not_once_anything_it_depends_on_changed(self):
@@ -80,6 +80,7 @@ class TidyCache(unittest.TestCase):
             "a header it includes": ("src/a.hpp", lambda t: t.replace("2 * x", "x + x")),
             "a comment (a NOLINT could be one)": ("src/a.hpp", lambda t: t + "// NOLINT\n"),
             "the configuration": (".clang-tidy", lambda t: t.replace("'\n", ",misc-unused-parameters'\n")),
+            "a configuration nearer the file": ("src/.clang-tidy", lambda t: "InheritParentConfig: true\n"),
             "the compile command": ("build/compile_commands.json", lambda t: t.replace("-O2", "-O2 -DX=1")),
         }
         for i, (what, (rel, change)) in enumerate(changes.items()):
@@ -89,7 +90,7 @@ class TidyCache(unittest.TestCase):
                 db = third / "build" / "compile_commands.json"
                 db.write_text(db.read_text().replace(str(second), str(third)))
                 path = third / rel
-                path.write_text(change(path.read_text()))
+                path.write_text(change(path.read_text() if path.exists() else ""))
                 self.assertEqual(self.lookup(third)[1:], ([str(third / "src" / "a.cpp")], 0))
 
     def test_a_failed_run_is_not_kept(self):

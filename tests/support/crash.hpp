@@ -8,8 +8,8 @@
 namespace keel::test {
 
 [[gnu::noinline]] inline void segfault() {
-  volatile std::uintptr_t addr = 0x10;  // page 0 is never mapped
-  *reinterpret_cast<volatile int*>(addr) = 1;
+  volatile std::uintptr_t addr = 0x10;         // page 0 is never mapped
+  *reinterpret_cast<volatile int*>(addr) = 1;  // NOLINT(performance-no-int-to-ptr): the crash wanted
 }
 
 [[gnu::noinline]] inline void divideByZero() {

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <filesystem>
@@ -35,6 +36,7 @@ inline std::string slurp(const std::string& path) {
 inline pid_t startProcess(const std::vector<std::string>& argv, const std::string& out_path,
                           const std::string& err_path) {
   std::vector<char*> args;
+  args.reserve(argv.size() + 1);
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
   const pid_t pid = fork();
@@ -50,7 +52,8 @@ inline pid_t startProcess(const std::vector<std::string>& argv, const std::strin
 inline Ran runProcess(const std::vector<std::string>& argv,
                       std::chrono::milliseconds signal_after = std::chrono::milliseconds(0)) {
   auto dir = std::filesystem::temp_directory_path();
-  std::string tag = std::to_string(::getpid()) + "_" + std::to_string(std::rand());
+  static std::atomic<unsigned> runs{0};  // this process's runs: each its own files
+  std::string tag = std::to_string(::getpid()) + "_" + std::to_string(runs++);
   std::string out_path = (dir / ("keel_out_" + tag)).string();
   std::string err_path = (dir / ("keel_err_" + tag)).string();
   const pid_t pid = startProcess(argv, out_path, err_path);

@@ -62,7 +62,7 @@ class ColorBlobDetector : public Component {
   /// Processes the newest frame that arrived (older ones are skipped) and sends one reading.
   ReturnCode onExecute() override {
     std::optional<Image> newest;
-    while (std::optional<Image> frame = image.pop()) newest = std::move(frame);
+    while (std::optional<Image> frame = image.pop()) newest = frame;
     if (newest) blob.push(detect(*newest));
     return ReturnCode::Ok;
   }

@@ -64,7 +64,8 @@ void ColorSegmenter::encodeRows(int w, int h, const std::uint8_t* rgb) {
     row_start_[y] = run_count_;
     const std::uint8_t* px = rgb + 3 * static_cast<std::size_t>(y) * static_cast<std::size_t>(w);
     for (int x = 0; x < w; ++x) {  // classify without a branch, then encode
-      const Yuv p = toYuv(px[3 * x], px[3 * x + 1], px[3 * x + 2]);
+      const std::uint8_t* rgb_x = px + 3 * static_cast<std::ptrdiff_t>(x);
+      const Yuv p = toYuv(rgb_x[0], rgb_x[1], rgb_x[2]);
       mask[x] = (p.y >= c.y_min) & (p.y <= c.y_max) & (p.u >= c.u_min) & (p.u <= c.u_max) & (p.v >= c.v_min) &
                 (p.v <= c.v_max);
     }

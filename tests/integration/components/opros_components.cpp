@@ -26,9 +26,9 @@ class CounterProvided : public ProvidedServicePort, public ICounter {
  protected:
   ICounter* pcom;
   using getFuncType = ProvidedMethod<int>;
-  getFuncType* getFunc;
+  getFuncType* getFunc = nullptr;
   using addFuncType = ProvidedMethod<int>;
-  addFuncType* addFunc;
+  addFuncType* addFunc = nullptr;
 
  public:
   int get() override {
@@ -39,7 +39,7 @@ class CounterProvided : public ProvidedServicePort, public ICounter {
     opros_assert(addFunc != nullptr);
     return (*addFunc)(amount);
   }
-  CounterProvided(ICounter* fn) : pcom(fn), getFunc(NULL), addFunc(NULL) { setup(); }
+  CounterProvided(ICounter* fn) : pcom(fn) { setup(); }
   virtual void setup() {
     Method* ptr_method;
     ptr_method = makeProvidedMethod(&ICounter::get, pcom, "get");
@@ -56,12 +56,12 @@ class CounterProvided : public ProvidedServicePort, public ICounter {
 class CounterRequired : public RequiredServicePort {
  protected:
   using getFuncType = RequiredMethod<int>;
-  getFuncType* getFunc;
+  getFuncType* getFunc = nullptr;
   using addFuncType = RequiredMethod<int>;
-  addFuncType* addFunc;
+  addFuncType* addFunc = nullptr;
 
  public:
-  CounterRequired() : getFunc(NULL), addFunc(NULL) { setup(); }
+  CounterRequired() { setup(); }
   int get() {
     opros_assert(getFunc != nullptr);
     return (*getFunc)();
@@ -151,7 +151,7 @@ class OprosCounter : public Component, public ICounter {
       state.received += in.getContent(*p);
       delete p;
     }
-    if (!faulted && atoi(getProperty("fault_at").c_str()) == state.executions) {
+    if (!faulted && std::strtol(getProperty("fault_at").c_str(), nullptr, 10) == state.executions) {
       faulted = true;
       state.executions = -1000000;  // what a fault may leave behind
       const std::string& fault = getProperty("fault");

@@ -54,7 +54,7 @@ class VoterRig {
     test::wire(voter.output, probe.output, keep_);
     test::wire(voter.agreeing, probe.agreeing, keep_);
   }
-  void set(const std::string& name, PropertyValue value) { runtime::coreOf(voter).properties[name] = std::move(value); }
+  void set(const std::string& name, const PropertyValue& value) { runtime::coreOf(voter).properties[name] = value; }
   bool initialize() { return runtime::transition(voter, Transition::Initialize); }
   /// One period: the inputs given a value deliver it (nullopt: that input stays silent).
   void cycle(const std::array<std::optional<double>, N>& values) {

@@ -6,6 +6,7 @@
 
 #include "dds/dds_ports.hpp"
 #include "dds/type_registry.hpp"
+#include "support/env.hpp"
 
 namespace keel::dds {
 namespace {
@@ -28,23 +29,19 @@ TEST(DdsNames, EveryShippedTypeIsRegisteredUnderTheNameItsDescriptorHas) {
 }
 
 TEST(DdsNames, RosDomainIdOverridesTheProfilesDomainAndABadOneIsAnError) {
-  const char* before = std::getenv("ROS_DOMAIN_ID");
-  const std::string saved = before ? before : "";
-  ::unsetenv("ROS_DOMAIN_ID");
+  const test::ScopedEnv domain("ROS_DOMAIN_ID", std::nullopt);
   EXPECT_EQ(*effectiveDomain(7), 7);
-  ::setenv("ROS_DOMAIN_ID", "42", 1);
+  domain.set("42");
   EXPECT_EQ(*effectiveDomain(7), 42);
-  ::setenv("ROS_DOMAIN_ID", "", 1);  // set but empty: as unset (as rcl takes it)
+  domain.set("");  // set but empty: as unset (as rcl takes it)
   EXPECT_EQ(*effectiveDomain(7), 7);
   for (const char* bad : {"4x", "233", "-1", " 5"}) {  // not a number; beyond DDS's port formula
-    ::setenv("ROS_DOMAIN_ID", bad, 1);
+    domain.set(bad);
     const auto d = effectiveDomain(7);
     ASSERT_FALSE(d.ok()) << bad;
     EXPECT_EQ(d.error().message,
               std::string("ROS_DOMAIN_ID='") + bad + "' is not a DDS domain id (a whole number from 0 to 232)");
   }
-  if (before) ::setenv("ROS_DOMAIN_ID", saved.c_str(), 1);
-  else ::unsetenv("ROS_DOMAIN_ID");
 }
 
 }  // namespace

@@ -295,6 +295,7 @@ TEST(DependencyGraph, AThousandComponentGraphGivesTheSameAnswerAsTheRulesByHand)
   const Impact impact = graph.impactOf({"app0.c0", "app0.c1", "app50.c2", "app95.c7"});
 
   std::vector<std::string> expected;
+  expected.reserve(15);
   for (int k = 0; k < 10; ++k) expected.push_back("app" + std::to_string(k));
   for (int k = 95; k < 100; ++k) expected.push_back("app" + std::to_string(k));
   EXPECT_EQ(impact.stopped_applications, expected);

@@ -143,7 +143,7 @@ TEST(Escalation, NoSequenceOfOutcomesLoops) {
                               Outcome::Unavailable, Outcome::Hung,   Outcome::Busy};
   for (Step first : {Step::Reset, Step::Replace, Step::Stop, Step::Emergency}) {
     for (bool alternative : {false, true}) {
-      for (std::size_t seed = 0; seed < 6 * 6 * 6 * 6; ++seed) {
+      for (std::size_t seed = 0; seed < std::size_t{6} * 6 * 6 * 6; ++seed) {
         RoleFacts role{alternative, false, false, false};
         Step step = first;
         std::set<std::tuple<Step, bool, bool>> seen;

@@ -67,7 +67,7 @@ class Joint : public Component {
     }).join();
     under_lock = !taken;
     std::lock_guard lock(mutex_);
-    trace_.push_back(what);
+    trace_.emplace_back(what);
     return ReturnCode::Ok;
   }
   std::mutex mutex_;
@@ -77,7 +77,7 @@ class Joint : public Component {
 /// A record in short: its event ("detected"), with the state it went to ("state Error") or
 /// the action it took ("action reset").
 std::string shortly(const json& r) {
-  const std::string event = r.value(fd::kEvent, "");
+  std::string event = r.value(fd::kEvent, "");
   if (event == ev::kState) return event + " " + r.value(fd::kTo, "");
   if (event == ev::kAction) return event + " " + r.value(fd::kAction, "");
   return event;
@@ -138,7 +138,7 @@ struct Rig {
   FaultManager manager{file.log, host.lookup()};
 };
 
-FaultEvent segfault(const char* detail = "SIGSEGV in onExecute") { return FaultEvent(FaultKind::Signal, "", detail); }
+FaultEvent segfault(const char* detail = "SIGSEGV in onExecute") { return {FaultKind::Signal, "", detail}; }
 
 TEST(FaultManager, APassiveComponentFaultingInsideItsOwnCallbackIsResetAfterTheCallbackReturns) {
   Rig rig;

@@ -45,6 +45,7 @@ struct Arm : Component {
 /// The `event` of every record, in order.
 std::vector<std::string> eventNames(const std::vector<json>& log) {
   std::vector<std::string> out;
+  out.reserve(log.size());
   for (const json& r : log) out.push_back(r.value(fd::kEvent, ""));
   return out;
 }

@@ -74,7 +74,7 @@ class Host : public RecoveryActions {
     return created;
   }
   void switchTo(Component& failed, Component& alt) override {
-    trace_.push_back("switchTo");
+    trace_.emplace_back("switchTo");
     switched_from = &failed;
     switched_to = &alt;
   }

@@ -17,6 +17,10 @@ namespace {
 struct Scratch {
   Scratch() : path_(test::tempPath("keel_follower")) { std::filesystem::remove(path_); }
   ~Scratch() { std::filesystem::remove(path_); }
+  Scratch(const Scratch&) = delete;
+  Scratch& operator=(const Scratch&) = delete;
+  Scratch(Scratch&&) = delete;
+  Scratch& operator=(Scratch&&) = delete;
   const std::string& path() const { return path_; }
   std::string path_;
 };

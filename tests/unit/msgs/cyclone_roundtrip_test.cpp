@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "keel/msg/sensor_msgs/msg/detail/laser_scan__dds.hpp"
 #include "keel/msg/std_msgs/msg/detail/empty__dds.hpp"
 #include "keel/msg/std_msgs/msg/detail/string__dds.hpp"
+#include "support/env.hpp"
 #include "unit/msgs/sample_values.hpp"
 
 // idlc's descriptor of keel's test message, compiled here as keel_msggen.py's registering source
@@ -33,7 +35,7 @@
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
 #undef dds_alignof
 #define dds_alignof alignof
-#include "keel_test_msgs/msg/Everything_.c"
+#include "keel_test_msgs/msg/Everything_.c"  // NOLINT(bugprone-suspicious-include): idlc's C, above
 #pragma GCC diagnostic pop
 
 namespace {
@@ -49,7 +51,7 @@ constexpr const char* kLoopbackOnly =
 class CycloneRoundTrip : public ::testing::Test {
  protected:
   void SetUp() override {
-    setenv("CYCLONEDDS_URI", kLoopbackOnly, 1);
+    loopback_.emplace("CYCLONEDDS_URI", kLoopbackOnly);
     std::random_device rd;
     const auto domain = static_cast<dds_domainid_t>(101 + rd() % 100);
     participant_ = dds_create_participant(domain, nullptr, nullptr);
@@ -112,6 +114,7 @@ class CycloneRoundTrip : public ::testing::Test {
     return back;
   }
 
+  std::optional<keel::test::ScopedEnv> loopback_;  // CycloneDDS's configuration, for the test
   dds_entity_t participant_ = 0;
   std::string prefix_;
 };

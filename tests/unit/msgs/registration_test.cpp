@@ -2,6 +2,7 @@
 // under its ROS 2 name, with its C++ type and idlc's descriptor of its DDS type. Reads msgs/;
 // touches nothing.
 #include <dds/dds.h>
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -25,12 +26,12 @@ TEST(MessageRegistration, EveryShippedMessageIsRegisteredUnderItsRos2Name) {
     if (entry.path().extension() != ".msg") continue;
     const std::string pkg = entry.path().parent_path().parent_path().filename();
     const std::string name = entry.path().stem();
-    const std::string ros_name = pkg + "/msg/" + name;
+    const std::string ros_name = fmt::format("{}/msg/{}", pkg, name);
     const keel::detail::DdsType* type = keel::dds::findType(ros_name);
     ASSERT_NE(type, nullptr) << ros_name << " is not registered";
     EXPECT_EQ(std::string(type->ros_name), ros_name);
     const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
-    EXPECT_EQ(std::string(descriptor->m_typename), pkg + "::msg::dds_::" + name + "_");
+    EXPECT_EQ(std::string(descriptor->m_typename), fmt::format("{}::msg::dds_::{}_", pkg, name));
     EXPECT_NE(type->make_outlet, nullptr);
     EXPECT_NE(type->deliver, nullptr);
     ++count;

@@ -29,7 +29,7 @@
 #include "include/keel/opros/archive/opros_access.h"
 #include "include/keel/opros/archive/opros_archive.h"
 #include "include/keel/opros/device/ApiTypes.h"
-#include "include/keel/opros/device/ApiTypes.h"  // twice, as HelloMaker.cpp does
+#include "include/keel/opros/device/ApiTypes.h"  // NOLINT(readability-duplicate-include): twice, as HelloMaker.cpp does
 #include "include/keel/opros/device/OprosPrintMessage.h"
 #include "include/keel/opros/device/Property.h"
 
@@ -38,7 +38,7 @@
 class PersonData {
  public:
   PersonData() = default;
-  PersonData(int age, const std::string& name) : m_age(age), m_name(name) {}
+  PersonData(int age, std::string name) : m_age(age), m_name(std::move(name)) {}
   int& getAge() { return m_age; }
   std::string& getName() { return m_name; }
 
@@ -259,7 +259,7 @@ TEST(OprosTypesAssert, ThrowsAStdExceptionNamingTheCondition) {
   void* method = nullptr;
   EXPECT_NO_THROW(opros_assert(method == nullptr));
   try {
-    opros_assert(method != NULL);
+    opros_assert(method != NULL);  // NOLINT(modernize-use-nullptr): the macro as OPRoS code calls it
     FAIL() << "opros_assert did not throw";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("method != NULL"), std::string::npos) << e.what();
@@ -329,7 +329,7 @@ TEST(OprosEvent, StartsWithIdEventAndKeepsWhatIsSet) {
 
   Event* evt = &event;  // as onEvent receives it
   EXPECT_EQ(evt->getId().compare("messageid"), 0);
-  EventData<std::string>* typed = (EventData<std::string>*)(evt);
+  EventData<std::string>* typed = (EventData<std::string>*)(evt);  // NOLINT(modernize-use-auto): as OPRoS code casts
   ASSERT_NE(typed->getContentData(), nullptr);
   EXPECT_EQ(*typed->getContentData(), "hello world");
   EXPECT_EQ(evt->getTopic(), "chat");
@@ -662,7 +662,7 @@ TEST(OprosDeviceProperty, IsOneTypeForBothFlavours) {
   std::map<std::string, std::string> from_profile{{"ApiName", "Hokuyo.so"}, {"Period", "0.1"}};
   kitech_parameter.SetProperty(from_profile);  // as KITECH's onInitialize does
   EXPECT_TRUE(kitech_parameter.FindName("Period"));
-  EXPECT_EQ(atof(kitech_parameter.GetValue("Period").c_str()), 0.1);
+  EXPECT_EQ(atof(kitech_parameter.GetValue("Period").c_str()), 0.1);  // NOLINT(cert-err34-c): as KITECH's code reads it
   EXPECT_EQ(kitech_parameter.GetValue("Missing"), "");
   EXPECT_FALSE(kitech_parameter.FindName("Missing")) << "GetValue added the name";
 

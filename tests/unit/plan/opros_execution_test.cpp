@@ -1,6 +1,7 @@
 // OPRoS's execution types in the plan (docs/opros.md#what-means-what): periodic-shared
 // components of one period and priority share one executor, in load order; periodic and
 // periodic-exclusive ones have their own; a task may not take a periodic-exclusive one.
+#include <fmt/format.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -78,7 +79,7 @@ TEST(OprosExecution, ACompositesCoordinationIsPlannedAndAnEdgeToItReachesEachMem
     } else {
       EXPECT_THAT(order, ElementsAre("pair.d->pair.e", "a->pair.e", "a->pair.d")) << root;
     }
-    EXPECT_THAT(needs, ElementsAre(pair + "e->" + pair + "d")) << root;
+    EXPECT_THAT(needs, ElementsAre(fmt::format("{0}e->{0}d", pair))) << root;
   }
 }
 

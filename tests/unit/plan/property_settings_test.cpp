@@ -43,8 +43,9 @@ class PropertySettings : public ::testing::Test {
     ASSERT_TRUE(plan) << plan.error().message;
     plan_ = std::move(*plan);
   }
-  Result<void> apply(std::vector<std::string> texts) {
+  Result<void> apply(const std::vector<std::string>& texts) {
     std::vector<PropertySetting> settings;
+    settings.reserve(texts.size());
     for (const auto& t : texts) settings.push_back(*parsePropertySetting(t));
     return applyPropertySettings(plan_, settings);
   }

@@ -60,10 +60,10 @@ TEST(ProfileLoader, NeverThrowsOnMalformedInput) {
   const std::string inputs[] = {
       "",
       "<",
-      std::string("\0\x01\xff<component_profile>", 23),
+      std::string("\0\x01\xff<component_profile>", 22),  // a NUL first
       "<component_profile><name>x</name><ports><data_port/></ports></component_profile>",
-      "<package_profile><subcomponents><subcomponent><name>a</name><reference>/dev/zero"
-      "</reference></subcomponent></subcomponents></package_profile>",
+      std::string("<package_profile><subcomponents><subcomponent><name>a</name><reference>/dev/zero") +
+          "</reference></subcomponent></subcomponents></package_profile>",
       std::string(20000, '<'),
       [] {
         std::string deep;

@@ -14,6 +14,7 @@ using ::testing::UnorderedElementsAre;
 
 std::vector<std::string> keys(const std::map<std::string, ComponentProfile>& components) {
   std::vector<std::string> out;
+  out.reserve(components.size());
   for (const auto& [path, c] : components) out.push_back(path);
   return out;
 }

@@ -49,7 +49,7 @@ Image art(const std::vector<std::string>& rows) {
                [&](int x, int y) { return rows[y][x] == '#'; });
 }
 
-ColorSegmenter segmenter(int min_area = 1) { return ColorSegmenter(ColorBlobDetector::kDefaultColour, min_area); }
+ColorSegmenter segmenter(int min_area = 1) { return {ColorBlobDetector::kDefaultColour, min_area}; }
 
 std::vector<Region> regionsOf(const Image& image, int min_area = 1) {
   ColorSegmenter s = segmenter(min_area);

@@ -26,8 +26,6 @@
 #include "robot/world/world.hpp"
 #include "support/paths.hpp"
 
-extern char** environ;
-
 namespace keel::robot {
 namespace {
 
@@ -463,6 +461,10 @@ class BoardProcess {
       waitpid(pid_, nullptr, 0);
     }
   }
+  BoardProcess(const BoardProcess&) = delete;
+  BoardProcess& operator=(const BoardProcess&) = delete;
+  BoardProcess(BoardProcess&&) = delete;
+  BoardProcess& operator=(BoardProcess&&) = delete;
   /// One line of the child's stdout, or "" if none within `timeout`.
   std::string readLine(std::chrono::milliseconds timeout) {
     std::string line;

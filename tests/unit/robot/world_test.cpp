@@ -165,7 +165,8 @@ TEST(World, PaperArenaBlocksTheStraightDriveButNotTheLineOfSight) {
   const World arena = World::paperArena();
   const Pose start = arena.start();
   bool blocked = false;
-  for (double x = start.x_m; x <= 3.2; x += 0.01) blocked = blocked || arena.collides(x, start.y_m, 0.0);
+  for (int cm = 0; start.x_m + cm * 0.01 <= 3.2; ++cm)
+    blocked = blocked || arena.collides(start.x_m + cm * 0.01, start.y_m, 0.0);
   EXPECT_TRUE(blocked);
   const RayHits hits = arena.castRay(start.x_m, start.y_m, 0.0, 10.0);
   EXPECT_NEAR(hits.target_m, 3.5 - 0.12 - 0.4, 1e-12);

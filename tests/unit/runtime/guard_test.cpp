@@ -121,7 +121,7 @@ TEST_F(Guard, AFaultsDetailGivesItsAddressAndASignalSentByAnotherProcessItsSende
 
   // Another process's kill -ABRT at this thread: a child, once the parent knows its pid.
   const pid_t self = ::getpid();
-  const pid_t tid = static_cast<pid_t>(::syscall(SYS_gettid));
+  const auto tid = static_cast<pid_t>(::syscall(SYS_gettid));
   int go[2];
   ASSERT_EQ(::pipe(go), 0);
   volatile pid_t child = 0;

@@ -1,6 +1,7 @@
 // Where the loader looks for component libraries by default (docs/author-api.md): each directory
 // of KEEL_COMPONENT_PATH in order (separated by `:`), then <directory of libkeel.so>/keel.
 #include "runtime/loader.hpp"
+#include "support/env.hpp"
 
 #include <gtest/gtest.h>
 
@@ -13,21 +14,8 @@ namespace keel::runtime {
 namespace {
 
 /// Sets KEEL_COMPONENT_PATH for one test and puts back what was there.
-class ComponentPathEnv {
- public:
-  explicit ComponentPathEnv(const char* value) {
-    if (const char* old = std::getenv("KEEL_COMPONENT_PATH")) old_ = old;
-    ::setenv("KEEL_COMPONENT_PATH", value, 1);
-  }
-  ~ComponentPathEnv() {
-    if (old_) ::setenv("KEEL_COMPONENT_PATH", old_->c_str(), 1);
-    else ::unsetenv("KEEL_COMPONENT_PATH");
-  }
-  ComponentPathEnv(const ComponentPathEnv&) = delete;
-  ComponentPathEnv& operator=(const ComponentPathEnv&) = delete;
-
- private:
-  std::optional<std::string> old_;
+struct ComponentPathEnv : test::ScopedEnv {
+  explicit ComponentPathEnv(const char* value) : test::ScopedEnv("KEEL_COMPONENT_PATH", value) {}
 };
 
 TEST(LoaderSearchPath, HasEveryDirectoryOfTheComponentPathInOrderThenKeelsOwn) {
