@@ -22,7 +22,7 @@
 set -euo pipefail
 
 case "${1:-}" in
-  -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+  -h|--help) sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
 esac
 checks=""
 if [[ "${1:-}" == --no-analyzer ]]; then
