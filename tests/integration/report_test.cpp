@@ -142,9 +142,11 @@ TEST_F(Report, PlotsDrawTheFaultTimeline) {
 }
 
 TEST_F(Report, PlotsWithoutPythonSaySoWithoutATraceback) {
-  test::ScopedEnv no_python("PATH", "/nonexistent");
-  const auto r = report({path("run.jsonl"), "--plots", path("no_python")});
-  no_python.set(std::getenv("PATH"));
+  test::Ran r;
+  {
+    const test::ScopedEnv no_python("PATH", "/nonexistent");
+    r = report({path("run.jsonl"), "--plots", path("no_python")});
+  }
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_TRUE(r.out.starts_with(run_.out)) << r.out;  // the summary first
   EXPECT_NE(r.err.find("--plots needs python3 with matplotlib, and there is no python3 on PATH"), std::string::npos)
