@@ -115,10 +115,13 @@ Result<void> Engine::instantiate() {
   return {};
 }
 
+Result<std::string> Engine::findLibrary(const profile::ComponentProfile& cp) const {
+  return loader_.resolve(cp.library_name, std::filesystem::path(cp.file).parent_path().string());
+}
+
 Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   const profile::ComponentProfile& cp = *pi.profile;
-  std::string dir = std::filesystem::path(cp.file).parent_path().string();
-  Result<std::string> lib = loader_.resolve(cp.library_name, dir);
+  Result<std::string> lib = findLibrary(cp);
   std::string library = lib ? *lib : std::string();
   if (!lib && !runtime::Registry::instance().find(cp.name, ""))
     return fail(fmt::format("{}: component '{}' ({}): {}\n", cp.where.str(), pi.name, cp.name, lib.error().message));

@@ -137,6 +137,31 @@ TEST_F(Cli, AnAlternativeThatFailsToInitializeIsDestroyedAndTheReplacementSaysWh
   EXPECT_TRUE(failed_with_reason) << r.out;
 }
 
+// A cold alternative's library is looked for at start, not first at the fault (where the search
+// would cost the recovery its time): a missing one is said, with the rule's file and line, by a
+// run in which no fault happens; when the fault comes, the replacement fails and says why.
+TEST_F(Cli, AColdAlternativeWhoseLibraryIsMissingIsSaidAtStartAndTheReplacementFails) {
+  const std::string warning =
+      "unloadable_alternative.xml:11: alternative 'Unloadable' of 'driver', loaded at a fault, will not load: "
+      "library 'keel_test_not_installed' not found";
+  auto quiet = test::runProcess({KEEL_CLI, "run", profile("unloadable_alternative.xml"), "--duration", "0.3", "--log",
+                                 log_, "--set", "driver.throw_at=0"});
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_NE(quiet.err.find(warning), std::string::npos) << quiet.err;
+  EXPECT_TRUE(test::eventsOf(test::readLog(log_), ev::kAction).empty());
+
+  auto r = test::runProcess(
+      {KEEL_CLI, "run", profile("unloadable_alternative.xml"), "--duration", "0.5", "--log", log_});
+  ASSERT_EQ(r.status, 0) << r.err;
+  bool failed_with_reason = false;
+  for (const auto& a : test::eventsOf(test::readLog(log_), ev::kAction))
+    if (a[fd::kAction] == "replace")
+      failed_with_reason = a[fd::kOutcome] == log::schema::kFailed &&
+                           a.value(fd::kDetail, "").find("library 'keel_test_not_installed' not found") !=
+                               std::string::npos;
+  EXPECT_TRUE(failed_with_reason) << r.out;
+}
+
 // The summary is printed after shutdown, from the run's log (an anonymous one without --log): a
 // fault in onStop and the emergency stop it causes are in it, as they are in the log.
 TEST_F(Cli, TheSummaryIsPrintedAfterShutdownAndHasWhatTheStopDid) {
