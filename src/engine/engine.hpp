@@ -163,7 +163,7 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   void makeExecutionGates();
   Result<void> instantiate();
   Result<Instance> makeInstance(const plan::PlannedInstance& pi);              // created, named, ports checked
-  Result<std::string> findLibrary(const profile::ComponentProfile& cp) const;  // the loader's answer, kept
+  Result<std::string> findLibrary(const profile::ComponentProfile& cp) const;  // kept; "": linked in
   void setUpHandling();  // rules and checkpoints per instance, the dependency graph
   Result<void> preloadAlternatives();
   /// Re-points the input connections and provided services of `failed` to `alternative`.

@@ -116,15 +116,17 @@ Result<void> Engine::instantiate() {
 }
 
 Result<std::string> Engine::findLibrary(const profile::ComponentProfile& cp) const {
-  return loader_.resolve(cp.library_name, std::filesystem::path(cp.file).parent_path().string());
+  Result<std::string> lib = loader_.resolve(cp.library_name, std::filesystem::path(cp.file).parent_path().string());
+  if (!lib && runtime::Registry::instance().find(cp.name, "")) return std::string();  // linked into this program
+  return lib;
 }
 
 Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
   const profile::ComponentProfile& cp = *pi.profile;
   Result<std::string> lib = findLibrary(cp);
-  std::string library = lib ? *lib : std::string();
-  if (!lib && !runtime::Registry::instance().find(cp.name, ""))
+  if (!lib)
     return fail(fmt::format("{}: component '{}' ({}): {}\n", cp.where.str(), pi.name, cp.name, lib.error().message));
+  const std::string& library = *lib;
   auto created = library.empty() ? [&]() -> Result<std::unique_ptr<Component>> {
     return runtime::Registry::instance().find(cp.name, "")->factory();
   }()

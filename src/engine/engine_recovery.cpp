@@ -15,7 +15,6 @@
 #include "runtime/checkpoint.hpp"
 #include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
-#include "runtime/registry.hpp"
 
 namespace keel::engine {
 
@@ -41,7 +40,7 @@ Result<void> Engine::preloadAlternatives() {
       // Loaded at a fault: its file is searched for now, off the fault's path (the loader
       // keeps the answer), and a missing one is said at start rather than at the fault.
       const profile::ComponentProfile& cp = *inst.handling->rules.alternative;
-      if (auto lib = findLibrary(cp); !lib && !runtime::Registry::instance().find(cp.name, "")) {
+      if (auto lib = findLibrary(cp); !lib) {
         const auto& policy = inst.plan->policy;  // where the rule names it, else its own profile
         const profile::Where& where = policy && policy->alternative ? policy->alternative->where : cp.where;
         warn(fmt::format("{}: alternative '{}' of '{}', loaded at a fault, will not load: {}", where.str(), cp.name,
@@ -63,7 +62,7 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
                          [&](const Instance& i) { return i.plan->name == h.name; });
   if (it == instances_.end() || h.rules.alternative == nullptr) return fail("no alternative for '" + h.name + "'");
   const profile::ComponentProfile& cp = *h.rules.alternative;
-  if (auto lib = findLibrary(cp); !lib && !runtime::Registry::instance().find(cp.name, "")) {
+  if (auto lib = findLibrary(cp); !lib) {
     // The fault's record keeps one short line; the warning at start said where keel looked.
     const std::string& why = lib.error().message;
     return fail(fmt::format("{}: {}", cp.name, why.substr(0, why.find(';'))));
