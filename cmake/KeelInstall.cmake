@@ -36,10 +36,11 @@ set_target_properties(keel PROPERTIES INSTALL_RPATH "$ORIGIN")
 set_target_properties(keel_cli PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_lib}"
                                           EXPORT_NAME cli)
 set_target_properties(keel_host PROPERTIES INSTALL_RPATH "$ORIGIN/${_keel_bin_to_lib}" EXPORT_NAME host)
+set_target_properties(keel_node_exec PROPERTIES EXPORT_NAME node_exec)
 
 set_target_properties(keel_opros PROPERTIES INSTALL_RPATH "$ORIGIN")
 
-install(TARGETS keel keel_opros keel_cli keel_host
+install(TARGETS keel keel_opros keel_cli keel_host keel_node_exec
   EXPORT keelTargets
   RUNTIME DESTINATION "${CMAKE_INSTALL_BINDIR}" COMPONENT keel_runtime
   LIBRARY DESTINATION "${CMAKE_INSTALL_LIBDIR}" COMPONENT keel_runtime

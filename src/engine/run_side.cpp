@@ -65,8 +65,8 @@ Result<void> RunSide::setUpProcesses() {
     rings.push_back(std::move(*ring));
   }
   supervisor_ = std::make_unique<supervision::ProcessSupervisor>(
-      plan, *session_, std::move(rings), e_.options_.host_launch, [this](const std::string& m) { e_.warn(m); },
-      e_.log_);
+      plan, *session_, std::move(rings), e_.options_.host_launch, [this](const std::string& m) { e_.warn(m); }, e_.log_,
+      spawner_);
   return {};
 }
 

@@ -2,7 +2,8 @@
 // `started` and `stopped` records and the composites' derived states; when the plan has
 // <process>es, it makes their shared session and rings, holds the supervisor lock for the
 // run (its release by death tells every component process), and has the supervisor start,
-// watch and stop them, with a proxy standing in for each instance they run.
+// watch and stop them, with a proxy standing in for each instance they run. It owns the spawner
+// every process keel run starts comes from, whose thread lives as long as the run.
 // Thread-safety: as Side's.
 #pragma once
 
@@ -15,6 +16,7 @@
 
 #include "engine/side.hpp"
 #include "supervision/process_supervisor.hpp"
+#include "supervision/spawner.hpp"
 
 namespace keel::engine {
 
@@ -50,6 +52,9 @@ class RunSide final : public Side {
  private:
   Engine& e_;
   const std::string process_;  // keel run's own: ""
+  // Every child keel run starts is started from its thread, whose end kills them
+  // (PR_SET_PDEATHSIG): it lives until the side goes, after those who use it.
+  supervision::Spawner spawner_;
   // Process isolation: the session before the supervisor, which uses it (destroyed after).
   std::optional<runtime::ipc::Session> session_;
   bool holds_supervisor_lock_ = false;

@@ -1,5 +1,6 @@
 #include "runtime/job_thread.hpp"
 
+#include <future>
 #include <utility>
 
 namespace keel::runtime {
@@ -16,6 +17,19 @@ void JobThread::post(std::function<void()> job) {
   wake_.notify_one();
 }
 
+void JobThread::drain() {
+  if (isCurrent()) return;
+  std::promise<void> ran;
+  auto reached = ran.get_future();
+  {
+    std::lock_guard lock(mutex_);
+    if (ended_) return;
+    jobs_.push_back([&ran] { ran.set_value(); });
+  }
+  wake_.notify_one();
+  reached.wait();
+}
+
 void JobThread::stop() {
   {
     std::lock_guard lock(mutex_);
@@ -30,7 +44,10 @@ void JobThread::run() {
   std::unique_lock lock(mutex_);
   for (;;) {
     wake_.wait(lock, [this] { return done_ || !jobs_.empty(); });
-    if (jobs_.empty()) return;  // stopped, and nothing left to run
+    if (jobs_.empty()) {  // stopped, and nothing left to run
+      ended_ = true;
+      return;
+    }
     auto job = std::move(jobs_.front());
     jobs_.pop_front();
     lock.unlock();

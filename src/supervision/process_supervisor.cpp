@@ -40,8 +40,9 @@ std::string defaultHostExecutable() {
 
 ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& session,
                                      std::vector<ipc::SharedMemory> rings, HostLaunch launch, runtime::Warn warn,
-                                     log::FaultLog& log)
-    : session_(session), rings_(std::move(rings)), launch_(std::move(launch)), warn_(std::move(warn)), log_(log) {
+                                     log::FaultLog& log, Spawner& spawner)
+    : session_(session), rings_(std::move(rings)), launch_(std::move(launch)), warn_(std::move(warn)), log_(log),
+      spawner_(spawner) {
   const std::vector<std::size_t> crossing = crossingConnections(plan);
   for (std::size_t i = 0; i < plan.processes.size(); ++i) {
     auto g = std::make_unique<Group>();
@@ -72,7 +73,7 @@ ProcessSupervisor::ProcessSupervisor(const plan::Plan& plan, ipc::Session& sessi
 
 ProcessSupervisor::~ProcessSupervisor() {
   stop(std::chrono::seconds(2));
-  spawner_.stop();
+  spawner_.drain();  // a standby's top-up it posted, which refers to it
 }
 
 std::unique_ptr<Component> ProcessSupervisor::makeProxy(const plan::PlannedInstance& instance) {

@@ -6,7 +6,7 @@
 // took over by itself, or a respawn), its stop stops the process's hosts, its emergency stop is
 // the hosts' emergency stop. A standby that dies is replaced; a fresh standby is started after
 // every takeover.
-// Hosts are started by the supervisor's spawner (spawner.hpp), which lives as long as it.
+// Hosts are started by keel run's spawner (spawner.hpp), which outlives the supervisor.
 // Thread-safety: start/stop from the engine's thread; the rest from any thread.
 #pragma once
 
@@ -48,10 +48,10 @@ std::string defaultHostExecutable();
 class ProcessSupervisor {
  public:
   /// `rings`: every crossing connection's memfd, by ring index (crossing.hpp); `log` gets a
-  /// `host` record per host that ends.
+  /// `host` record per host that ends; `spawner` starts every host, and outlives the supervisor.
   ProcessSupervisor(const plan::Plan& plan, runtime::ipc::Session& session,
                     std::vector<runtime::ipc::SharedMemory> rings, HostLaunch launch, runtime::Warn warn,
-                    log::FaultLog& log);
+                    log::FaultLog& log, Spawner& spawner);
   ~ProcessSupervisor();
   ProcessSupervisor(const ProcessSupervisor&) = delete;
   ProcessSupervisor& operator=(const ProcessSupervisor&) = delete;
@@ -107,7 +107,7 @@ class ProcessSupervisor {
   std::condition_variable beat_cv_;
   std::vector<std::thread> beat_watchers_;
 
-  Spawner spawner_;  // every host is started from it
+  Spawner& spawner_;  // every host is started from it
 };
 
 }  // namespace keel::supervision

@@ -1,8 +1,11 @@
-// Starting the programs keel supervises: a keel-host today, any executable alike. Each child is
-// started by posix_spawn from the spawner's one thread — a child's PR_SET_PDEATHSIG fires when
-// the thread that started it ends, so that thread lives as long as its owner — in a process group
-// of its own (a terminal's ^C reaches keel run, which stops its children in order), with only the
-// descriptors it is given and the signals keel run blocks or ignores back at their defaults.
+// Starting the programs keel supervises: keel-hosts and ROS 2 nodes, any executable alike. Each
+// child is started by posix_spawn from the spawner's one thread — a child's PR_SET_PDEATHSIG fires
+// when the thread that started it ends, so that thread lives as long as keel run's side of the
+// engine, which owns the spawner — in a process group of its own (a terminal's ^C reaches keel
+// run, which stops its children in order), with only the descriptors it is given and the signals
+// keel run blocks or ignores back at their defaults. A program that cannot set PR_SET_PDEATHSIG
+// itself (a node: keel-hosts do) is started through keel-node-exec (`ChildSpec::shim`), which
+// sets it and then executes the program.
 // Thread-safety: any thread.
 #pragma once
 
@@ -24,6 +27,16 @@ struct ChildSpec {
   /// Given to the child as descriptors 3, 4, ... (the caller's stay open); every other
   /// descriptor above 2 is closed in the child, close-on-exec or not.
   std::vector<int> fds;
+  /// "NAME=value" each: set in the child's environment over keel run's own (which it inherits).
+  std::vector<std::string> environment{};
+  /// The child's working directory; empty: keel run's.
+  std::string directory{};
+  /// A file the child's stdout and stderr are appended to (created if missing); empty: keel
+  /// run's own stdout and stderr.
+  std::string output{};
+  /// keel-node-exec's path: the child is started through it, so that it dies with the spawner's
+  /// thread (PR_SET_PDEATHSIG) even if it cannot ask for that itself; empty: started directly.
+  std::string shim{};
 };
 
 /// The first descriptor a child gets from ChildSpec::fds.
@@ -40,6 +53,9 @@ class Spawner {
   /// Runs `job` on the spawner's thread after what was posted before (work that starts children
   /// and must not wait on the caller's thread).
   void post(std::function<void()> job) { thread_.post(std::move(job)); }
+  /// Returns once what was posted before has run: for a user of the spawner whose posted jobs
+  /// refer to it, before it goes.
+  void drain() { thread_.drain(); }
   /// Ends the thread once what was posted ran. Idempotent.
   void stop() { thread_.stop(); }
 

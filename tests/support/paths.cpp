@@ -23,5 +23,6 @@ const char* motionBoard() { return KEEL_PATH_MOTION_BOARD; }
 const char* robot() { return KEEL_PATH_ROBOT; }
 const char* bench() { return KEEL_PATH_BENCH; }
 const char* rclpyPython() { return KEEL_PATH_RCLPY_PYTHON; }
+const char* nodeExec() { return KEEL_PATH_NODE_EXEC; }
 
 }  // namespace keel::test::paths

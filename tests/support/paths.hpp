@@ -24,6 +24,7 @@ const char* motionBoard();      // the simulated motion board's executable
 const char* robot();            // robot/
 const char* bench();            // keel-bench, the benchmark harness
 const char* rclpyPython();      // the test peers' Python, with rclpy (tests/peers/venv)
+const char* nodeExec();         // keel-node-exec, what keel run starts a node through
 
 }  // namespace keel::test::paths
 
@@ -42,3 +43,4 @@ const char* rclpyPython();      // the test peers' Python, with rclpy (tests/pee
 #define KEEL_ROBOT (::keel::test::paths::robot())
 #define KEEL_BENCH (::keel::test::paths::bench())
 #define KEEL_RCLPY_PYTHON (::keel::test::paths::rclpyPython())
+#define KEEL_NODE_EXEC (::keel::test::paths::nodeExec())
