@@ -73,6 +73,7 @@ Result<std::unique_ptr<Engine>> Engine::create(plan::PlannedProfiles planned, En
 }
 
 bool Engine::isLocal(const plan::PlannedInstance& pi) const {
+  if (pi.node) return false;  // a ROS 2 node: its own process, keel's proxy stands in for it
   return options_.check_only || pi.process == side_->process();
 }
 

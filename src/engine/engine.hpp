@@ -176,7 +176,8 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   void buildExecutors();
   void startDetectors();
   void warn(const std::string& message);
-  /// Whether `pi` runs in this engine's process (keel run's own, or the host's <process>).
+  /// Whether `pi` runs in this engine's process (keel run's own, or the host's <process>); never
+  /// a ROS 2 node.
   bool isLocal(const plan::PlannedInstance& pi) const;
   /// check_only: what each component process checks when it connects its ends (a value that
   /// cannot cross processes), for every connection between processes.

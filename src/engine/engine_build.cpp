@@ -88,13 +88,14 @@ Result<void> Engine::instantiate() {
     if (!isLocal(pi)) {
       std::unique_ptr<Component> stand_in = side_->standIn(pi);
       if (!stand_in) continue;  // runs in another component process
-      Instance inst;            // keel run: the proxy of a component in a process of its own
+      Instance inst;            // keel run: the proxy of a component in a process of its own, or of a node
       inst.plan = &pi;
       inst.component = std::move(stand_in);
       detail::ComponentCore& core = runtime::coreOf(*inst.component);
       core.instance_name = pi.name;
       core.class_name = cp.name;
       core.fault_sink = &fault_manager_;
+      if (pi.node) core.hooks = this;  // a node has no engine of its own: keel run logs its states
       inst.serving_slot->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
       continue;

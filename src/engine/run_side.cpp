@@ -4,6 +4,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+
+#include "dds/dds_ports.hpp"
 #include "engine/engine.hpp"
 #include "log/schema.hpp"
 #include "supervision/crossing.hpp"
@@ -47,6 +52,7 @@ Result<void> RunSide::openLog() {
 
 Result<void> RunSide::setUpProcesses() {
   const plan::Plan& plan = e_.planned_.plan;
+  if (auto r = setUpNodes(); !r) return r;
   if (plan.processes.empty()) return {};
   auto session = runtime::ipc::Session::create(supervision::sessionShape(plan));
   if (!session) return session.error();
@@ -70,7 +76,37 @@ Result<void> RunSide::setUpProcesses() {
   return {};
 }
 
+// The nodes' domain is keel run's: its /diagnostics domain, else its first <dds>'s, else 0 —
+// ROS_DOMAIN_ID over any. Their output files are beside the log, else in a folder of keel run's.
+Result<void> RunSide::setUpNodes() {
+  const plan::Plan& plan = e_.planned_.plan;
+  if (std::none_of(plan.instances.begin(), plan.instances.end(), [](const auto& pi) { return pi.node != nullptr; }))
+    return {};
+  supervision::NodeLaunch launch;
+  launch.node_exec = supervision::defaultNodeExec();
+  auto domain = dds::effectiveDomain(plan.diagnostics_domain.value_or(plan.dds.empty() ? 0 : plan.dds.front().domain));
+  if (!domain) return domain.error();
+  launch.domain = *domain;
+  const EngineOptions& o = e_.options_;
+  namespace fs = std::filesystem;
+  if (!o.log_path.empty()) {
+    const fs::path log(o.log_path);
+    launch.output_dir = log.has_parent_path() ? log.parent_path().string() : ".";
+    launch.output_stem = log.stem().string();
+  } else {
+    const char* tmp = std::getenv("TMPDIR");
+    launch.output_dir = fmt::format("{}/keel-run-{}", tmp && *tmp ? tmp : "/tmp", ::getpid());
+    std::error_code ec;
+    fs::create_directories(launch.output_dir, ec);
+    if (ec) return fail(fmt::format("cannot make '{}' for the nodes' output: {}", launch.output_dir, ec.message()));
+  }
+  nodes_ = std::make_unique<supervision::NodeSupervisor>(
+      plan, std::move(launch), [this](const std::string& m) { e_.warn(m); }, e_.log_, spawner_);
+  return {};
+}
+
 std::unique_ptr<Component> RunSide::standIn(const plan::PlannedInstance& pi) {
+  if (pi.node) return nodes_ ? nodes_->makeProxy(pi) : nullptr;
   std::unique_ptr<Component> proxy = supervisor_ ? supervisor_->makeProxy(pi) : nullptr;
   if (proxy) runtime::coreOf(*proxy).hooks = nullptr;  // its states are logged by the process that runs it
   return proxy;
@@ -89,6 +125,11 @@ bool RunSide::injects(const injection::ScheduledFault& f, const plan::PlannedIns
 }
 
 Result<void> RunSide::launch() {
+  if (nodes_) {
+    nodes_->setReport(
+        [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.report(proxy, fault, "supervisor"); });
+    if (auto r = nodes_->launch(); !r) return r;
+  }
   if (!supervisor_) return {};
   supervisor_->setReport(
       [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.report(proxy, fault, "supervisor"); });
@@ -153,6 +194,7 @@ void RunSide::emergencyCleared() {
 }
 
 void RunSide::stopProcesses() {
+  if (nodes_) nodes_->stop(e_.options_.stop_timeout);            // nodes the proxies' onStop did not stop
   if (supervisor_) supervisor_->stop(e_.options_.stop_timeout);  // hosts the proxies' onStop did not stop
 }
 
@@ -160,6 +202,9 @@ void RunSide::stopped() {
   if (e_.started_) e_.log_.write(log::schema::engine("stopped"));
 }
 
-void RunSide::close() { supervisor_.reset(); }  // its threads report to the fault manager
+void RunSide::close() {  // their threads report to the fault manager
+  nodes_.reset();
+  supervisor_.reset();
+}
 
 }  // namespace keel::engine

@@ -2,7 +2,8 @@
 // `started` and `stopped` records and the composites' derived states; when the plan has
 // <process>es, it makes their shared session and rings, holds the supervisor lock for the
 // run (its release by death tells every component process), and has the supervisor start,
-// watch and stop them, with a proxy standing in for each instance they run. It owns the spawner
+// watch and stop them, with a proxy standing in for each instance they run; when it has ROS 2
+// nodes, it has the node supervisor start and watch them likewise. It owns the spawner
 // every process keel run starts comes from, whose thread lives as long as the run.
 // Thread-safety: as Side's.
 #pragma once
@@ -15,6 +16,7 @@
 #include <vector>
 
 #include "engine/side.hpp"
+#include "supervision/node_supervisor.hpp"
 #include "supervision/process_supervisor.hpp"
 #include "supervision/spawner.hpp"
 
@@ -50,6 +52,8 @@ class RunSide final : public Side {
   void close() override;
 
  private:
+  Result<void> setUpNodes();
+
   Engine& e_;
   const std::string process_;  // keel run's own: ""
   // Every child keel run starts is started from its thread, whose end kills them
@@ -59,6 +63,7 @@ class RunSide final : public Side {
   std::optional<runtime::ipc::Session> session_;
   bool holds_supervisor_lock_ = false;
   std::unique_ptr<supervision::ProcessSupervisor> supervisor_;
+  std::unique_ptr<supervision::NodeSupervisor> nodes_;  // when the plan has ROS 2 nodes
   // Composites (plan().composites): OPRoS gives them no state; keel run logs one derived from
   // their members' (compositeStates). Guarded by composite_mutex_ (any component's thread).
   std::mutex composite_mutex_;

@@ -28,6 +28,7 @@ inline constexpr char kEngine[] = "engine";               // the run's phases: l
 inline constexpr char kWarning[] = "warning";             // something the run goes on without
 inline constexpr char kEndRequested[] = "end_requested";  // a component asked to end the run
 inline constexpr char kHost[] = "host";                   // a component process (<process>) changed state
+inline constexpr char kNode[] = "node";                   // a ROS 2 node keel runs was started, exited or stopped
 inline constexpr char kCounts[] = "counts";               // a component's or an executor's totals, at its engine's end
 }  // namespace event
 
@@ -72,7 +73,9 @@ inline constexpr char kSet[] = "set";                             // engine `loa
 inline constexpr char kExecutors[] = "executors";                 // engine `started`
 inline constexpr char kCpuDmaLatencyUs[] = "cpu_dma_latency_us";  // engine `started`
 inline constexpr char kProcess[] = "process";                     // `host`: the <process> name
-inline constexpr char kPid[] = "pid";                             // `host`: its OS process id
+inline constexpr char kPid[] = "pid";                             // `host`, `node`: its OS process id
+inline constexpr char kNodeName[] = "node";                       // `node`: its name in the ROS 2 graph
+inline constexpr char kLastLines[] = "last_lines";                // `node` `exited`: its output's last lines
 inline constexpr char kName[] = "name";                           // engine `load`: the run's (root profile's) name
 inline constexpr char kClass[] = "class";                         // `counts`, `state`: the component's class
 inline constexpr char kExecutor[] = "executor";                   // `counts`: the executor's name, or "passive"
@@ -181,6 +184,16 @@ inline nlohmann::json engine(std::string_view phase) {
 /// A host process of `process` changed state: loading, standby, active, exited, died, failed.
 inline nlohmann::json host(std::string_view process, long pid, std::string_view state) {
   return {{field::kEvent, event::kHost}, {field::kProcess, process}, {field::kPid, pid}, {field::kPhase, state}};
+}
+
+/// A ROS 2 node of instance `component`, fully named `node`, changed phase: started, restarted,
+/// exited (by itself), stopped (by keel).
+inline nlohmann::json node(std::string_view component, std::string_view node, long pid, std::string_view phase) {
+  return {{field::kEvent, event::kNode},
+          {field::kComponent, component},
+          {field::kNodeName, node},
+          {field::kPid, pid},
+          {field::kPhase, phase}};
 }
 
 /// A component's totals at the end of its engine: `executor` its executor's name or "passive".

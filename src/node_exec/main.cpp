@@ -1,14 +1,22 @@
-// keel-node-exec: what keel run starts a program through when the program cannot ask by itself
-// to die with keel run (a ROS 2 node; keel-hosts ask themselves). It asks the kernel for SIGKILL
-// when the thread of keel run that started it ends (PR_SET_PDEATHSIG, kept across execve), makes
-// sure keel run did not end before it asked, and then becomes the program: same pid, same process
-// group, nothing left of itself. libc only, so that the one more exec costs little.
+// keel-node-exec: the two helpers keel run needs to leave no node behind, even when it is killed
+// with kill -9. libc and the C++ library only: nothing of keel's, so that each costs little.
 //
 //   keel-node-exec PARENT PROGRAM [ARG...]
+//       What keel run starts a node through (a program that cannot ask by itself to die with keel
+//       run; keel-hosts ask themselves). It asks the kernel for SIGKILL when the thread of keel
+//       run that started it ends (PR_SET_PDEATHSIG, kept across execve), makes sure keel run did
+//       not end before it asked (PARENT, keel run's pid, is still its parent), and then becomes
+//       the program: same pid, same process group, nothing left of itself. Exit status 127, with
+//       a line on stderr (the node's output file), when the program cannot be executed.
 //
-// PARENT is keel run's pid: when it is no longer this process's parent (keel run died between
-// the spawn and the request), the program is not started. Exit status 127, with a line on stderr
-// (the node's output file), when the program cannot be executed; 2 on a wrong command line.
+//   keel-node-exec --guard
+//       One per keel run with nodes, in a process group of its own: it reads from descriptor 3
+//       lines "+PGID" (a node's process group started) and "-PGID" (it ended), and when the
+//       descriptor reaches its end — keel run closed it, or died — sends SIGKILL to every group
+//       still listed. That covers what a node forked (`ros2 run`, a shell script), which
+//       PR_SET_PDEATHSIG, given to the node alone, does not.
+//
+// Exit status 2 on a wrong command line.
 #include <sys/prctl.h>
 #include <unistd.h>
 
@@ -17,15 +25,55 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <set>
+#include <string>
+
+namespace {
+
+bool parsePid(const char* text, long& out) {
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtol(text, &end, 10);
+  return *text != '\0' && *end == '\0' && errno == 0 && out > 1;
+}
+
+int guard() {
+  std::signal(SIGINT, SIG_IGN);  // a terminal's ^C is keel run's to handle, not the guard's
+  std::signal(SIGHUP, SIG_IGN);
+  std::set<long> groups;
+  std::string line;
+  char buf[512];
+  for (;;) {
+    const ssize_t n = ::read(3, buf, sizeof buf);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;  // keel run closed it, or is gone
+    for (ssize_t i = 0; i < n; ++i) {
+      if (buf[i] != '\n') {
+        line += buf[i];
+        continue;
+      }
+      long pgid = 0;
+      if (line.size() > 1 && parsePid(line.c_str() + 1, pgid)) {
+        if (line[0] == '+') groups.insert(pgid);
+        else if (line[0] == '-') groups.erase(pgid);
+      }
+      line.clear();
+    }
+  }
+  for (long pgid : groups) ::killpg(static_cast<pid_t>(pgid), SIGKILL);
+  return 0;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && std::strcmp(argv[1], "--guard") == 0) return guard();
   if (argc < 3) {
-    std::fputs("usage: keel-node-exec PARENT PROGRAM [ARG...]\n", stderr);
+    std::fputs("usage: keel-node-exec PARENT PROGRAM [ARG...] | keel-node-exec --guard\n", stderr);
     return 2;
   }
-  char* end = nullptr;
-  const long parent = std::strtol(argv[1], &end, 10);
-  if (*argv[1] == '\0' || *end != '\0' || parent <= 1) {
+  long parent = 0;
+  if (!parsePid(argv[1], parent)) {
     std::fprintf(stderr, "keel-node-exec: PARENT '%s' is not a pid\n", argv[1]);
     return 2;
   }

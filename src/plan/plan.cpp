@@ -186,10 +186,11 @@ class Planner {
     return q.name;
   }
 
-  Result<void> addComponentRoot(const profile::ComponentProfile& cp) {
+  Result<void> addComponentRoot(const profile::ComponentProfile& cp, const profile::NodeProfile* node = nullptr) {
     PlannedInstance inst;
     inst.name = cp.name;
     inst.profile = &cp;
+    inst.node = node;
     for (const auto& p : cp.properties) inst.properties[p.name] = p.value;
     inst.where = cp.where;
     plan_.instances.push_back(std::move(inst));
@@ -209,6 +210,10 @@ class Planner {
       inst.application = app;
       if (sub.process) inst.process = noteProcess(prefix, *sub.process);
       inst.redundancy = sub.redundancy;
+      if (auto node = set_.nodes.find(sub.reference); node != set_.nodes.end()) {
+        inst.node = &node->second;
+        inst.attached = sub.attach.has_value();
+      }
       inst.where = sub.where;
       plan_.instances.push_back(std::move(inst));
       members_[name] = {name};
@@ -311,6 +316,11 @@ Result<Plan> makePlan(const ProfileSet& set) {
     case profile::RootKind::Component: {
       const auto& cp = set.components.at(set.root);
       if (auto r = planner.addComponentRoot(cp); !r) return r.error();
+      return planner.finish(cp.name);
+    }
+    case profile::RootKind::Node: {  // one node run alone, under the default fault policy
+      const auto& cp = set.components.at(set.root);
+      if (auto r = planner.addComponentRoot(cp, &set.nodes.at(set.root)); !r) return r.error();
       return planner.finish(cp.name);
     }
     case profile::RootKind::Composite: {

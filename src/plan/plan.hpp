@@ -29,6 +29,10 @@ struct PlannedInstance {
   std::string process;                            // qualified name of its <process>; empty: keel run's own process
   std::optional<profile::Redundancy> redundancy;  // its <redundancy>: its DDS writers are exclusive
   profile::Where where;                           // its <subcomponent>
+  /// A ROS 2 node (its reference is a node profile; `profile` is then the node's ports as a
+  /// passive component's): keel run starts it, or watches it when `attached`.
+  const profile::NodeProfile* node = nullptr;
+  bool attached = false;  // <attach/>: someone else starts it
 };
 
 /// A component process (<process name standby>): the instances it hosts, in plan order.

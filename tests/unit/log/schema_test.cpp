@@ -47,6 +47,7 @@ const Constant kEvents[] = {
     {"kWarning", ev::kWarning},
     {"kEndRequested", ev::kEndRequested},
     {"kHost", ev::kHost},
+    {"kNode", ev::kNode},
     {"kCounts", ev::kCounts},
 };
 
@@ -91,6 +92,8 @@ const Constant kFields[] = {
     {"kCpuDmaLatencyUs", fd::kCpuDmaLatencyUs},
     {"kProcess", fd::kProcess},
     {"kPid", fd::kPid},
+    {"kNodeName", fd::kNodeName},
+    {"kLastLines", fd::kLastLines},
     {"kName", fd::kName},
     {"kClass", fd::kClass},
     {"kExecutor", fd::kExecutor},

@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "supervision/exit_watch.hpp"
+#include "support/env.hpp"
 #include "support/paths.hpp"
 
 namespace keel::supervision {
@@ -116,16 +117,14 @@ TEST(Spawner, AJobOnTheSpawnersThreadStartsChildrenWithoutWaitingForItself) {
 }
 
 TEST(Spawner, AChildGetsKeelsEnvironmentWithTheGivenVariablesSetOverIt) {
-  ::setenv("KEEL_SPAWNER_TEST_KEPT", "kept", 1);
-  ::setenv("KEEL_SPAWNER_TEST_OVER", "keel's", 1);
+  test::ScopedEnv kept("KEEL_SPAWNER_TEST_KEPT", "kept");
+  test::ScopedEnv over("KEEL_SPAWNER_TEST_OVER", "keel's");
   Spawner spawner;
   ChildSpec spec{"/bin/sh",
                  {"-c", "echo \"$KEEL_SPAWNER_TEST_KEPT $KEEL_SPAWNER_TEST_OVER $KEEL_SPAWNER_TEST_NEW\" >&3"},
                  {}};
   spec.environment = {"KEEL_SPAWNER_TEST_OVER=the node's", "KEEL_SPAWNER_TEST_NEW=new"};
   const Said said = runAndRead(spawner, spec);
-  ::unsetenv("KEEL_SPAWNER_TEST_KEPT");
-  ::unsetenv("KEEL_SPAWNER_TEST_OVER");
   EXPECT_EQ(said.text, "kept the node's new\n");
   EXPECT_EQ(describeExit(said.status), "exited with status 0");
 }

@@ -1,0 +1,108 @@
+// keel run's side of ROS 2 nodes (docs/ros2-nodes.md): it starts each node a node profile
+// describes, in a process group of its own, through keel-node-exec (so that the node dies with
+// keel run, kill -9 included), its output appended to a file beside the run's log; it sees the
+// node's death the moment it happens (exit_watch.hpp) and reports it as a `process` fault of the
+// node's proxy, keel run's stand-in for the node in the engine, with its exit status and its last
+// output lines. The proxy is passive: its reset restarts the node, its stop stops it (SIGINT to
+// its group, a grace period, then SIGKILL), its emergency stop stops it when its profile says so.
+// Every start, exit and stop is a `node` record of the log. A guard process (keel-node-exec
+// --guard) knows every node's process group: when keel run dies, kill -9 included, it kills what
+// is left of them (what a node forked, which dies with keel run no other way).
+// Nodes are started by keel run's spawner (spawner.hpp), which outlives the supervisor.
+// Thread-safety: launch() and stop() from the engine's thread; the proxies from any thread.
+#pragma once
+
+#include <sys/types.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "keel/component.hpp"
+#include "keel/result.hpp"
+#include "log/fault_log.hpp"
+#include "plan/plan.hpp"
+#include "runtime/warning.hpp"
+#include "supervision/exit_watch.hpp"
+#include "supervision/spawner.hpp"
+
+namespace keel::supervision {
+
+/// What every node keel run starts shares.
+struct NodeLaunch {
+  std::string node_exec;   // keel-node-exec
+  std::string output_dir;  // where each node's output file is
+  /// Each node's output file is `<output_dir>/<output_stem>.<instance>.out` ("run.wander.out"
+  /// beside run.jsonl).
+  std::string output_stem = "run";
+  int domain = 0;  // ROS_DOMAIN_ID of every node: keel run's own domain
+};
+
+/// keel-node-exec: $KEEL_NODE_EXEC if set, else beside the running executable.
+std::string defaultNodeExec();
+
+/// The last `n` lines of the text file `path` (its last 4 KiB at most), without their line ends.
+std::vector<std::string> lastLines(const std::string& path, std::size_t n);
+
+class NodeSupervisor {
+ public:
+  /// Every instance of `plan` whose `node` is set is a node this supervisor runs (an attached
+  /// one: watches); `log` gets the `node` records; `spawner` starts the nodes.
+  NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtime::Warn warn, log::FaultLog& log, Spawner& spawner);
+  ~NodeSupervisor();
+  NodeSupervisor(const NodeSupervisor&) = delete;
+  NodeSupervisor& operator=(const NodeSupervisor&) = delete;
+
+  /// keel run's stand-in for node `instance`; null when it is not a node.
+  std::unique_ptr<Component> makeProxy(const plan::PlannedInstance& instance);
+  /// Where the proxies' faults go (the fault manager), before launch().
+  using Report = std::function<void(Component& proxy, const FaultEvent& fault)>;
+  void setReport(Report report) { report_ = std::move(report); }
+
+  /// Starts every node keel runs (not the attached ones); each one that cannot be started is
+  /// an error, all said.
+  Result<void> launch();
+  /// Stops every node still running: SIGINT to its group, then SIGKILL to those still there
+  /// after their grace period (at most `within`). Its exit is then no fault.
+  void stop(std::chrono::milliseconds within);
+
+  /// The output file of node `instance` ("" for no such node).
+  std::string outputOf(std::string_view instance) const;
+  /// The pid of node `instance` now; 0 when it does not run.
+  pid_t pidOf(std::string_view instance) const;
+
+ private:
+  struct Node;
+  struct Proxy;
+  friend struct Proxy;
+
+  Result<pid_t> start(Node& n, std::string_view phase);
+  void exited(Node& n, pid_t pid, const Exit& exit);
+  Result<void> restart(Node& n);
+  void stopNode(Node& n, std::chrono::milliseconds grace);
+  ChildSpec childOf(const Node& n) const;
+  Result<void> startGuard();
+  void tellGuard(char op, pid_t pgid) const;
+  void endGuard();
+
+  NodeLaunch launch_;
+  runtime::Warn warn_;
+  log::FaultLog& log_;
+  Spawner& spawner_;
+  Report report_;
+  std::vector<std::unique_ptr<Node>> nodes_;
+  int guard_fd_ = -1;  // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
+  pid_t guard_pid_ = 0;
+  std::mutex guard_mutex_;
+  std::condition_variable guard_ended_;
+  bool guard_gone_ = false;
+  bool guard_closing_ = false;
+  ExitWatch watch_;  // last: its thread ends (stop()) before the nodes it reports on go
+};
+
+}  // namespace keel::supervision

@@ -1,0 +1,274 @@
+// The node supervisor (src/supervision/node_supervisor.hpp) with plain programs as nodes: what
+// a node is started with, its death as a `process` fault with its status and last lines, its
+// restart and stop, and that none outlives the supervisor. (Real rclpy nodes: tests/integration.)
+#include "supervision/node_supervisor.hpp"
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <mutex>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "runtime/injection.hpp"
+#include "support/log_reader.hpp"
+#include "support/paths.hpp"
+#include "support/temp_log.hpp"
+
+namespace keel::supervision {
+namespace {
+
+namespace fs = std::filesystem;
+
+// One node, `/bin/sh -c SCRIPT` run as /demo/talker, in a plan of its own.
+struct Rig {
+  explicit Rig(const std::string& script, double grace_ms = 2000)
+      : dir(fs::temp_directory_path() / ("keel_node_sup_" + std::to_string(::getpid()))) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    node.file = (dir / "talker.xml").string();
+    node.name = "Talker";
+    node.command = {"/bin/sh", "-c", script};
+    node.executable = "/bin/sh";
+    node.node_namespace = "/demo";
+    node.node_name = "talker";
+    node.environment = {{"KEEL_TEST_VAR", "from the profile", {}}, {"RCUTILS_COLORIZED_OUTPUT", "1", {}}};
+    node.parameters = {{"speed", "0.2", {}}, {"mode", "fast", {}}};
+    node.stop_grace_ms = grace_ms;
+    node.component.name = "Talker";
+    plan::PlannedInstance pi;
+    pi.name = "talker";
+    pi.profile = &node.component;
+    pi.node = &node;
+    plan.instances.push_back(pi);
+    NodeLaunch launch{KEEL_NODE_EXEC, dir.string(), "run", 7};
+    sup = std::make_unique<NodeSupervisor>(
+        plan, launch, [this](const std::string& m) { warnings.push_back(m); }, log.log, spawner);
+    proxy = sup->makeProxy(plan.instances.front());
+    sup->setReport([this](Component&, const FaultEvent& f) {
+      std::lock_guard lock(mutex);
+      faults.push_back(f);
+      changed.notify_all();
+    });
+  }
+  ~Rig() {
+    sup.reset();
+    fs::remove_all(dir);
+  }
+  std::string output() const {
+    std::ifstream in(sup->outputOf("talker"));
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+  }
+  // Bounds against a hang, not speed goals.
+  bool waitForOutput(const std::string& text) const {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (output().find(text) == std::string::npos) {
+      if (std::chrono::steady_clock::now() > deadline) return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+    return true;
+  }
+  bool waitForFault() {
+    std::unique_lock lock(mutex);
+    return changed.wait_for(lock, std::chrono::seconds(30), [&] { return !faults.empty(); });
+  }
+  std::vector<nlohmann::json> nodeRecords() const { return test::eventsOf(log.read(), "node"); }
+
+  fs::path dir;
+  profile::NodeProfile node;
+  plan::Plan plan;
+  test::TempLog log{"keel_node_sup_log"};
+  std::vector<std::string> warnings;
+  Spawner spawner;
+  std::unique_ptr<NodeSupervisor> sup;
+  std::unique_ptr<Component> proxy;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<FaultEvent> faults;
+};
+
+bool gone(pid_t pid) { return ::kill(pid, 0) != 0 && errno == ESRCH; }
+
+TEST(NodeSupervisor, ANodeGetsItsRosNameParametersKeelsDomainAndItsEnvironmentInItsFolder) {
+  Rig rig(
+      R"sh(echo "args: $*"; echo "domain=$ROS_DOMAIN_ID var=$KEEL_TEST_VAR colour=$RCUTILS_COLORIZED_OUTPUT unbuffered=$PYTHONUNBUFFERED"; echo "in $(pwd)"; exec sleep 60)sh");
+  ASSERT_TRUE(rig.sup->launch());
+  ASSERT_TRUE(rig.waitForOutput("in "));
+  EXPECT_EQ(rig.output(),
+            "args: -r __node:=talker -r __ns:=/demo -p speed:=0.2 -p mode:=fast\n"  // $0 is --ros-args
+            "domain=7 var=from the profile colour=1 unbuffered=1\n"
+            "in " +
+                rig.dir.string() + "\n");
+  EXPECT_EQ(rig.sup->outputOf("talker"), (rig.dir / "run.talker.out").string());
+  const pid_t pid = rig.sup->pidOf("talker");
+  ASSERT_GT(pid, 0);
+  EXPECT_EQ(::getpgid(pid), pid) << "not in a process group of its own";
+  auto records = rig.nodeRecords();
+  ASSERT_EQ(records.size(), 1u);
+  EXPECT_EQ(records[0]["phase"], "started");
+  EXPECT_EQ(records[0]["component"], "talker");
+  EXPECT_EQ(records[0]["node"], "/demo/talker");
+  EXPECT_EQ(records[0]["pid"], pid);
+}
+
+TEST(NodeSupervisor, ItsDeathIsAProcessFaultWithItsExitStatusAndLastLines) {
+  Rig rig("echo starting; echo 'cannot open /dev/ttyUSB0' >&2; exit 3");
+  ASSERT_TRUE(rig.sup->launch());
+  ASSERT_TRUE(rig.waitForFault());
+  const pid_t pid = rig.nodeRecords().at(0)["pid"];
+  {
+    std::lock_guard lock(rig.mutex);
+    ASSERT_EQ(rig.faults.size(), 1u);
+    EXPECT_EQ(rig.faults[0].kind, FaultKind::Process);
+    EXPECT_EQ(rig.faults[0].componentName(), "talker");
+    EXPECT_EQ(rig.faults[0].detailText(),
+              "node '/demo/talker' (pid " + std::to_string(pid) + ") exited with status 3: cannot open /dev/ttyUSB0");
+    EXPECT_GT(rig.faults[0].t_ns, 0);
+  }
+  auto records = rig.nodeRecords();
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[1]["phase"], "exited");
+  EXPECT_EQ(records[1]["detail"], "exited with status 3");
+  EXPECT_EQ(records[1]["last_lines"], (nlohmann::json{"starting", "cannot open /dev/ttyUSB0"}));
+  EXPECT_EQ(rig.sup->pidOf("talker"), 0);
+}
+
+TEST(NodeSupervisor, AKilledNodeIsAProcessFaultNamingTheSignal) {
+  Rig rig("echo up; exec sleep 60");
+  ASSERT_TRUE(rig.sup->launch());
+  ASSERT_TRUE(rig.waitForOutput("up"));
+  auto* target = dynamic_cast<runtime::ProcessTarget*>(rig.proxy.get());
+  ASSERT_NE(target, nullptr);
+  ASSERT_TRUE(target->signalProcess(SIGKILL));  // what an injected `kill` does
+  ASSERT_TRUE(rig.waitForFault());
+  std::lock_guard lock(rig.mutex);
+  EXPECT_NE(std::string(rig.faults[0].detailText()).find(") killed by signal 9 (SIGKILL): up"), std::string::npos)
+      << rig.faults[0].detailText();
+}
+
+TEST(NodeSupervisor, AResetRestartsALiveNodeAsANewProcessAndAStopEndsItWithoutAFault) {
+  Rig rig("echo up; exec sleep 60");
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t first = rig.sup->pidOf("talker");
+  ASSERT_TRUE(rig.waitForOutput("up"));
+  EXPECT_EQ(rig.proxy->onReset(), ReturnCode::Ok);
+  const pid_t second = rig.sup->pidOf("talker");
+  EXPECT_GT(second, 0);
+  EXPECT_NE(second, first);
+  EXPECT_TRUE(gone(first));
+  EXPECT_EQ(rig.proxy->onStop(), ReturnCode::Ok);
+  EXPECT_EQ(rig.sup->pidOf("talker"), 0);
+  EXPECT_TRUE(gone(second));
+  std::vector<std::string> phases;
+  for (const auto& r : rig.nodeRecords()) phases.push_back(r["phase"]);
+  EXPECT_EQ(phases, (std::vector<std::string>{"started", "stopped", "restarted", "stopped"}));
+  std::lock_guard lock(rig.mutex);
+  EXPECT_TRUE(rig.faults.empty()) << "a stop keel asked for was taken for a fault: " << rig.faults[0].detailText();
+}
+
+TEST(NodeSupervisor, ANodeEndsAtSigintAndOneThatIgnoresItIsKilledAfterItsGrace) {
+  {
+    Rig polite("trap 'echo bye; exit 0' INT; echo ready; while :; do sleep 0.05; done");
+    ASSERT_TRUE(polite.sup->launch());
+    ASSERT_TRUE(polite.waitForOutput("ready"));
+    EXPECT_EQ(polite.proxy->onStop(), ReturnCode::Ok);
+    EXPECT_TRUE(polite.waitForOutput("bye"));
+    EXPECT_EQ(polite.nodeRecords().back()["detail"], "exited with status 0");
+  }
+  Rig stubborn("trap '' INT; echo ready; while :; do sleep 0.05; done", 300);
+  ASSERT_TRUE(stubborn.sup->launch());
+  ASSERT_TRUE(stubborn.waitForOutput("ready"));
+  EXPECT_EQ(stubborn.proxy->onStop(), ReturnCode::Ok);
+  auto last = stubborn.nodeRecords().back();
+  EXPECT_EQ(last["phase"], "stopped");
+  EXPECT_EQ(last["detail"], "killed by signal 9 (SIGKILL)");
+}
+
+TEST(NodeSupervisor, NoNodeNorWhatItForkedOutlivesTheSupervisor) {
+  // What it forked ignores SIGINT: only the SIGKILL to the node's group after its exit ends it.
+  Rig rig("(trap '' INT; exec sleep 60) & echo \"child $!\"; wait");
+  ASSERT_TRUE(rig.sup->launch());
+  ASSERT_TRUE(rig.waitForOutput("child "));
+  const pid_t node = rig.sup->pidOf("talker");
+  const std::string out = rig.output();
+  const pid_t forked = static_cast<pid_t>(std::stol(out.substr(out.find("child ") + 6)));
+  ExitWatch watch;  // the forked sleep is not this process's child: seen ending, not reaped
+  std::mutex m;
+  std::condition_variable cv;
+  bool forked_ended = false;
+  ASSERT_TRUE(watch.watch(forked, [&](pid_t, const Exit&) {
+    std::lock_guard lock(m);
+    forked_ended = true;
+    cv.notify_all();
+  }));
+  rig.sup.reset();
+  EXPECT_TRUE(gone(node));
+  std::unique_lock lock(m);
+  EXPECT_TRUE(cv.wait_for(lock, std::chrono::seconds(30), [&] { return forked_ended; }))
+      << "what the node forked outlived it";
+}
+
+TEST(NodeSupervisor, ANodeThatCannotBeStartedIsALaunchErrorAndOneThatCannotExecIsAFaultSayingWhy) {
+  {
+    Rig rig("exit 0");
+    fs::remove_all(rig.dir);  // no folder for its output
+    auto launched = rig.sup->launch();
+    ASSERT_FALSE(launched);
+    EXPECT_EQ(launched.error().message, "node 'talker': cannot open '" + (rig.dir / "run.talker.out").string() +
+                                            "' for the output of '/bin/sh': No such file or directory");
+  }
+  Rig rig("exit 0");
+  rig.node.executable = (rig.dir / "no-such-node").string();  // the shim starts, its exec fails
+  ASSERT_TRUE(rig.sup->launch());
+  ASSERT_TRUE(rig.waitForFault());
+  std::lock_guard lock(rig.mutex);
+  EXPECT_NE(std::string(rig.faults[0].detailText()).find("exited with status 127: keel-node-exec: cannot execute"),
+            std::string::npos)
+      << rig.faults[0].detailText();
+}
+
+// keel-node-exec --guard alone: what keel run's death (its socket's end) does to the groups it was
+// told of.
+TEST(NodeSupervisor, TheGuardKillsTheGroupsStillListedWhenItsSocketEnds) {
+  Spawner spawner;
+  int fds[2];
+  ASSERT_EQ(::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds), 0);
+  auto guard = spawner.start({KEEL_NODE_EXEC, {"--guard"}, {fds[1]}});
+  ASSERT_TRUE(guard) << guard.error().message;
+  ::close(fds[1]);
+  auto listed = spawner.start({"/bin/sleep", {"60"}, {}});  // each in a group of its own
+  auto unlisted = spawner.start({"/bin/sleep", {"60"}, {}});
+  ASSERT_TRUE(listed && unlisted);
+  ExitWatch watch;
+  std::promise<Exit> listed_end;
+  ASSERT_TRUE(watch.watch(*listed, [&](pid_t, const Exit& e) { listed_end.set_value(e); }));
+  const std::string lines = fmt::format("+{}\n+{}\n-{}\n", *listed, *unlisted, *unlisted);
+  ASSERT_EQ(::send(fds[0], lines.data(), lines.size(), MSG_NOSIGNAL), static_cast<ssize_t>(lines.size()));
+  ::close(fds[0]);  // keel run "died"
+  auto ended = listed_end.get_future();
+  ASSERT_EQ(ended.wait_for(std::chrono::seconds(30)), std::future_status::ready)
+      << "the guard left a listed group alive";
+  EXPECT_EQ(describe(ended.get()), "killed by signal 9 (SIGKILL)");
+  EXPECT_EQ(::kill(*unlisted, 0), 0) << "the guard killed a group keel had taken off its list";
+  ::kill(*unlisted, SIGKILL);
+  ::waitpid(*unlisted, nullptr, 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(*guard, &status, 0), *guard);
+  EXPECT_EQ(describeExit(status), "exited with status 0");
+}
+
+}  // namespace
+}  // namespace keel::supervision
