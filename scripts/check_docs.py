@@ -13,7 +13,7 @@ ARCHITECTURE.md, ROBOT.md, STYLE.md), on a path of one machine (/work/..., /home
 project issue number ("issue 14": the tree's readers have no tracker to look it up in; a public
 project's issue beside its https:// address is a reference like any other). These rules hold for
 the docs and for every source file of the tree too (src, include, tests, bench, robot, examples,
-fuzz, msgs, scripts, .ci, the CMake files): keel's comments stand alone. And a clang-tidy
+fuzz, msgs, scripts, .ci, the CMake files, package.xml): keel's comments stand alone. And a clang-tidy
 suppression in C++ names its checks and says why, `// NOLINT(check-name): the reason`, so that
 a reader can judge it and it hides nothing else.
 
@@ -59,7 +59,7 @@ def source_files(root):
                         os.path.abspath(path) != os.path.abspath(__file__):
                     out.append(path)
     for name in os.listdir(root):
-        if name == "CMakeLists.txt" or name.endswith(".json"):
+        if name in ("CMakeLists.txt", "package.xml") or name.endswith(".json"):
             out.append(os.path.join(root, name))
     return sorted(out)
 

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the independent implementations keel's tests talk to (docs/testing.md, "Real
-# peers"): PyPI's `mcap` reader and ROS 2's rclpy with its message packages in a venv
-# (tests/peers/venv), Foxglove's WebSocket client and
+# peers"): PyPI's `mcap` reader, ROS 2's rclpy with its message packages and colcon (the
+# workspace build tool) in a venv (tests/peers/venv), Foxglove's WebSocket client and
 # puppeteer-core from npm (tests/peers/node_modules, from the lockfile), and Debian's headless
 # Chromium for the monitor's page. Quiet and offline when all is installed already, so
 # scripts/test.sh calls it every time; otherwise one line, with the installers' output in a log
@@ -34,9 +34,9 @@ have_js=$(cat "$stamp_js" 2>/dev/null || true)
 [[ "$have_py" == "$want_py" && "$have_js" == "$want_js" ]] && exit 0
 
 if [[ "$only" == python ]]; then
-  echo "peers.sh: installing rclpy and mcap from PyPI in $peers/venv; output: $log"
+  echo "peers.sh: installing rclpy, mcap and colcon from PyPI in $peers/venv; output: $log"
 else
-  echo "peers.sh: installing the test peers (PyPI: mcap, rclpy; npm: @foxglove/ws-protocol, ws, puppeteer-core); output: $log"
+  echo "peers.sh: installing the test peers (PyPI: mcap, rclpy, colcon; npm: @foxglove/ws-protocol, ws, puppeteer-core); output: $log"
 fi
 : >"$log"
 fail() {

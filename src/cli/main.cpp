@@ -7,6 +7,8 @@
 int main(int argc, char** argv) try {
   CLI::App app{"keel: a component framework for robots, with fault tolerance built in"};
   app.require_subcommand(1);
+  // KEEL_VERSION: the project's version, from CMakeLists.txt's project() (src/cli/CMakeLists.txt).
+  app.set_version_flag("--version", "keel " KEEL_VERSION);
   std::function<int()> run;
   keel::cli::addRunCommand(app, run);
   keel::cli::addValidateCommand(app, run);

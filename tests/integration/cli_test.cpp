@@ -1,4 +1,4 @@
-// The keel command as a user runs it: run, validate, inspect, graph.
+// The keel command as a user runs it: run, validate, inspect, graph, --version.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -343,6 +343,18 @@ TEST_F(Cli, GraphPrintsTheStructureAsDot) {
   EXPECT_EQ(r.out.rfind("digraph \"crash\" {", 0), 0u) << r.out;
   EXPECT_NE(r.out.find("\"counter\" -> \"summer\""), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("together (5 ms)"), std::string::npos) << r.out;
+}
+
+// The version is project()'s in the root CMakeLists.txt, read here from the source as a user
+// reads it, so that the test holds whatever generates the CLI's copy.
+TEST_F(Cli, VersionPrintsKeelAndTheProjectsVersionAndExitsZero) {
+  std::smatch project;
+  const std::string cmake = test::slurp(std::string(KEEL_SOURCE_DIR) + "/CMakeLists.txt");
+  ASSERT_TRUE(std::regex_search(cmake, project, std::regex(R"(project\(keel VERSION ([0-9.]+))")));
+  auto r = test::runProcess({KEEL_CLI, "--version"});
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.out, "keel " + project[1].str() + "\n");
+  EXPECT_EQ(r.err, "");
 }
 
 TEST_F(Cli, TheHelloExampleRunsAndDeliversEvents) {

@@ -41,14 +41,15 @@ class Failure(Exception):
     pass
 
 
-def run(step, cmd, cwd=None, timeout=600):
-    """Runs cmd; returns its combined output, raises Failure with it on a non-zero exit."""
+def run(step, cmd, cwd=None, timeout=600, env=None):
+    """Runs cmd (in env, else this environment); returns its combined output, raises Failure
+    with it on a non-zero exit."""
     printable = " ".join(str(c) for c in cmd)
     print(f"-- {step}: {printable}", flush=True)
     try:
         proc = subprocess.run([str(c) for c in cmd], cwd=cwd, stdin=subprocess.DEVNULL,
                               stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                              timeout=timeout)
+                              timeout=timeout, env=env)
     except subprocess.TimeoutExpired as e:
         raise Failure(f"{step}: timed out after {timeout} s\n$ {printable}\n{e.output or ''}")
     except OSError as e:
