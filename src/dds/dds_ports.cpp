@@ -15,6 +15,7 @@
 
 #include "dds/qos.hpp"
 #include "dds/type_registry.hpp"
+#include "keel/msg/rmw_dds_common/msg/participant_entities_info.hpp"
 #include "runtime/clock.hpp"
 
 namespace keel::dds {
@@ -193,11 +194,65 @@ Result<void> DdsPorts::publishDiagnostics(int domain, DiagnosticsWriter::Snapsho
   const Qos qos = qosOf(b);
   const dds_entity_t writer = dds_create_writer(*pp, topic, qos.get(), nullptr);
   if (writer < 0) return fail(fmt::format("/diagnostics: CycloneDDS refused the writer: {}", dds_strretcode(writer)));
+  endpoints_.push_back({*pp, writer, true});
   std::shared_ptr<detail::ByteEnd> outlet = type->make_outlet(writer);
   auto publish = [outlet](const msg::diagnostic_msgs::DiagnosticArray& a) {
     static_cast<detail::Connection<msg::diagnostic_msgs::DiagnosticArray>&>(outlet->connection()).send(a);
   };
   diagnostics_ = std::make_unique<DiagnosticsWriter>(std::move(snapshot), std::move(publish));
+  return {};
+}
+
+std::string rosNodeName(std::string_view name) {
+  std::string out(name);
+  for (char& c : out)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_') c = '_';
+  if (out.empty() || out.front() == '_' || std::isdigit(static_cast<unsigned char>(out.front()))) out = "keel_" + out;
+  return out;
+}
+
+namespace {
+
+msg::rmw_dds_common::Gid gidOf(dds_entity_t entity) {
+  msg::rmw_dds_common::Gid gid;
+  dds_guid_t guid;
+  if (dds_get_guid(entity, &guid) == DDS_RETCODE_OK) std::memcpy(gid.data.data(), guid.v, gid.data.size());
+  return gid;
+}
+
+}  // namespace
+
+Result<void> DdsPorts::joinGraph(int domain, std::string_view name) {
+  const detail::DdsType* type = findType("rmw_dds_common/msg/ParticipantEntitiesInfo");
+  if (type == nullptr)
+    return fail("the ROS 2 graph: rmw_dds_common/msg/ParticipantEntitiesInfo is not linked into keel");
+  if (auto pp = participant(domain); !pp) return fail("the ROS 2 graph: " + pp.error().message);
+  const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
+  profile::DdsBinding b;  // as every rmw writes it: reliable, transient local, keep last 1
+  b.qos = profile::DdsQos::TransientLocal;
+  const Qos qos = qosOf(b);
+  for (const auto& [d, participant] : participants_) {
+    msg::rmw_dds_common::ParticipantEntitiesInfo info;
+    info.gid = gidOf(participant);
+    msg::rmw_dds_common::NodeEntitiesInfo node;
+    node.node_namespace = "/keel";
+    node.node_name = rosNodeName(name);
+    for (const Endpoint& e : endpoints_) {
+      if (e.participant != participant) continue;
+      (e.writer ? node.writer_gid_seq : node.reader_gid_seq).push_back(gidOf(e.entity));
+    }
+    info.node_entities_info_seq.push_back(std::move(node));
+    // Its own name, no "rt/": not a ROS 2 topic but the graph's.
+    const dds_entity_t topic = dds_create_topic(participant, descriptor, "ros_discovery_info", nullptr, nullptr);
+    if (topic < 0)
+      return fail(fmt::format("the ROS 2 graph: CycloneDDS refused ros_discovery_info: {}", dds_strretcode(topic)));
+    const dds_entity_t writer = dds_create_writer(participant, topic, qos.get(), nullptr);
+    if (writer < 0)
+      return fail(fmt::format("the ROS 2 graph: CycloneDDS refused the writer: {}", dds_strretcode(writer)));
+    std::shared_ptr<detail::ByteEnd> outlet = type->make_outlet(writer);
+    static_cast<detail::Connection<msg::rmw_dds_common::ParticipantEntitiesInfo>&>(outlet->connection()).send(info);
+    graph_outlets_.push_back(std::move(outlet));
+  }
   return {};
 }
 
@@ -271,6 +326,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
         problem(b, fmt::format("CycloneDDS refused the writer: {}", dds_strretcode(writer)));
         continue;
       }
+      endpoints_.push_back({*pp, writer, true});
       auto outlet = type->make_outlet(writer);
       if (!static_cast<detail::OutputPortBase*>(port)->attach(outlet->connection())) {
         problem(b, "the port refused the connection");
@@ -298,6 +354,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
         problem(b, fmt::format("CycloneDDS refused the reader: {}", dds_strretcode(made)));
         continue;
       }
+      endpoints_.push_back({*pp, made, false});
       wires_.push_back({connection.get(), nullptr, port});
       inlets_.push_back(std::move(connection));
       readers_.push_back(std::move(reader));

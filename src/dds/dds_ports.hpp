@@ -20,6 +20,7 @@
 #include <map>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "dds/diagnostics.hpp"
@@ -47,6 +48,10 @@ class PeerWatch {
 std::string ddsTopicName(const std::string& topic);
 /// The DDS type name of ROS 2 type `type` ("pkg/msg/Name" → "pkg::msg::dds_::Name_").
 std::string ddsTypeName(const std::string& type);
+/// `name` as a ROS 2 node name: each character a node name cannot hold ([A-Za-z0-9_]) becomes `_`,
+/// and one that would start with a digit or `_` (or be empty) gets `keel_` in front.
+std::string rosNodeName(std::string_view name);
+
 /// The domain a <dds domain> means in this process: ROS_DOMAIN_ID when set (and not empty),
 /// else `domain`. An error if ROS_DOMAIN_ID is not a domain id (0-232), as ROS 2's rcl refuses it.
 Result<int> effectiveDomain(int domain);
@@ -83,6 +88,12 @@ class DdsPorts {
   void pokeDiagnostics() {
     if (diagnostics_) diagnostics_->poke();
   }
+  /// keel's run as a node of the ROS 2 graph: `/keel/<name>` (name as rosNodeName() makes it),
+  /// with the topics of its writers and readers, in every domain it has joined and in `domain`
+  /// (ROS_DOMAIN_ID overrides it) — published on `ros_discovery_info` as every rmw does, so that
+  /// `ros2 node list` shows it until its participant leaves. Call once open() and
+  /// publishDiagnostics() made what it has.
+  Result<void> joinGraph(int domain, std::string_view name);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
@@ -100,6 +111,13 @@ class DdsPorts {
   std::vector<std::unique_ptr<detail::ConnectionBase>> inlets_;
   std::vector<runtime::Wire> wires_;
   std::unique_ptr<DiagnosticsWriter> diagnostics_;
+  struct Endpoint {
+    std::int32_t participant;
+    std::int32_t entity;
+    bool writer;
+  };
+  std::vector<Endpoint> endpoints_;                              // every writer and reader made, for the graph
+  std::vector<std::shared_ptr<detail::ByteEnd>> graph_outlets_;  // ros_discovery_info's writers
 };
 
 }  // namespace keel::dds

@@ -309,7 +309,8 @@ Result<void> Engine::connect() {
       dds.back().redundancy = pi->redundancy;
     }
   const bool diagnostics = side_->publishesDiagnostics();
-  if (!dds.empty() || diagnostics)
+  const bool graph = side_->joinsRosGraph();
+  if (!dds.empty() || diagnostics || graph)
     dds_ = std::make_unique<dds::DdsPorts>(*this, [this](const std::string& m) { warn(m); });
   if (!dds.empty()) {
     // A standby's endpoints are made now, so that its peers have matched them when it takes
@@ -322,6 +323,10 @@ Result<void> Engine::connect() {
     if (auto made = dds_->publishDiagnostics(*planned_.plan.diagnostics_domain, [this] { return health(); }); !made)
       errors += made.error().message + '\n';
     fault_manager_.onChange([this] { dds_->pokeDiagnostics(); });  // a fault, its actions, its recovery
+  }
+  if (graph) {  // last: it lists the writers and readers made above
+    if (auto joined = dds_->joinGraph(planned_.plan.rosDomain(), planned_.plan.name); !joined)
+      errors += joined.error().message + '\n';
   }
   if (!errors.empty()) {
     errors.pop_back();

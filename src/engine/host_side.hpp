@@ -39,6 +39,7 @@ class HostSide final : public Side {
   runtime::ipc::Session& session() override { return host_.session(); }
   std::map<std::size_t, int> ringDescriptors() override { return host_.takeRingDescriptors(); }
   bool publishesDiagnostics() const override { return false; }
+  bool joinsRosGraph() const override { return false; }
   bool standingBy() const override { return host_.role().standby; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;

@@ -76,15 +76,15 @@ Result<void> RunSide::setUpProcesses() {
   return {};
 }
 
-// The nodes' domain is keel run's: its /diagnostics domain, else its first <dds>'s, else 0 —
-// ROS_DOMAIN_ID over any. Their output files are beside the log, else in a folder of keel run's.
+// The nodes' domain is keel run's (Plan::rosDomain). Their output files are beside the log, else in a folder of keel
+// run's.
 Result<void> RunSide::setUpNodes() {
   const plan::Plan& plan = e_.planned_.plan;
   if (std::none_of(plan.instances.begin(), plan.instances.end(), [](const auto& pi) { return pi.node != nullptr; }))
     return {};
   supervision::NodeLaunch launch;
   launch.node_exec = supervision::defaultNodeExec();
-  auto domain = dds::effectiveDomain(plan.diagnostics_domain.value_or(plan.dds.empty() ? 0 : plan.dds.front().domain));
+  auto domain = dds::effectiveDomain(plan.rosDomain());
   if (!domain) return domain.error();
   launch.domain = *domain;
   const EngineOptions& o = e_.options_;
@@ -115,6 +115,8 @@ std::unique_ptr<Component> RunSide::standIn(const plan::PlannedInstance& pi) {
 // /diagnostics: keel run's, for every component; those of component processes as keel run
 // knows them (their proxies' states, the faults it handles).
 bool RunSide::publishesDiagnostics() const { return e_.planned_.plan.diagnostics_domain.has_value(); }
+
+bool RunSide::joinsRosGraph() const { return !e_.options_.check_only && e_.planned_.plan.inRosGraph(); }
 
 // keel run injects into its own components, reports a fault of no instance, and kills
 // component processes; the rest is injected by the process that runs the instance.

@@ -39,6 +39,7 @@ class RunSide final : public Side {
   runtime::ipc::Session& session() override { return *session_; }
   std::map<std::size_t, int> ringDescriptors() override { return supervisor_->ringDescriptors(); }
   bool publishesDiagnostics() const override;
+  bool joinsRosGraph() const override;
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;

@@ -43,6 +43,9 @@ class Side {
   virtual std::map<std::size_t, int> ringDescriptors() = 0;
   /// Whether this process writes keel's /diagnostics (keel run's, for every component).
   virtual bool publishesDiagnostics() const = 0;
+  /// Whether this process is keel's node of the ROS 2 graph (keel run's, when it has ROS 2 nodes
+  /// or DDS topics).
+  virtual bool joinsRosGraph() const = 0;
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;
   /// Whether fault `f` of the scenario is injected by this process; `pi`: the instance it

@@ -106,7 +106,7 @@ class KeelRun:
             except subprocess.TimeoutExpired:
                 self.proc.kill()
                 self.proc.wait()
-        if self.proc.stdout:
+        if self.proc.stdout and not self.proc.stdout.closed:  # stop() may be called twice
             self.output = self.proc.stdout.read()
             self.proc.stdout.close()
 
@@ -316,6 +316,44 @@ class Ros2Interop(unittest.TestCase):
         self.assertTrue(all(s >= 1 for s in steps), f"ranges out of order: {steps}")
         for m in ranges:
             self.assertAlmostEqual(m.range, 0.5 + 0.01 * m.header.stamp.sec, places=4)
+
+
+class Graph(unittest.TestCase):
+    def test_keel_run_is_a_node_of_the_ros2_graph_with_its_topics_and_leaves_it_when_it_ends(self):
+        """rclpy's graph (what `ros2 node list` and `ros2 node info` read) shows keel's run as
+        /keel/<its name made a node name>, with its publications and subscriptions, and no more
+        once keel run has ended."""
+        d = domain()
+        components = {"RangeSource.xml": component_profile("RangeSource", [("range", "output",
+                                                                             "sensor_msgs/msg/Range")], 20),
+                      "EchoTwist.xml": echo_profile("EchoTwist", "geometry_msgs/msg/Twist")}
+        dds = ('<publish component="sonar" port="range" topic="/sonar/range" type="sensor_msgs/msg/Range" '
+               'qos="sensor_data"/>'
+               '<subscribe component="planner" port="in" topic="/cmd_vel" type="geometry_msgs/msg/Twist"/>')
+        app = package([("sonar", "RangeSource.xml", ""), ("planner", "EchoTwist.xml", "")], dds)
+        app = app.replace("<name>dds_test</name>", "<name>2 robots-test</name>")  # not a node name as it is
+        run = KeelRun(self, d, app, components)
+        peer = Ros2Peer(self, d)
+        name, ns = "keel_2_robots_test", "/keel"
+
+        def nodes():
+            return peer.node.get_node_names_and_namespaces()
+        self.assertTrue(peer.spin_until(lambda: (name, ns) in nodes(), 20), f"nodes: {nodes()}")
+
+        def publishers():
+            return dict(peer.node.get_publisher_names_and_types_by_node(name, ns))
+
+        def subscriptions():
+            return dict(peer.node.get_subscriber_names_and_types_by_node(name, ns))
+        self.assertTrue(peer.spin_until(lambda: "/sonar/range" in publishers() and "/cmd_vel" in subscriptions(),
+                                        20), f"publishers: {publishers()}, subscriptions: {subscriptions()}")
+        self.assertEqual(publishers()["/sonar/range"], ["sensor_msgs/msg/Range"])
+        self.assertEqual(subscriptions()["/cmd_vel"], ["geometry_msgs/msg/Twist"])
+        self.assertIn("/diagnostics", publishers())
+        self.assertNotIn("/cmd_vel", publishers())
+        run.stop()
+        self.assertTrue(peer.spin_until(lambda: (name, ns) not in nodes(), 20),
+                        f"keel's run is still in the graph after it ended: {nodes()}")
 
 
 class Diagnostics(unittest.TestCase):
