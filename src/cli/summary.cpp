@@ -47,6 +47,7 @@ class Reader {
     else if (event == ev::kInjected && r.contains(fd::kDetected) && !r[fd::kDetected].get<bool>()) ++s_.undetected;
     else if (event == ev::kEmergency) s_.emergency_latched = str(r, fd::kPhase) == "latched";
     else if (event == ev::kWarning) ++s_.warnings;
+    else if (event == ev::kNode) node(r);
     else if (event == ev::kHost && str(r, fd::kPhase) == "died")
       s_.dead_processes.push_back(fmt::format("{} (pid {})", str(r, fd::kProcess), count(r, fd::kPid)));
     else if (event == ev::kEndRequested && s_.ended_by.empty()) {
@@ -55,6 +56,28 @@ class Reader {
     }
   }
   void unreadable() { ++s_.unreadable_lines; }
+
+  void node(const nlohmann::json& r) {
+    const std::string name = str(r, fd::kComponent);
+    auto [it, added] = node_at_.emplace(name, s_.nodes.size());
+    if (added) s_.nodes.push_back({name, str(r, fd::kNodeName), {}, 0, 0, {}, false, {}});
+    RunSummary::NodeLine& n = s_.nodes[it->second];
+    const std::string phase = str(r, fd::kPhase);
+    if (phase == "started" || phase == "restarted") {
+      ++n.starts;
+      if (const std::string out = str(r, fd::kOutput); !out.empty()) n.output = out;
+    } else if (phase == "exited" || phase == "stopped") {
+      n.last_end = str(r, fd::kDetail);
+      n.failed = phase == "exited";
+      if (n.failed) {
+        ++n.exits;
+        n.last_lines.clear();
+        if (const auto lines = r.find(fd::kLastLines); lines != r.end() && lines->is_array())
+          for (const auto& l : *lines)
+            if (l.is_string()) n.last_lines.push_back(l.get<std::string>());
+      }
+    }
+  }
 
   RunSummary finish() && {
     std::sort(s_.handlings.begin(), s_.handlings.end(),
@@ -65,6 +88,7 @@ class Reader {
  private:
   RunSummary s_;
   std::map<std::string, std::size_t> component_at_;
+  std::map<std::string, std::size_t> node_at_;
   std::map<std::pair<std::string, std::string>, std::size_t> executor_at_;  // (process, name)
   std::map<std::pair<std::string, std::string>, std::size_t> fault_at_;     // (component, kind)
   std::map<std::uint64_t, std::size_t> handling_at_;
@@ -224,6 +248,15 @@ void printSummary(std::ostream& out, const RunSummary& s) {
   }
   if (!s.dead_processes.empty())
     fmt::print(out, "(not counted: what ran in {}, which died)\n", fmt::join(s.dead_processes, ", "));
+  if (!s.nodes.empty()) {
+    fmt::print(out, "\n{:<20} {:<24} {:>7} {:>6}  {}\n", "node", "in the ROS 2 graph", "starts", "exits", "output");
+    for (const auto& n : s.nodes) {
+      fmt::print(out, "{:<20} {:<24} {:>7} {:>6}  {}\n", n.name, n.node, n.starts, n.exits, n.output);
+      if (!n.failed) continue;
+      fmt::print(out, "  it ended by itself: {}; its last lines:\n", n.last_end);
+      for (const auto& l : n.last_lines) fmt::print(out, "  | {}\n", l);
+    }
+  }
   if (s.faults.empty()) {
     fmt::print(out, "\nno faults\n");
   } else {

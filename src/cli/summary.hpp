@@ -38,6 +38,17 @@ struct RunSummary {
     std::string component, kind, first_detail;
     std::uint64_t count = 0;
   };
+  /// A ROS 2 node keel ran: its `node` records.
+  struct NodeLine {
+    std::string name;                     // its instance
+    std::string node;                     // its name in the ROS 2 graph
+    std::string output;                   // its output file
+    std::uint64_t starts = 0;             // started and restarted
+    std::uint64_t exits = 0;              // ended by itself (a `process` fault each)
+    std::string last_end;                 // how it ended last: "exited with status 1", ...
+    bool failed = false;                  // it ended by itself last (not stopped by keel)
+    std::vector<std::string> last_lines;  // of its last exit by itself
+  };
   struct Handling {
     std::uint64_t fault_id = 0;
     std::string component, kind, severity, actions;
@@ -50,6 +61,7 @@ struct RunSummary {
   std::string stop_reason;
   std::vector<ComponentLine> components;  // in the order the log first names them
   std::vector<ExecutorLine> executors;
+  std::vector<NodeLine> nodes;  // in the order the log first names them
   std::vector<FaultCount> faults;
   std::vector<Handling> handlings;  // in fault id order
   std::vector<std::string> stopped_applications;

@@ -309,7 +309,9 @@ Result<void> Engine::connect() {
       dds.back().redundancy = pi->redundancy;
     }
   const bool diagnostics = side_->publishesDiagnostics();
-  const bool graph = side_->joinsRosGraph();
+  // keel run joins DDS for its own topics, /diagnostics and its nodes, not for the topics of
+  // components in processes of their own, whose hosts hold them (decision 0019).
+  const bool graph = side_->joinsRosGraph() && (!dds.empty() || diagnostics || planned_.plan.hasNodes());
   if (!dds.empty() || diagnostics || graph)
     dds_ = std::make_unique<dds::DdsPorts>(*this, [this](const std::string& m) { warn(m); });
   if (!dds.empty()) {

@@ -116,7 +116,7 @@ std::unique_ptr<Component> RunSide::standIn(const plan::PlannedInstance& pi) {
 // knows them (their proxies' states, the faults it handles).
 bool RunSide::publishesDiagnostics() const { return e_.planned_.plan.diagnostics_domain.has_value(); }
 
-bool RunSide::joinsRosGraph() const { return !e_.options_.check_only && e_.planned_.plan.inRosGraph(); }
+bool RunSide::joinsRosGraph() const { return !e_.options_.check_only; }
 
 // keel run injects into its own components, reports a fault of no instance, and kills
 // component processes; the rest is injected by the process that runs the instance.

@@ -43,8 +43,8 @@ class Side {
   virtual std::map<std::size_t, int> ringDescriptors() = 0;
   /// Whether this process writes keel's /diagnostics (keel run's, for every component).
   virtual bool publishesDiagnostics() const = 0;
-  /// Whether this process is keel's node of the ROS 2 graph (keel run's, when it has ROS 2 nodes
-  /// or DDS topics).
+  /// Whether this process is keel's node of the ROS 2 graph (keel run's), when it is in DDS at
+  /// all: it has DDS topics of its own, /diagnostics, or ROS 2 nodes.
   virtual bool joinsRosGraph() const = 0;
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;

@@ -76,6 +76,7 @@ inline constexpr char kProcess[] = "process";                     // `host`: the
 inline constexpr char kPid[] = "pid";                             // `host`, `node`: its OS process id
 inline constexpr char kNodeName[] = "node";                       // `node`: its name in the ROS 2 graph
 inline constexpr char kLastLines[] = "last_lines";                // `node` `exited`: its output's last lines
+inline constexpr char kOutput[] = "output";                       // `node` `started`: its output file
 inline constexpr char kName[] = "name";                           // engine `load`: the run's (root profile's) name
 inline constexpr char kClass[] = "class";                         // `counts`, `state`: the component's class
 inline constexpr char kExecutor[] = "executor";                   // `counts`: the executor's name, or "passive"

@@ -278,9 +278,8 @@ const PlannedInstance* Plan::find(std::string_view instance) const {
   return nullptr;
 }
 
-bool Plan::inRosGraph() const {
-  return !dds.empty() || diagnostics_domain ||
-         std::any_of(instances.begin(), instances.end(), [](const PlannedInstance& pi) { return pi.node != nullptr; });
+bool Plan::hasNodes() const {
+  return std::any_of(instances.begin(), instances.end(), [](const PlannedInstance& pi) { return pi.node != nullptr; });
 }
 
 std::string Plan::processOf(std::string_view instance) const {

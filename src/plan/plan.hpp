@@ -96,8 +96,8 @@ struct Plan {
   /// graph: its /diagnostics domain, else its first <dds>'s, else 0 (ROS_DOMAIN_ID overrides
   /// any, when keel runs).
   int rosDomain() const { return diagnostics_domain.value_or(dds.empty() ? 0 : dds.front().domain); }
-  /// Whether keel run is a node of the ROS 2 graph: it has ROS 2 nodes, or DDS topics.
-  bool inRosGraph() const;
+  /// Whether it has ROS 2 nodes (instances whose `node` is set).
+  bool hasNodes() const;
 
   const PlannedInstance* find(std::string_view instance) const;
   /// The process `instance` runs in; empty for keel run's own (or an unknown instance).

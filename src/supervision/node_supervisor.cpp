@@ -205,6 +205,7 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase) {
     n.stopping = false;
   }
   nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), *pid, phase);
+  rec[log::schema::field::kOutput] = n.output;
   rec[log::schema::field::kTime] = log_.now();
   log_.write(std::move(rec));
   if (auto watched = watch_.watch(*pid, [this, &n](pid_t p, const Exit& e) { exited(n, p, e); }); !watched) {

@@ -94,6 +94,7 @@ const Constant kFields[] = {
     {"kPid", fd::kPid},
     {"kNodeName", fd::kNodeName},
     {"kLastLines", fd::kLastLines},
+    {"kOutput", fd::kOutput},
     {"kName", fd::kName},
     {"kClass", fd::kClass},
     {"kExecutor", fd::kExecutor},
