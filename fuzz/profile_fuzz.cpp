@@ -61,6 +61,7 @@ bool isKind(keel::profile::RootKind k) {
     case RootKind::System: return kKind == "system";
     case RootKind::ServiceType:
     case RootKind::DataType: return kKind == "types";
+    case RootKind::Node:  // no target reads node profiles yet
     case RootKind::EngineConfig: return false;
   }
   return false;

@@ -326,6 +326,8 @@ Result<Plan> makePlan(const ProfileSet& set) {
           fmt::format("{}: an OPRoS service type, data type or engine configuration, not components: "
                       "nothing to run",
                       set.root));
+    case profile::RootKind::Node:
+      return fail(fmt::format("{}: a ROS 2 node profile runs as a package's subcomponent, not alone", set.root));
   }
   return fail("unknown profile kind");
 }

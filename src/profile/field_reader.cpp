@@ -155,6 +155,7 @@ std::string_view name(RootKind k) {
     case RootKind::ServiceType: return "service_port_type_profile";
     case RootKind::DataType: return "data_type";
     case RootKind::EngineConfig: return "system_config";
+    case RootKind::Node: return "ros2_node_profile";
   }
   return "?";
 }

@@ -171,6 +171,7 @@ std::optional<RootKind> Loader::parseRoot(Ctx& ctx, pugi::xml_node root, const s
     case RootKind::ServiceType: into(set_.service_types, parseServiceTypeProfile); break;
     case RootKind::DataType: into(set_.data_types, parseDataTypeProfile); break;
     case RootKind::EngineConfig: parseEngineConfig(ctx, root); break;
+    case RootKind::Node: break;  // not an element rootKindOf() knows yet
     case RootKind::System: {
       SystemProfile s;
       s.file = abs;

@@ -34,6 +34,7 @@ enum class RootKind {
   ServiceType,   // OPRoS <service_port_type_profile>
   DataType,      // OPRoS <data_type>
   EngineConfig,  // OPRoS <system_config>: an engine's configuration, not run
+  Node,          // <ros2_node_profile>: a ROS 2 node
 };
 
 /// Everything reachable from one root profile, keyed by absolute file path.
@@ -46,6 +47,10 @@ struct ProfileSet {
   std::optional<SystemProfile> system;
   std::map<std::string, ServiceTypeProfile> service_types;
   std::map<std::string, DataTypeProfile> data_types;
+  /// Node profiles, by path. Each node's `component` is also in `components` under the same
+  /// path, so that a subcomponent referencing a node is, to everything that assembles and
+  /// checks components, a passive component with the node's ports.
+  std::map<std::string, NodeProfile> nodes;
   /// What loads but has no effect in this keel, each `file:line: message` (docs/profiles.md):
   /// the run goes on, and `keel run` and `keel validate` print them as warnings.
   Diagnostics warnings;

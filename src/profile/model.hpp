@@ -89,6 +89,9 @@ struct Execution {
 struct Validity {
   std::vector<double> min;  // empty: no lower bound
   std::vector<double> max;  // empty: no upper bound
+  /// A node's port (a ROS 2 message): the dotted path of the checked field ("linear.x"; an
+  /// array field is checked element by element). Empty: the port's value itself.
+  std::string field;
   Where where;
 };
 
@@ -99,6 +102,9 @@ struct DataPort {
   QueuePolicy queue_policy = QueuePolicy::Fifo;
   std::size_t queue_size = 10;
   std::optional<Validity> validity;
+  /// A node's port (a ROS 2 message): one <validity field=".."> per checked field, each field
+  /// once, in the profile's order; `validity` stays empty. A component's port has none.
+  std::vector<Validity> field_validity;
   std::string reference;  // absolute path of an OPRoS data type profile (<reference>), or ""
   Where where;
 };
@@ -233,6 +239,9 @@ struct Subcomponent {
   std::optional<FaultPolicy> fault_policy;
   std::optional<ProcessSpec> process;  // none: keel run's own process
   std::optional<Redundancy> redundancy;
+  /// <attach/> of a subcomponent whose reference is a node profile: keel does not start the
+  /// node but watches the one of that name someone else started.
+  std::optional<Where> attach;
   Where where;
 };
 
@@ -317,6 +326,81 @@ struct PackageProfile {
   Coordination coordination;
   std::optional<DdsSpec> dds;
   Where where;
+};
+
+/// One <variable name=".." value=".."/> of a node's <environment>.
+struct EnvironmentVariable {
+  std::string name;
+  std::string value;
+  Where where;
+};
+
+/// One <parameter name="..">value</parameter> of a node: given to it as ROS 2's command line
+/// gives parameters (`-p name:=value`), which types the value as YAML does (`true`, `3`, `3.0`,
+/// `[1, 2]`, else a string).
+struct NodeParameter {
+  std::string name;
+  std::string value;  // as written, trimmed
+  Where where;
+};
+
+/// The ROS 2 topic of one <data_port> of a node profile: what keel watches (the node's output)
+/// or writes (its input).
+struct NodeTopic {
+  std::string port;   // the data port's name
+  std::string topic;  // absolute ROS 2 name: "/cmd_vel"
+  DdsQos qos = DdsQos::Default;
+  std::optional<std::size_t> depth;     // history depth; the QoS profile's when absent
+  std::optional<double> deadline_ms;    // an output: its samples' deadline, a `remote` fault when missed
+  std::optional<double> liveliness_ms;  // an output: the lease its writer must keep
+  Where where;
+};
+
+/// <publish topic=".." type=".." rate=".."/> of a node's <emergency>: the type's zero value,
+/// published at `rate_hz` while an emergency stop holds.
+struct SafeCommand {
+  std::string topic;  // absolute ROS 2 name
+  std::string type;   // ROS 2's type name: "geometry_msgs/msg/Twist"
+  double rate_hz = 10.0;
+  Where where;
+};
+
+/// <emergency> of a node profile: what keel does with the node during an emergency stop.
+struct NodeEmergency {
+  bool stop = false;  // <stop/>: the node is stopped while the emergency holds
+  std::vector<SafeCommand> publish;
+  Where where;
+};
+
+/// root <ros2_node_profile>: a ROS 2 node keel starts (or, <attach/>, watches) and handles by
+/// the fault policy of the subcomponent that references it (docs/ros2-nodes.md).
+struct NodeProfile {
+  std::string file;  // absolute path of the profile
+  std::string name;  // <name>: the profile's, as a component profile's
+  std::string description;
+  /// <command>, split into words as a shell would (quotes, backslashes), without a shell.
+  std::vector<std::string> command;
+  /// command[0] made a path: looked up on PATH (the node's, when its <environment> sets one)
+  /// when it has no `/`, else taken from the profile's folder when relative.
+  std::string executable;
+  Where command_where;
+  std::string node_namespace = "/";  // <node>'s namespace: "/" or "/a/b"
+  std::string node_name;             // <node>'s last token: "wander"
+  Where node_where;
+  std::vector<EnvironmentVariable> environment;
+  std::vector<NodeParameter> parameters;
+  double start_timeout_ms = 10000.0;  // <start timeout="..">: for its output topics to appear
+  double stop_grace_ms = 2000.0;      // <stop grace="..">: from SIGINT to SIGKILL
+  std::vector<NodeTopic> topics;      // one per data port, in the ports' order
+  std::optional<NodeEmergency> emergency;
+  std::string diagnostics_name;  // <diagnostics name=".."/>: its own /diagnostics status; "": none
+  /// The node as keel's engine sees it: a passive component whose data ports are the node's
+  /// (types, usage, validity); `name` and `file` as the node profile's, no library.
+  ComponentProfile component;
+  Where where;
+
+  /// "/ns/name" ("/name" in the root namespace).
+  std::string fullName() const { return node_namespace == "/" ? "/" + node_name : node_namespace + "/" + node_name; }
 };
 
 /// One component an application needs, and how many of its duplicates must stay healthy.
