@@ -95,8 +95,8 @@ TEST(ProfileLoader, RejectsAnUnknownRootElement) {
   EXPECT_THAT(problems("errors/loader/unknown_root.xml"),
               ElementsAre(
                   "errors/loader/unknown_root.xml:2: unknown root element <robot> (expected <component_profile>, "
-                  "<composite_component_profile>, <package_profile>, <system_profile>, <service_port_type_profile>, "
-                  "<data_type> or <system_config>)"));
+                  "<composite_component_profile>, <package_profile>, <system_profile>, <ros2_node_profile>, "
+                  "<service_port_type_profile>, <data_type> or <system_config>)"));
 }
 
 TEST(ProfileLoader, RejectsASecondRootElement) {
