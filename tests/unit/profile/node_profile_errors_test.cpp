@@ -1,5 +1,5 @@
-// Every error message of a <ros2_node_profile>: the invalid fixture under data/errors/node and its
-// exact diagnostics, all of them, in order.
+// Every error message of a <ros2_node_profile> and of a package's node subcomponents: the
+// invalid fixture under data/errors/node and its exact diagnostics, all of them, in order.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
@@ -145,6 +145,34 @@ TEST(NodeProfileErrors, RejectsBadEmergencyCommands) {
                   f + "14: duplicate <publish topic=\"/c\"> in <emergency> of node profile 'Halt' (first at line 13)",
                   f + "15: missing attribute 'topic' of <publish>", f + "16: unknown attribute 'hz' of <publish>",
                   f + "17: duplicate <stop> in <emergency> (first at line 7)"));
+}
+
+TEST(NodeProfileErrors, RejectsNodeSubcomponentsUsedAsComponentsAndTheReverse) {
+  const std::string f = "errors/node/package.xml:";
+  const std::string attach =
+      " is not a ROS 2 node (keel attaches to a node someone else started; its reference must "
+      "be a <ros2_node_profile>)";
+  EXPECT_THAT(
+      problems("errors/node/package.xml"),
+      ElementsAre(
+          f + "5: subcomponent 'pkg': '../../valid/app.xml' is a <package_profile>, expected <component_profile>, "
+              "<composite_component_profile> or <ros2_node_profile>",
+          f + "6: <attach/> of subcomponent 'sonar': component 'RangeSensor'" + attach,
+          f + "7: subcomponent 'sonar': alternative 'Wander' is a ROS 2 node, but 'RangeSensor' is a component: only a "
+              "node's alternative may be a <ros2_node_profile>",
+          f + "8: <attach/> of subcomponent 'array': composite 'SonarArray'" + attach,
+          f + "13: <process> of subcomponent 'wander': a ROS 2 node is a process of its own, and with <attach/> "
+              "someone else starts it",
+          f + "14: subcomponent 'wander': alternative 'Planner' is a component, but 'Wander' is a ROS 2 node: a node's "
+              "alternative is another <ros2_node_profile>",
+          f + "17: subcomponent 'watcher' has <type> atomic but '../../node/minimal.xml' is a <ros2_node_profile>",
+          f + "18: unexpected text 'now' in <attach>",
+          f + "18: subcomponents 'watcher' (line 17) and 'calm' are both ROS 2 node '/minimal' (one node, one "
+              "subcomponent)",
+          f + "21: port_connection: data types differ: 'wander.cmd' is 'geometry_msgs/msg/Twist', 'nav.range' is "
+              "'double'",
+          f + "27: task 'control': subcomponent 'wander' is a ROS 2 node (node profile 'Wander') and cannot be a task "
+              "member: it runs in a process of its own"));
 }
 
 }  // namespace

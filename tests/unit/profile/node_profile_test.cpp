@@ -1,6 +1,7 @@
 // <ros2_node_profile> (docs/profiles.md#ros-2-node-profile): a full profile read into every
 // field, the defaults, the node as the passive component keel's engine sees, the program found
-// on the node's own PATH.
+// on the node's own PATH, and a package whose subcomponents are nodes (started and attached),
+// connected to components.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -197,6 +198,27 @@ TEST_F(NodeProfilePath, AProgramNotOnTheNodesPathIsAnErrorSayingWhereItLooked) {
   EXPECT_EQ(set.error()[0].message,
             "<command> of node profile 'Mine': 'my_node' is not an executable file in any directory of the PATH of "
             "its <environment> (line 5): /usr/bin:/bin");
+}
+
+TEST(NodeProfile, APackagesSubcomponentsMayBeNodesStartedOrAttachedAndConnectedToComponents) {
+  auto set = load(dataPath("node/app.xml"));
+  ASSERT_TRUE(set.ok()) << joined(set);
+  EXPECT_THAT(set->warnings, ElementsAre());  // a node's remote rule is not a <dds>'s
+  const PackageProfile& pkg = set->packages.at(keyOf("node/app.xml"));
+  ASSERT_EQ(pkg.subcomponents.size(), 4u);
+  const Subcomponent& wander = pkg.subcomponents[2];
+  EXPECT_EQ(wander.reference, keyOf("node/wander.xml"));
+  EXPECT_FALSE(wander.attach);
+  ASSERT_TRUE(wander.fault_policy && wander.fault_policy->alternative);
+  EXPECT_EQ(wander.fault_policy->alternative->reference, keyOf("node/wander_backup.xml"));
+  const Subcomponent& watcher = pkg.subcomponents[3];
+  EXPECT_EQ(watcher.reference, keyOf("node/minimal.xml"));
+  ASSERT_TRUE(watcher.attach);
+  EXPECT_EQ(watcher.attach->line, 18);
+  EXPECT_EQ(set->nodes.size(), 3u);  // wander, its alternative, and the attached one
+  EXPECT_EQ(set->components.count(keyOf("node/wander_backup.xml")), 1u);
+  ASSERT_EQ(pkg.connections.size(), 2u);
+  EXPECT_EQ(pkg.connections[1].port_type, PortKind::Data);  // taken from the node's port and the sonar's
 }
 
 }  // namespace
