@@ -25,6 +25,7 @@ KINDS = {
     "system_profile": "profile_system",
     "service_port_type_profile": "profile_types",
     "data_type": "profile_types",
+    "ros2_node_profile": "profile_node",
     "fault_scenario": "scenario",
 }
 

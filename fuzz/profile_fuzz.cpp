@@ -1,11 +1,11 @@
 // libFuzzer target for the profile reader (src/profile): the input bytes become the root profile
 // keel::profile::load() reads, as `keel run` and `keel validate` read the file they are given.
-// Built five times (fuzz/CMakeLists.txt), once per root kind KEEL_FUZZ_ROOT names (`types`: OPRoS's
-// service type and data type profiles, docs/opros.md#type-profiles): an input
+// Built six times (fuzz/CMakeLists.txt), once per root kind KEEL_FUZZ_ROOT names (`types`: OPRoS's
+// service type and data type profiles, docs/opros.md#type-profiles; `node`: a ROS 2 node's): an input
 // whose root element is another kind is rejected (kept out of the corpus), so that each target
 // digs into its own parser. The root file is written beside a copy of the tests' valid profiles
-// (KEEL_FUZZ_CONTEXT: valid/ and system/), so that references resolve and the cross-file
-// validation runs too.
+// (KEEL_FUZZ_CONTEXT: valid/, system/ and node/, with the programs node profiles name), so that
+// references and commands resolve and the cross-file validation runs too.
 // Checked on every input: load() neither crashes, hangs nor throws (ASan+UBSan, libFuzzer's
 // timeout); a failure has at least one diagnostic, each naming its file; a success holds the
 // root under its kind and every warning names its file.
@@ -23,7 +23,7 @@
 #include "profile/loader.hpp"
 
 #ifndef KEEL_FUZZ_ROOT
-#error "KEEL_FUZZ_ROOT must name the root kind: component, composite, package, system or types"
+#error "KEEL_FUZZ_ROOT must name the root kind: component, composite, package, system, types or node"
 #endif
 
 namespace {
@@ -43,11 +43,12 @@ const std::string& rootPath() {
       std::error_code ignored;
       fs::remove_all(scratch, ignored);
     });
-    for (const char* sub : {"valid", "system"}) {
+    for (const char* sub : {"valid", "system", "node"}) {
       fs::create_directories(dir / sub);
       fs::copy(fs::path(KEEL_FUZZ_CONTEXT) / sub, dir / sub, fs::copy_options::recursive);
     }
-    return ((kKind == "system" ? dir / "system" : dir / "valid") / "root.xml").string();
+    const char* home = kKind == "system" ? "system" : kKind == "node" ? "node" : "valid";  // beside its kind's
+    return (dir / home / "root.xml").string();
   }();
   return path;
 }
@@ -61,6 +62,7 @@ bool isKind(keel::profile::RootKind k) {
     case RootKind::System: return kKind == "system";
     case RootKind::ServiceType:
     case RootKind::DataType: return kKind == "types";
+    case RootKind::Node: return kKind == "node";
     case RootKind::EngineConfig: return false;
   }
   return false;
@@ -73,6 +75,7 @@ bool rootIsMine(const std::string& path) {
   if (kKind == "composite") return root == "composite_component_profile";
   if (kKind == "package") return root == "package_profile" || root == "application_profile";
   if (kKind == "types") return root == "service_port_type_profile" || root == "data_type";
+  if (kKind == "node") return root == "ros2_node_profile";
   return root == "system_profile";
 }
 

@@ -19,8 +19,8 @@ set -euo pipefail
 usage() { sed -n '2,15s/^# \{0,1\}//p' "$0"; }
 
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
-targets=(profile_component profile_composite profile_package profile_system profile_types scenario motion_board
-  monitor_client mcap_reader opros_archive dds_sample)
+targets=(profile_component profile_composite profile_package profile_system profile_types profile_node scenario
+  motion_board monitor_client mcap_reader opros_archive dds_sample)
 
 case "${1:-}" in
   --list) printf '%s\n' "${targets[@]}"; exit 0 ;;

@@ -42,6 +42,14 @@ class Planner {
     for (const auto& b : dds->bindings) {
       PlannedDds d{b, dds->domain.value_or(0), std::nullopt};
       d.binding.endpoint = resolve(prefix, b.endpoint);
+      if (const PlannedInstance* pi = plan_.find(d.binding.endpoint.component); pi && pi->node) {
+        plan_errors_ += fmt::format(
+            "{}:{}: <{}> of {}.{}: '{}' is a ROS 2 node, whose ports are its own topics already (<topic> "
+            "in its node profile); connect a component to it instead\n",
+            b.where.file, b.where.line, b.publish ? "publish" : "subscribe", b.endpoint.component, b.endpoint.port,
+            b.endpoint.component);
+        continue;
+      }
       plan_.dds.push_back(std::move(d));
     }
   }
@@ -213,6 +221,9 @@ class Planner {
       if (auto node = set_.nodes.find(sub.reference); node != set_.nodes.end()) {
         inst.node = &node->second;
         inst.attached = sub.attach.has_value();
+        if (sub.process)
+          plan_errors_ += fmt::format("{}:{}: <process> of subcomponent '{}': a ROS 2 node is a process of its own\n",
+                                      sub.process->where.file, sub.process->where.line, sub.name);
       }
       inst.where = sub.where;
       plan_.instances.push_back(std::move(inst));

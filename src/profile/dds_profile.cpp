@@ -4,67 +4,12 @@
 // port exist and the types agree needs the component profiles: validate_assembly.cpp.
 #include <fmt/format.h>
 
-#include <cctype>
-
 #include "profile/field_reader.hpp"
 #include "profile/parsers.hpp"
+#include "profile/ros2_names.hpp"
 
 namespace keel::profile::detail {
 namespace {
-
-const std::vector<std::pair<std::string_view, DdsQos>>& qosNames() {
-  static const std::vector<std::pair<std::string_view, DdsQos>> t = {{"default", DdsQos::Default},
-                                                                     {"sensor_data", DdsQos::SensorData},
-                                                                     {"reliable", DdsQos::Reliable},
-                                                                     {"transient_local", DdsQos::TransientLocal}};
-  return t;
-}
-
-bool identifierChar(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
-
-/// Why `topic` is not a ROS 2 topic name keel can use, or "" if it is. keel has no node
-/// namespace: a relative name is taken from the root ("scan" is "/scan").
-std::string topicProblem(std::string_view topic) {
-  if (topic.empty()) return "it is empty";
-  if (topic.front() == '~') return "'~' names a node's private namespace, and keel's ports belong to no ROS node";
-  if (topic.back() == '/') return "it ends with '/'";
-  std::string_view rest = topic.front() == '/' ? topic.substr(1) : topic;
-  if (rest.empty()) return "it names no topic";
-  std::size_t start = 0;
-  while (start <= rest.size()) {
-    const std::size_t end = std::min(rest.find('/', start), rest.size());
-    const std::string_view token = rest.substr(start, end - start);
-    if (token.empty()) return "it has an empty token ('//')";
-    if (std::isdigit(static_cast<unsigned char>(token.front())))
-      return fmt::format("its token '{}' starts with a digit", token);
-    for (char c : token)
-      if (!identifierChar(c))
-        return fmt::format("'{}' is not allowed (ROS 2 names have letters, digits, '_' and '/')", c);
-    start = end + 1;
-  }
-  return {};
-}
-
-/// Why `type` is not a ROS 2 message type name (`pkg/msg/Name`), or "" if it is.
-std::string typeProblem(std::string_view type) {
-  const std::size_t a = type.find('/');
-  const std::size_t b = a == std::string_view::npos ? a : type.find('/', a + 1);
-  if (a == std::string_view::npos || b == std::string_view::npos || type.substr(a, b - a) != "/msg" ||
-      type.find('/', b + 1) != std::string_view::npos)
-    return "it must be written as ROS 2 writes it: package/msg/Name, e.g. std_msgs/msg/Float64";
-  const std::string_view pkg = type.substr(0, a);
-  const std::string_view name = type.substr(b + 1);
-  if (pkg.empty() || !std::islower(static_cast<unsigned char>(pkg.front())))
-    return "the package must start with a lower-case letter";
-  for (char c : pkg)
-    if (!(std::islower(static_cast<unsigned char>(c)) || std::isdigit(static_cast<unsigned char>(c)) || c == '_'))
-      return fmt::format("'{}' in the package name (lower case, digits and '_' only)", c);
-  if (name.empty() || !std::isupper(static_cast<unsigned char>(name.front())))
-    return "the message name must start with an upper-case letter";
-  for (char c : name)
-    if (!std::isalnum(static_cast<unsigned char>(c))) return fmt::format("'{}' in the message name", c);
-  return {};
-}
 
 /// A time in ms: positive, finite.
 std::optional<double> readMs(Ctx& ctx, pugi::xml_node n, const char* attr, const std::string& owner) {
@@ -100,7 +45,7 @@ void readBinding(Ctx& ctx, pugi::xml_node n, bool publish, DdsSpec& out) {
     ok = false;
   }
   if (const auto q = attribute(n, "qos")) {
-    const auto v = readWord(ctx, n, trim(*q), "qos of " + owner, qosNames());
+    const auto v = readWord(ctx, n, trim(*q), "qos of " + owner, ddsQosNames());
     if (!v) ok = false;
     b.qos = v.value_or(DdsQos::Default);
   }

@@ -57,7 +57,8 @@ struct PolicyReader {
     }
     const auto ref = requiredAttribute(ctx, n, "reference");
     if (!ref) return;
-    alt.reference = ctx.reference(n, trim(*ref), "<alternative> of " + who, {RootKind::Component});
+    // A component's alternative is a component, a node's a node: validate_ports.cpp pairs them.
+    alt.reference = ctx.reference(n, trim(*ref), "<alternative> of " + who, {RootKind::Component, RootKind::Node});
     if (!alt.reference.empty()) out.alternative = std::move(alt);
   }
 

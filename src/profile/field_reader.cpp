@@ -116,6 +116,14 @@ const std::vector<std::pair<std::string_view, Scope>>& scopes() {
   return t;
 }
 
+const std::vector<std::pair<std::string_view, DdsQos>>& ddsQosNames() {
+  static const std::vector<std::pair<std::string_view, DdsQos>> t = {{"default", DdsQos::Default},
+                                                                     {"sensor_data", DdsQos::SensorData},
+                                                                     {"reliable", DdsQos::Reliable},
+                                                                     {"transient_local", DdsQos::TransientLocal}};
+  return t;
+}
+
 const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds() {
   static const std::vector<std::pair<std::string_view, std::string_view>> t = {
       {"signal", "signal"}, {"exception", "exception"}, {"error_code", "error_code"}, {"range", "range"},

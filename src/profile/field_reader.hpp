@@ -58,6 +58,8 @@ const std::vector<std::pair<std::string_view, QueuePolicy>>& queuePolicies();
 const std::vector<std::pair<std::string_view, PortKind>>& portTypes();
 const std::vector<std::pair<std::string_view, Severity>>& severities();
 const std::vector<std::pair<std::string_view, Scope>>& scopes();
+/// ROS 2's QoS profiles by name (docs/dds.md#qos).
+const std::vector<std::pair<std::string_view, DdsQos>>& ddsQosNames();
 /// Fault kinds (docs/faults.md): the keys of FaultPolicy::severity_by_kind.
 const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds();
 

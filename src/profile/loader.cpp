@@ -43,6 +43,7 @@ std::optional<RootKind> rootKindOf(std::string_view element) {
   if (element == "service_port_type_profile") return RootKind::ServiceType;
   if (element == "data_type") return RootKind::DataType;
   if (element == "system_config") return RootKind::EngineConfig;
+  if (element == "ros2_node_profile") return RootKind::Node;
   return std::nullopt;
 }
 
@@ -155,7 +156,8 @@ std::optional<RootKind> Loader::parseRoot(Ctx& ctx, pugi::xml_node root, const s
   if (!kind) {
     ctx.error(root, fmt::format("unknown root element {} (expected {})", tag(root),
                                 kindList({RootKind::Component, RootKind::Composite, RootKind::Package, RootKind::System,
-                                          RootKind::ServiceType, RootKind::DataType, RootKind::EngineConfig})));
+                                          RootKind::Node, RootKind::ServiceType, RootKind::DataType,
+                                          RootKind::EngineConfig})));
     return std::nullopt;
   }
   // The file's profile, keyed by its path, parsed by `parse`.
@@ -171,7 +173,10 @@ std::optional<RootKind> Loader::parseRoot(Ctx& ctx, pugi::xml_node root, const s
     case RootKind::ServiceType: into(set_.service_types, parseServiceTypeProfile); break;
     case RootKind::DataType: into(set_.data_types, parseDataTypeProfile); break;
     case RootKind::EngineConfig: parseEngineConfig(ctx, root); break;
-    case RootKind::Node: break;  // not read yet
+    case RootKind::Node:  // and, to all that assembles components, the passive component it is
+      into(set_.nodes, parseNodeProfile);
+      set_.components[abs] = set_.nodes[abs].component;
+      break;
     case RootKind::System: {
       SystemProfile s;
       s.file = abs;

@@ -89,6 +89,8 @@ struct Execution {
 struct Validity {
   std::vector<double> min;  // empty: no lower bound
   std::vector<double> max;  // empty: no upper bound
+  /// A node's port (a ROS 2 message): the dotted path of the checked field ("linear.x"; an
+  /// array field is checked element by element). Empty: the port's value itself.
   Where where;
   /// A node's port (a ROS 2 message): the dotted path of the checked field ("linear.x"; an
   /// array field is checked element by element). Empty: the port's value itself.
@@ -102,6 +104,9 @@ struct DataPort {
   QueuePolicy queue_policy = QueuePolicy::Fifo;
   std::size_t queue_size = 10;
   std::optional<Validity> validity;
+  /// A node's port (a ROS 2 message): one <validity field=".."> per checked field, each field
+  /// once, in the profile's order; `validity` stays empty. A component's port has none.
+  std::vector<Validity> field_validity;
   std::string reference;  // absolute path of an OPRoS data type profile (<reference>), or ""
   Where where;
 };

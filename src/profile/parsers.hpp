@@ -18,6 +18,8 @@ void parseComponentProfile(Ctx& ctx, pugi::xml_node root, ComponentProfile& out)
 void parseCompositeProfile(Ctx& ctx, pugi::xml_node root, CompositeProfile& out);
 void parsePackageProfile(Ctx& ctx, pugi::xml_node root, PackageProfile& out);
 void parseSystemProfile(Ctx& ctx, pugi::xml_node root, SystemProfile& out);
+// A ROS 2 node (node_profile.cpp; its ports and <emergency>: node_ports.cpp).
+void parseNodeProfile(Ctx& ctx, pugi::xml_node root, NodeProfile& out);
 // OPRoS's type profiles and engine configuration (type_profiles.cpp).
 void parseServiceTypeProfile(Ctx& ctx, pugi::xml_node root, ServiceTypeProfile& out);
 void parseDataTypeProfile(Ctx& ctx, pugi::xml_node root, DataTypeProfile& out);
@@ -30,6 +32,13 @@ Execution parseExecution(Ctx& ctx, pugi::xml_node node, const std::string& owner
 std::vector<Property> parseProperties(Ctx& ctx, pugi::xml_node node, const std::string& owner);
 /// <ports> (ports.cpp).
 void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out);
+/// <validity> of port `owner` (ports.cpp). `field`: a node's port, whose <validity> names the
+/// checked field of its message in a required attribute `field`.
+Validity parseValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, bool field = false);
+/// <ports> of node profile `owner`: its data ports, each on a topic (node_ports.cpp).
+void parseNodePorts(Ctx& ctx, pugi::xml_node node, NodeProfile& out, const std::string& owner);
+/// <emergency> of node profile `owner`, after its ports (node_ports.cpp).
+void parseNodeEmergency(Ctx& ctx, pugi::xml_node node, NodeProfile& out, const std::string& owner);
 /// <subcomponents> (subcomponents.cpp). Override values stay untyped strings (type "" unless
 /// the attribute gave one) until validation types them against the referenced component.
 std::vector<Subcomponent> parseSubcomponents(Ctx& ctx, pugi::xml_node node);

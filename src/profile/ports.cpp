@@ -4,16 +4,17 @@
 
 #include "profile/field_reader.hpp"
 #include "profile/parsers.hpp"
+#include "profile/ros2_names.hpp"
 
 namespace keel::profile::detail {
 namespace {
 
-/// min/max: one bound for every element, or element-wise; min <= max where both apply.
-void checkBounds(Ctx& ctx, pugi::xml_node at, const Validity& v, const std::string& owner) {
+/// min/max: one bound for every element, or element-wise; min <= max where both apply. `what`
+/// names the rule: "<validity> of data port 'p'".
+void checkBounds(Ctx& ctx, pugi::xml_node at, const Validity& v, const std::string& what) {
   if (v.min.empty() || v.max.empty()) return;
   if (v.min.size() != v.max.size() && v.min.size() != 1 && v.max.size() != 1) {
-    ctx.error(at,
-              fmt::format("<validity> of {}: <min> has {} values but <max> has {}", owner, v.min.size(), v.max.size()));
+    ctx.error(at, fmt::format("{}: <min> has {} values but <max> has {}", what, v.min.size(), v.max.size()));
     return;
   }
   const std::size_t n = std::max(v.min.size(), v.max.size());
@@ -22,27 +23,8 @@ void checkBounds(Ctx& ctx, pugi::xml_node at, const Validity& v, const std::stri
     const double hi = v.max[v.max.size() == 1 ? 0 : i];
     if (lo <= hi) continue;
     const std::string index = n == 1 ? "" : fmt::format("[{}]", i);
-    ctx.error(at, fmt::format("<validity> of {}: min{} {} is greater than max{} {}", owner, index, lo, index, hi));
+    ctx.error(at, fmt::format("{}: min{} {} is greater than max{} {}", what, index, lo, index, hi));
   }
-}
-
-Validity readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
-  Validity v;
-  v.where = ctx.where(node);
-  auto bound = [&](std::vector<double>& into) {
-    return [&ctx, &into, &owner](pugi::xml_node n) {
-      const std::string text = leafText(ctx, n);
-      auto list = parseDoubleList(text, true);
-      if (!list || list->empty()) {
-        ctx.error(n, fmt::format("<{}> of {} must be a number or a list of numbers, got '{}'", n.name(), owner, text));
-        return;
-      }
-      into = std::move(*list);
-    };
-  };
-  readChildren(ctx, node, {{"min", bound(v.min)}, {"max", bound(v.max)}});
-  checkBounds(ctx, node, v, owner);
-  return v;
 }
 
 /// A data or event port's <usage>: false when it is none of input and output, a port OPRoS's
@@ -143,7 +125,7 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
                                             param, owner));
                  },
                  true},
-                {"validity", [&](pugi::xml_node n) { p.validity = readValidity(ctx, n, owner); }},
+                {"validity", [&](pugi::xml_node n) { p.validity = parseValidity(ctx, n, owner); }},
                 {"reference",
                  [&](pugi::xml_node n) {
                    p.reference = ctx.optionalReference(n, r.text(n), owner, RootKind::DataType);
@@ -217,6 +199,40 @@ void checkUniqueNames(Ctx& ctx, const ComponentProfile& c) {
 }
 
 }  // namespace
+
+Validity parseValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, bool field) {
+  Validity v;
+  v.where = ctx.where(node);
+  // A node port's bound names its field: "<min> of <validity field="linear.x"> of data port 'cmd'".
+  std::string rule = "<validity>";
+  if (field) {
+    if (const auto path = requiredAttribute(ctx, node, "field")) {
+      v.field = std::string(trim(*path));
+      rule = fmt::format("<validity field=\"{}\">", v.field);
+      if (const std::string why = fieldPathProblem(v.field); !why.empty())
+        ctx.error(node, fmt::format("field '{}' of <validity> of {} is not a field path (field names separated by "
+                                    "'.', e.g. linear.x): {}",
+                                    v.field, owner, why));
+    }
+  }
+  const std::string bound_owner = field ? fmt::format("{} of {}", rule, owner) : owner;
+  auto bound = [&](std::vector<double>& into) {
+    return [&ctx, &into, &bound_owner](pugi::xml_node n) {
+      const std::string text = leafText(ctx, n);
+      auto list = parseDoubleList(text, true);
+      if (!list || list->empty()) {
+        ctx.error(n, fmt::format("<{}> of {} must be a number or a list of numbers, got '{}'", n.name(), bound_owner,
+                                 text));
+        return;
+      }
+      into = std::move(*list);
+    };
+  };
+  if (field) readChildren(ctx, node, {{"min", bound(v.min)}, {"max", bound(v.max)}}, {"field"});
+  else readChildren(ctx, node, {{"min", bound(v.min)}, {"max", bound(v.max)}});
+  checkBounds(ctx, node, v, fmt::format("{} of {}", rule, owner));
+  return v;
+}
 
 void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
   readChildren(ctx, node,

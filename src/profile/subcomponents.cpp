@@ -132,6 +132,11 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
                 {"fault_policy", [&](pugi::xml_node n) { s.fault_policy = parseFaultPolicy(ctx, n, s.name); }},
                 {"process", [&](pugi::xml_node n) { s.process = readProcess(ctx, n, owner); }},
                 {"redundancy", [&](pugi::xml_node n) { s.redundancy = readRedundancy(ctx, n, owner); }},
+                {"attach",
+                 [&](pugi::xml_node n) {
+                   readChildren(ctx, n, {});
+                   s.attach = ctx.where(n);
+                 }},
                 {"node_id",
                  [&](pugi::xml_node n) {
                    if (const std::string node_id = leafText(ctx, n); !node_id.empty())
@@ -144,11 +149,15 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
                 {"layout", {}},
                 {"port_layouts", {}}},
                {"read_only", "layout"});
+  if (s.attach && s.process)  // whoever started the node chose its process
+    ctx.error(s.process->where, fmt::format("<process> of {}: a ROS 2 node is a process of its own, and with "
+                                            "<attach/> someone else starts it",
+                                            owner));
   if (s.name.empty()) return reportMissing(ctx, node, "name");
   if (!reference) return reportMissing(ctx, node, "reference", owner);
   const std::string written = leafText(ctx, reference);
-  s.reference = ctx.reference(reference, written, owner, {RootKind::Component, RootKind::Composite}, declared,
-                              oprosPlaces(ctx, written, s.name));
+  s.reference = ctx.reference(reference, written, owner, {RootKind::Component, RootKind::Composite, RootKind::Node},
+                              declared, oprosPlaces(ctx, written, s.name));
   out.push_back(std::move(s));
 }
 

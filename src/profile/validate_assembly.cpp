@@ -61,6 +61,31 @@ void checkOverrides(const ProfileSet& set, Subcomponent& sub, Diagnostics& diags
   }
 }
 
+/// <attach/> watches a node someone else started: only a node can be attached to.
+void checkAttach(const ProfileSet& set, const Subcomponent& sub, Diagnostics& diags) {
+  if (!sub.attach || set.nodes.count(sub.reference) > 0) return;
+  const char* kind = set.composites.count(sub.reference) > 0 ? "composite" : "component";
+  if (set.components.count(sub.reference) == 0 && set.composites.count(sub.reference) == 0) return;  // reported
+  error(diags, *sub.attach,
+        fmt::format("<attach/> of subcomponent '{}': {} '{}' is not a ROS 2 node (keel attaches to a node someone "
+                    "else started; its reference must be a <ros2_node_profile>)",
+                    sub.name, kind, profileName(set, sub.reference)));
+}
+
+/// Two subcomponents that are one ROS 2 node: keel would start, or watch, one name twice.
+void checkSameNode(const ProfileSet& set, const std::vector<Subcomponent>& subs, std::size_t i, Diagnostics& diags) {
+  const auto node = set.nodes.find(subs[i].reference);
+  if (node == set.nodes.end() || node->second.node_name.empty()) return;  // not a node, or its <node> is reported
+  for (std::size_t j = 0; j < i; ++j) {
+    const auto other = set.nodes.find(subs[j].reference);
+    if (other == set.nodes.end() || other->second.fullName() != node->second.fullName()) continue;
+    return error(diags, subs[i].where,
+                 fmt::format("subcomponents '{}' (line {}) and '{}' are both ROS 2 node '{}' (one node, one "
+                             "subcomponent)",
+                             subs[j].name, subs[j].where.line, subs[i].name, node->second.fullName()));
+  }
+}
+
 const ComponentProfile* componentOf(const ProfileSet& set, const PackageProfile& pkg, const std::string& member) {
   const Subcomponent* sub = findSubcomponent(pkg.subcomponents, member);
   if (sub == nullptr) return nullptr;
@@ -85,6 +110,8 @@ void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagno
       }
     }
     checkOverrides(set, subs[i], diags);
+    checkAttach(set, subs[i], diags);
+    checkSameNode(set, subs, i, diags);
   }
 }
 
@@ -113,7 +140,12 @@ void checkTasks(const ProfileSet& set, const PackageProfile& pkg, Diagnostics& d
         continue;
       }
       const ComponentProfile* c = componentOf(set, pkg, m);
-      if (c != nullptr && c->execution.type == ExecutionType::Passive) {
+      if (c != nullptr && set.nodes.count(c->file) > 0) {
+        error(diags, t.where,
+              fmt::format("task '{}': subcomponent '{}' is a ROS 2 node (node profile '{}') and cannot be a task "
+                          "member: it runs in a process of its own",
+                          t.name, m, c->name));
+      } else if (c != nullptr && c->execution.type == ExecutionType::Passive) {
         error(diags, t.where,
               fmt::format("task '{}': subcomponent '{}' is passive (component '{}') and cannot be "
                           "a task member",
@@ -197,13 +229,17 @@ void checkIneffectivePolicies(ProfileSet& set, const std::vector<Subcomponent>& 
     const bool subscribes = dds && std::any_of(dds->bindings.begin(), dds->bindings.end(), [&](const DdsBinding& b) {
                               return !b.publish && b.endpoint.component == sub.name;
                             });
-    if (const auto it = p.severity_kind_where.find("remote"); it != p.severity_kind_where.end() && !subscribes)
+    const bool node = set.nodes.count(sub.reference) > 0;
+    if (const auto it = p.severity_kind_where.find("remote"); it != p.severity_kind_where.end() && !subscribes && !node)
       set.warnings.push_back({it->second, fmt::format("<severity kind=\"remote\"> of subcomponent '{}' has no effect: "
                                                       "remote faults come from its DDS subscriptions, and this "
                                                       "profile's <dds> has no <subscribe> of it",
                                                       sub.name)});
+    // A node is a passive component to keel's engine, but its heartbeat and deadline are the
+    // node supervisor's to give a meaning; and its remote faults do not come from a <dds>.
     const auto c = set.components.find(sub.reference);
-    if (c == set.components.end() || c->second.execution.type != ExecutionType::Passive) continue;
+    if (c == set.components.end() || c->second.execution.type != ExecutionType::Passive || set.nodes.count(c->first))
+      continue;
     if (p.heartbeat_timeout_ms)
       set.warnings.push_back({p.heartbeat_where, fmt::format("<heartbeat> of subcomponent '{}' has no effect: '{}' is "
                                                              "passive, and its calls run on their callers' threads, "

@@ -164,6 +164,18 @@ void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& s
     if (!mine || !theirs || !set.components.count(alt.reference)) continue;
     const std::string who = fmt::format("subcomponent '{}': alternative '{}'", s.name, profileName(set, alt.reference));
     const std::string original = profileName(set, s.reference);
+    // A node stands in for a node, a component for a component: keel starts the one as it did the other.
+    const bool node = set.nodes.count(s.reference) > 0;
+    if (node != (set.nodes.count(alt.reference) > 0)) {
+      error(diags, alt.where,
+            node ? fmt::format("{} is a component, but '{}' is a ROS 2 node: a node's alternative is another "
+                               "<ros2_node_profile>",
+                               who, original)
+                 : fmt::format("{} is a ROS 2 node, but '{}' is a component: only a node's alternative may be a "
+                               "<ros2_node_profile>",
+                               who, original));
+      continue;
+    }
     for (const PortSig& p : *mine) {
       const auto q = std::find_if(theirs->begin(), theirs->end(), [&](const PortSig& x) { return x.name == p.name; });
       if (q == theirs->end()) {

@@ -159,7 +159,8 @@ TEST(FaultPolicyErrors, RejectsACompositeAsAlternative) {
   EXPECT_THAT(problems("errors/fault/alternative_is_composite.xml"),
               ElementsAre(
                   "errors/fault/alternative_is_composite.xml:9: <alternative> of subcomponent 'sonar': "
-                  "'../../valid/SonarArray.xml' is a <composite_component_profile>, expected <component_profile>"));
+                  "'../../valid/SonarArray.xml' is a <composite_component_profile>, expected <component_profile> "
+                  "or <ros2_node_profile>"));
 }
 
 TEST(FaultPolicyErrors, RejectsAPreloadThatIsNotABool) {

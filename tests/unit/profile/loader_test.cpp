@@ -95,8 +95,8 @@ TEST(ProfileLoader, RejectsAnUnknownRootElement) {
   EXPECT_THAT(problems("errors/loader/unknown_root.xml"),
               ElementsAre(
                   "errors/loader/unknown_root.xml:2: unknown root element <robot> (expected <component_profile>, "
-                  "<composite_component_profile>, <package_profile>, <system_profile>, <service_port_type_profile>, "
-                  "<data_type> or <system_config>)"));
+                  "<composite_component_profile>, <package_profile>, <system_profile>, <ros2_node_profile>, "
+                  "<service_port_type_profile>, <data_type> or <system_config>)"));
 }
 
 TEST(ProfileLoader, RejectsASecondRootElement) {
@@ -114,14 +114,16 @@ TEST(ProfileLoader, RejectsADirectoryAsReference) {
 TEST(ProfileLoader, RejectsASystemProfileAsSubcomponent) {
   EXPECT_THAT(problems("errors/loader/system_as_subcomponent.xml"),
               ElementsAre("errors/loader/system_as_subcomponent.xml:5: subcomponent 'p': '../../system/system.xml' is "
-                          "a <system_profile>, expected <component_profile> or <composite_component_profile>"));
+                          "a <system_profile>, expected <component_profile>, <composite_component_profile> or "
+                          "<ros2_node_profile>"));
 }
 
 TEST(ProfileLoader, RejectsAPackageIncludingItself) {
   EXPECT_THAT(problems("errors/loader/package_includes_itself.xml"),
               ElementsAre(
                   "errors/loader/package_includes_itself.xml:5: subcomponent 'p': 'package_includes_itself.xml' is a "
-                  "<package_profile>, expected <component_profile> or <composite_component_profile>"));
+                  "<package_profile>, expected <component_profile>, <composite_component_profile> or "
+                  "<ros2_node_profile>"));
 }
 
 TEST(ProfileLoader, ReportsAllProblemsAcrossFilesNotJustTheFirst) {

@@ -21,7 +21,8 @@ TEST(PackageProfileErrors, RejectsAMissingReferencedFileNamingTheSubcomponent) {
 TEST(PackageProfileErrors, RejectsAReferenceToAPackageWhereAComponentIsExpected) {
   EXPECT_THAT(problems("errors/package/wrong_reference_kind.xml"),
               ElementsAre("errors/package/wrong_reference_kind.xml:7: subcomponent 'inner': '../../valid/app.xml' is a "
-                          "<package_profile>, expected <component_profile> or <composite_component_profile>"));
+                          "<package_profile>, expected <component_profile>, <composite_component_profile> or "
+                          "<ros2_node_profile>"));
 }
 
 TEST(PackageProfileErrors, RejectsADeclaredTypeThatDisagreesWithTheReferencedProfile) {

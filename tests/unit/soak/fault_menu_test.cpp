@@ -24,7 +24,7 @@ profile::DataPort port(std::string name, PortDirection usage, std::string type, 
   p.name = std::move(name);
   p.usage = usage;
   p.data_type = std::move(type);
-  if (validity) p.validity = profile::Validity{{0.0}, {10.0}, {}};
+  if (validity) p.validity = profile::Validity{{0.0}, {10.0}, {}, {}};
   return p;
 }
 
