@@ -27,6 +27,7 @@
 #include <cstring>
 #include <set>
 #include <string>
+#include <system_error>
 
 namespace {
 
@@ -78,11 +79,13 @@ int main(int argc, char** argv) {
     return 2;
   }
   if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) {
-    std::fprintf(stderr, "keel-node-exec: cannot ask to die with keel run: %s\n", std::strerror(errno));
+    std::fprintf(stderr, "keel-node-exec: cannot ask to die with keel run: %s\n",
+                 std::generic_category().message(errno).c_str());
     return 127;
   }
   if (::getppid() != static_cast<pid_t>(parent)) return 127;  // keel run is gone already: nothing to say it to
   ::execv(argv[2], argv + 2);
-  std::fprintf(stderr, "keel-node-exec: cannot execute '%s': %s\n", argv[2], std::strerror(errno));
+  std::fprintf(stderr, "keel-node-exec: cannot execute '%s': %s\n", argv[2],
+               std::generic_category().message(errno).c_str());
   return 127;
 }

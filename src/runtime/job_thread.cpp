@@ -24,7 +24,7 @@ void JobThread::drain() {
   {
     std::lock_guard lock(mutex_);
     if (ended_) return;
-    jobs_.push_back([&ran] { ran.set_value(); });
+    jobs_.emplace_back([&ran] { ran.set_value(); });
   }
   wake_.notify_one();
   reached.wait();

@@ -46,7 +46,7 @@ ExitWatch::~ExitWatch() {
 Result<void> ExitWatch::watch(pid_t pid, OnExit on_exit) {
   if (epoll_ < 0 || wake_ < 0) return fail("cannot watch processes: no epoll or eventfd");
   const int pidfd = pidfdOpen(pid);
-  if (pidfd < 0) return fail(fmt::format("cannot watch process {}: {}", pid, std::strerror(errno)));
+  if (pidfd < 0) return fail(fmt::format("cannot watch process {}: {}", pid, std::generic_category().message(errno)));
   std::lock_guard lock(mutex_);
   if (stopped_) {
     ::close(pidfd);
@@ -60,7 +60,7 @@ Result<void> ExitWatch::watch(pid_t pid, OnExit on_exit) {
     const int err = errno;
     watched_.erase(pidfd);
     ::close(pidfd);
-    return fail(fmt::format("cannot watch process {}: {}", pid, std::strerror(err)));
+    return fail(fmt::format("cannot watch process {}: {}", pid, std::generic_category().message(err)));
   }
   return {};
 }

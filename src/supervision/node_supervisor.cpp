@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <system_error>
 
 #include "log/schema.hpp"
 #include "runtime/clock.hpp"
@@ -78,6 +79,10 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
     std::lock_guard lock(node.mutex);
     node.proxy = nullptr;
   }
+  Proxy(const Proxy&) = delete;
+  Proxy& operator=(const Proxy&) = delete;
+  Proxy(Proxy&&) = delete;
+  Proxy& operator=(Proxy&&) = delete;
   ReturnCode onReset() override {
     if (auto r = sup.restart(node); !r) {
       sup.warn_(fmt::format("node '{}': {}", node.plan->name, r.error().message));
@@ -116,6 +121,34 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
       n->output = (fs::path(launch_.output_dir) / fmt::format("{}.{}.out", launch_.output_stem, pi.name)).string();
     nodes_.push_back(std::move(n));
   }
+  warnNotYet(plan);
+}
+
+// What a node profile or its subcomponent may say that this keel reads but does not act on yet,
+// each a warning at its line: the run goes on without it, and the integrator knows.
+void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
+  auto note = [this](const profile::Where& where, const std::string& what) {
+    warn_(fmt::format("{}: {} is accepted, not acted on yet: {}", where.str(), what,
+                      "this keel starts, watches the death of, restarts and stops nodes (docs/ros2-nodes.md)"));
+  };
+  for (const auto& n : nodes_) {
+    const plan::PlannedInstance& pi = *n->plan;
+    const profile::NodeProfile& p = *n->profile;
+    if (pi.attached) note(pi.where, fmt::format("<attach/> of node '{}' (nothing watches it)", pi.name));
+    if (pi.policy && pi.policy->alternative)
+      note(pi.policy->alternative->where, fmt::format("the <alternative> of node '{}'", pi.name));
+    for (const auto& t : p.topics)
+      if (t.deadline_ms || t.liveliness_ms) note(t.where, fmt::format("the deadline or liveliness of {}", t.topic));
+    for (const auto& port : p.component.data_ports)
+      for (const auto& v : port.field_validity) note(v.where, fmt::format("<validity field=\"{}\">", v.field));
+    if (p.emergency)
+      for (const auto& c : p.emergency->publish) note(c.where, fmt::format("<publish topic=\"{}\">", c.topic));
+    if (!p.diagnostics_name.empty()) note(p.where, fmt::format("<diagnostics name=\"{}\">", p.diagnostics_name));
+    for (const auto& c : plan.connections)
+      if (c.source.component == pi.name || c.target.component == pi.name)
+        note(c.where,
+             fmt::format("a connection to node '{}'s port (keel reads and writes no node topic yet)", pi.name));
+  }
 }
 
 NodeSupervisor::~NodeSupervisor() {
@@ -127,7 +160,7 @@ NodeSupervisor::~NodeSupervisor() {
 Result<void> NodeSupervisor::startGuard() {
   int fds[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0)
-    return fail(fmt::format("cannot make the node guard's socket: {}", std::strerror(errno)));
+    return fail(fmt::format("cannot make the node guard's socket: {}", std::generic_category().message(errno)));
   // Not through the shim: the guard is there to outlive keel run.
   auto pid = spawner_.start({launch_.node_exec, {"--guard"}, {fds[1]}});
   ::close(fds[1]);
@@ -252,7 +285,8 @@ Result<void> NodeSupervisor::restart(Node& n) {
   stopNode(n, Proxy::graceOf(n));  // alive when its fault came from its topics
   auto pid = start(n, "restarted");
   if (!pid) return pid.error();
-  runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
+  std::lock_guard lock(n.mutex);
+  if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
   return {};
 }
 

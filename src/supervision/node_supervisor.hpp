@@ -86,6 +86,7 @@ class NodeSupervisor {
   Result<void> restart(Node& n);
   void stopNode(Node& n, std::chrono::milliseconds grace);
   ChildSpec childOf(const Node& n) const;
+  void warnNotYet(const plan::Plan& plan) const;
   Result<void> startGuard();
   void tellGuard(char op, pid_t pgid) const;
   void endGuard();

@@ -46,7 +46,7 @@ Result<pid_t> startNow(const ChildSpec& spec) {
     output = ::open(spec.output.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
     if (output < 0)
       return fail(fmt::format("cannot open '{}' for the output of '{}': {}", spec.output, spec.executable,
-                              std::strerror(errno)));
+                              std::generic_category().message(errno)));
   }
   // Copies above every target first, so that no dup2 overwrites a source another one still needs.
   std::vector<int> high;

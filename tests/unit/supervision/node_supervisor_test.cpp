@@ -66,6 +66,10 @@ struct Rig {
     sup.reset();
     fs::remove_all(dir);
   }
+  Rig(const Rig&) = delete;
+  Rig& operator=(const Rig&) = delete;
+  Rig(Rig&&) = delete;
+  Rig& operator=(Rig&&) = delete;
   std::string output() const {
     std::ifstream in(sup->outputOf("talker"));
     std::stringstream ss;
@@ -238,6 +242,29 @@ TEST(NodeSupervisor, ANodeThatCannotBeStartedIsALaunchErrorAndOneThatCannotExecI
   EXPECT_NE(std::string(rig.faults[0].detailText()).find("exited with status 127: keel-node-exec: cannot execute"),
             std::string::npos)
       << rig.faults[0].detailText();
+}
+
+TEST(NodeSupervisor, WhatANodeProfileSaysThatIsNotActedOnYetIsAWarningAtItsLine) {
+  Rig rig("exit 0");
+  profile::NodeProfile node = rig.node;
+  node.topics = {
+      {"chatter", "/demo/chatter", profile::DdsQos::Default, std::nullopt, 300.0, std::nullopt, {"talker.xml", 12}}};
+  plan::Plan plan;
+  plan::PlannedInstance pi = rig.plan.instances.front();
+  pi.node = &node;
+  pi.attached = true;
+  pi.where = {"app.xml", 4};
+  plan.instances.push_back(pi);
+  std::vector<std::string> warnings;
+  NodeSupervisor sup(
+      plan, {KEEL_NODE_EXEC, rig.dir.string(), "run", 7}, [&](const std::string& m) { warnings.push_back(m); },
+      rig.log.log, rig.spawner);
+  const std::string why =
+      " is accepted, not acted on yet: this keel starts, watches the death of, restarts and "
+      "stops nodes (docs/ros2-nodes.md)";
+  EXPECT_EQ(warnings, (std::vector<std::string>{"app.xml:4: <attach/> of node 'talker' (nothing watches it)" + why,
+                                                "talker.xml:12: the deadline or liveliness of /demo/chatter" + why}));
+  EXPECT_TRUE(rig.warnings.empty()) << "a plain node was warned of: " << rig.warnings.front();
 }
 
 // keel-node-exec --guard alone: what keel run's death (its socket's end) does to the groups it was
