@@ -86,6 +86,10 @@ class Supervised(unittest.TestCase):
         self.assertIn(("talker", "/demo"), nodes)
         self.assertIn(("nodes_test", "/keel"), nodes)
 
+        # It prints "talker up" right after its first message: killed before that, its output
+        # would hold one line fewer than its lives.
+        out_file = run.dir / "log.talker.out"
+        self.assertTrue(wait_until(lambda: "talker up" in out_file.read_text(), 30), out_file.read_text())
         os.kill(started["pid"], signal.SIGKILL)
         [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 20,
                                "the node's death as a fault")
@@ -96,8 +100,12 @@ class Supervised(unittest.TestCase):
         self.assertNotEqual(again["pid"], started["pid"])
         run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 20,
                      "the fault's recovery")
-        # From here on every message is the new process's (the old one is dead). Not necessarily its
-        # first: a volatile subscription misses what the new writer sent before they matched.
+        # The new process says "talker up" once it has published; spinning until then also takes
+        # what the old one sent before its death. Every message after that is the new process's
+        # (not necessarily its first: a volatile subscription misses what a new writer sends
+        # before they match).
+        self.assertTrue(peer.spin_until(lambda: out_file.read_text().count("talker up") == 2, 30),
+                        out_file.read_text())
         heard.clear()
         self.assertTrue(peer.spin_until(lambda: any(h.startswith("hi ") for h in heard), 30),
                         f"the new process was not heard: {heard}")
