@@ -74,8 +74,8 @@ struct NodeSupervisor::Node {
 };
 
 struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
-  Proxy(NodeSupervisor& s, Node& n) : sup(s), node(n) {}
-  ~Proxy() override {
+  Proxy(NodeSupervisor& s, std::shared_ptr<Node> n) : sup(s), held(std::move(n)), node(*held) {}
+  ~Proxy() override {  // may come after the supervisor's end: the engine closes its side first
     std::lock_guard lock(node.mutex);
     node.proxy = nullptr;
   }
@@ -105,7 +105,8 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
   static std::chrono::milliseconds graceOf(const Node& n) {
     return std::chrono::milliseconds(static_cast<std::int64_t>(n.profile->stop_grace_ms));
   }
-  NodeSupervisor& sup;
+  NodeSupervisor& sup;  // not used once the engine shut down: only the destructor runs then
+  std::shared_ptr<Node> held;
   Node& node;
 };
 
@@ -114,7 +115,7 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     : launch_(std::move(launch)), warn_(std::move(warn)), log_(log), spawner_(spawner) {
   for (const auto& pi : plan.instances) {
     if (!pi.node) continue;
-    auto n = std::make_unique<Node>();
+    auto n = std::make_shared<Node>();
     n->plan = &pi;
     n->profile = pi.node;
     if (!pi.attached)
@@ -202,7 +203,7 @@ void NodeSupervisor::endGuard() {
 std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance& instance) {
   for (auto& n : nodes_) {
     if (n->plan != &instance) continue;
-    auto proxy = std::make_unique<Proxy>(*this, *n);
+    auto proxy = std::make_unique<Proxy>(*this, n);
     std::lock_guard lock(n->mutex);
     n->proxy = proxy.get();
     return proxy;

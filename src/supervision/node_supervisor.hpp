@@ -96,7 +96,7 @@ class NodeSupervisor {
   log::FaultLog& log_;
   Spawner& spawner_;
   Report report_;
-  std::vector<std::unique_ptr<Node>> nodes_;
+  std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
   int guard_fd_ = -1;  // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
   pid_t guard_pid_ = 0;
   std::mutex guard_mutex_;

@@ -63,7 +63,7 @@ struct Rig {
     });
   }
   ~Rig() {
-    sup.reset();
+    sup.reset();  // before the proxy, as the engine closes its side before its instances end
     fs::remove_all(dir);
   }
   Rig(const Rig&) = delete;
