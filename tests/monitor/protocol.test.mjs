@@ -100,7 +100,16 @@ test("the state names every component; a crash arrives on /keel/faults with its 
     () => on(seen, "/keel/state").find((s) => s.components.find((c) => c.name === "sonar_left").faults >= 1),
     "the fault counted in the state",
   );
-  assert.equal(later.components.find((c) => c.name === "sonar_left").state, "Error");
+  // In Error until its reset (its default policy): a snapshot taken after the reset (a slow
+  // machine, a sanitizer) shows it Active, and then the fault's recovery is on record.
+  const sonarState = later.components.find((c) => c.name === "sonar_left").state;
+  if (sonarState !== "Error") {
+    assert.equal(sonarState, "Active");
+    await until(
+      () => on(seen, "/keel/faults").find((r) => r.event === "recovered" && r.fault_id === detected.fault_id),
+      "the recovery of a fault whose component is Active again",
+    );
+  }
   // Message timestamps are Unix ns: the record's t_ns past the run's start.
   const m = seen.messages.find(
     (x) => x.topic === "/keel/faults" && x.body.event === "detected" && x.body.fault_id === detected.fault_id,
