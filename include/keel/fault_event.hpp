@@ -24,6 +24,8 @@ enum class FaultKind : std::uint8_t {
   User,       // raised by a component
   Remote,     // a peer process/host lost
   Process,    // the component's OS process died (<process>): any signal, kill -9, exit
+  Start,      // a ROS 2 node did not come up (its topics in the graph) within its start timeout
+  Reported,   // a ROS 2 node said so itself: its status on /diagnostics at ERROR
 };
 
 constexpr std::string_view toString(FaultKind k) {
@@ -39,6 +41,8 @@ constexpr std::string_view toString(FaultKind k) {
     case FaultKind::User: return "user";
     case FaultKind::Remote: return "remote";
     case FaultKind::Process: return "process";
+    case FaultKind::Start: return "start";
+    case FaultKind::Reported: return "reported";
   }
   return "?";
 }

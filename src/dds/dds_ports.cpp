@@ -258,11 +258,19 @@ Result<void> DdsPorts::joinGraph(int domain, std::string_view name) {
 
 void DdsPorts::close() {
   if (diagnostics_) diagnostics_->stop();  // before its writer goes
+  if (graph_) graph_->close();             // its watch hears nothing more
   // Deleting a participant deletes its topics, writers and readers, and waits for their
   // listeners: no sample is delivered after this. The outlets stay (ports may still hold
   // their connections): a write to a deleted writer fails and is dropped.
   for (const auto& [domain, participant] : participants_) dds_delete(participant);
   participants_.clear();
+}
+
+Result<void> DdsPorts::watchNodes(int domain, std::vector<WatchedNode> nodes, GraphWatch& watch) {
+  auto pp = participant(domain);
+  if (!pp) return fail("the ROS 2 graph: " + pp.error().message);
+  graph_ = std::make_unique<Ros2Graph>(watch, warn_);
+  return graph_->open(*pp, std::move(nodes));
 }
 
 void DdsPorts::takeOver() {

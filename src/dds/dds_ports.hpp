@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "dds/diagnostics.hpp"
+#include "dds/ros2_graph.hpp"
 #include "keel/detail/port_base.hpp"
 #include "keel/fault_event.hpp"
 #include "keel/result.hpp"
@@ -94,6 +95,9 @@ class DdsPorts {
   /// `ros2 node list` shows it until its participant leaves. Call once open() and
   /// publishDiagnostics() made what it has.
   Result<void> joinGraph(int domain, std::string_view name);
+  /// Watches `nodes` in the ROS 2 graph of `domain` (ROS_DOMAIN_ID overrides it): what it shows
+  /// of each goes to `watch` (ros2_graph.hpp), from now until close().
+  Result<void> watchNodes(int domain, std::vector<WatchedNode> nodes, GraphWatch& watch);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
@@ -111,6 +115,7 @@ class DdsPorts {
   std::vector<std::unique_ptr<detail::ConnectionBase>> inlets_;
   std::vector<runtime::Wire> wires_;
   std::unique_ptr<DiagnosticsWriter> diagnostics_;
+  std::unique_ptr<Ros2Graph> graph_;
   struct Endpoint {
     std::int32_t participant;
     std::int32_t entity;

@@ -326,6 +326,18 @@ Result<void> Engine::connect() {
       errors += made.error().message + '\n';
     fault_manager_.onChange([this] { dds_->pokeDiagnostics(); });  // a fault, its actions, its recovery
   }
+  if (dds::GraphWatch* watch = graph ? side_->graphWatch() : nullptr) {  // the nodes keel runs or attaches to
+    std::vector<dds::WatchedNode> nodes;
+    for (const plan::PlannedInstance& pi : planned_.plan.instances) {
+      if (!pi.node) continue;
+      dds::WatchedNode& w = nodes.emplace_back(dds::WatchedNode{pi.name, pi.node->fullName(), {}});
+      for (const profile::NodeTopic& t : pi.node->topics)
+        for (const profile::DataPort& d : pi.node->component.data_ports)
+          if (d.name == t.port && d.usage == PortDirection::Output) w.outputs.push_back(t.topic);
+    }
+    if (auto watching = dds_->watchNodes(planned_.plan.rosDomain(), std::move(nodes), *watch); !watching)
+      errors += watching.error().message + '\n';
+  }
   if (graph) {  // last: it lists the writers and readers made above
     if (auto joined = dds_->joinGraph(planned_.plan.rosDomain(), planned_.plan.name); !joined)
       errors += joined.error().message + '\n';

@@ -40,6 +40,7 @@ class HostSide final : public Side {
   std::map<std::size_t, int> ringDescriptors() override { return host_.takeRingDescriptors(); }
   bool publishesDiagnostics() const override { return false; }
   bool joinsRosGraph() const override { return false; }
+  dds::GraphWatch* graphWatch() override { return nullptr; }
   bool standingBy() const override { return host_.role().standby; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;

@@ -126,6 +126,12 @@ bool RunSide::injects(const injection::ScheduledFault& f, const plan::PlannedIns
   return e_.isLocal(*pi) || kill;
 }
 
+void RunSide::nodeSeen(const std::string& instance, const std::vector<dds::NodeSighting>& sightings) {
+  std::vector<supervision::GraphSighting> seen;
+  for (const dds::NodeSighting& s : sightings) seen.push_back({s.pid, s.listed, s.missing});
+  nodes_->nodeSeen(instance, std::move(seen));
+}
+
 Result<void> RunSide::launch() {
   if (nodes_) {
     nodes_->setReport(

@@ -24,7 +24,7 @@ namespace keel::engine {
 
 class Engine;
 
-class RunSide final : public Side {
+class RunSide final : public Side, private dds::GraphWatch {
  public:
   explicit RunSide(Engine& engine);
   ~RunSide() override;
@@ -40,6 +40,7 @@ class RunSide final : public Side {
   std::map<std::size_t, int> ringDescriptors() override { return supervisor_->ringDescriptors(); }
   bool publishesDiagnostics() const override;
   bool joinsRosGraph() const override;
+  dds::GraphWatch* graphWatch() override { return nodes_ ? this : nullptr; }
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;
@@ -53,6 +54,8 @@ class RunSide final : public Side {
   void close() override;
 
  private:
+  // What the ROS 2 graph shows of a node: to the node supervisor.
+  void nodeSeen(const std::string& instance, const std::vector<dds::NodeSighting>& sightings) override;
   Result<void> setUpNodes();
 
   Engine& e_;

@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "dds/ros2_graph.hpp"
 #include "injection/scenario.hpp"
 #include "keel/component.hpp"
 #include "keel/result.hpp"
@@ -46,6 +47,9 @@ class Side {
   /// Whether this process is keel's node of the ROS 2 graph (keel run's), when it is in DDS at
   /// all: it has DDS topics of its own, /diagnostics, or ROS 2 nodes.
   virtual bool joinsRosGraph() const = 0;
+  /// Where what the ROS 2 graph shows of the plan's nodes goes (keel run's node supervisor);
+  /// null: this side watches no node.
+  virtual dds::GraphWatch* graphWatch() = 0;
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;
   /// Whether fault `f` of the scenario is injected by this process; `pi`: the instance it

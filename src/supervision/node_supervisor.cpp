@@ -12,7 +12,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <mutex>
+#include <optional>
 #include <system_error>
 
 #include "log/schema.hpp"
@@ -71,6 +73,16 @@ struct NodeSupervisor::Node {
   bool stopping = false;   // keel asked it to end: its exit is no fault
   std::uint64_t exits = 0;
   std::mutex restart_mutex;  // one restart or stop at a time
+  // What the ROS 2 graph shows of it (nodeSeen), and what keel made of that.
+  bool watched = false;             // the graph reports on it: its start timeout runs
+  bool up = false;                  // its process lists it and publishes every output topic
+  std::int64_t started_ns = 0;      // its last start (an attached node: the launch), steady
+  bool late = false;                // its start fault of this life was raised
+  std::int64_t left_ns = 0;         // it went from the graph while its process runs: when; 0: not
+  bool outage = false;              // an attached node's start or remote fault, until it is up again
+  bool warned_unknown_pid = false;  // a participant listing it announced no pid
+  bool has_outputs = false;         // its profile declares output topics
+  std::vector<GraphSighting> seen;
 };
 
 struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
@@ -118,6 +130,9 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     auto n = std::make_shared<Node>();
     n->plan = &pi;
     n->profile = pi.node;
+    for (const auto& t : pi.node->topics)
+      for (const auto& d : pi.node->component.data_ports)
+        n->has_outputs |= d.name == t.port && d.usage == PortDirection::Output;
     if (!pi.attached)
       n->output = (fs::path(launch_.output_dir) / fmt::format("{}.{}.out", launch_.output_stem, pi.name)).string();
     nodes_.push_back(std::move(n));
@@ -130,12 +145,12 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
 void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
   auto note = [this](const profile::Where& where, const std::string& what) {
     warn_(fmt::format("{}: {} is accepted, not acted on yet: {}", where.str(), what,
-                      "this keel starts, watches the death of, restarts and stops nodes (docs/ros2-nodes.md)"));
+                      "this keel starts nodes and watches their death and the ROS 2 graph, restarts and stops them "
+                      "(docs/ros2-nodes.md)"));
   };
   for (const auto& n : nodes_) {
     const plan::PlannedInstance& pi = *n->plan;
     const profile::NodeProfile& p = *n->profile;
-    if (pi.attached) note(pi.where, fmt::format("<attach/> of node '{}' (nothing watches it)", pi.name));
     if (pi.policy && pi.policy->alternative)
       note(pi.policy->alternative->where, fmt::format("the <alternative> of node '{}'", pi.name));
     for (const auto& t : p.topics)
@@ -153,6 +168,12 @@ void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
 }
 
 NodeSupervisor::~NodeSupervisor() {
+  {
+    std::lock_guard lock(timer_mutex_);
+    timer_ending_ = true;
+    timer_changed_.notify_all();
+  }
+  if (timer_.joinable()) timer_.join();
   stop(std::chrono::seconds(2));
   endGuard();
   watch_.stop();
@@ -237,7 +258,12 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase) {
     std::lock_guard lock(n.mutex);
     n.pid = *pid;
     n.stopping = false;
+    n.up = false;
+    n.started_ns = runtime::steadyNs();
+    n.late = false;
+    n.left_ns = 0;
   }
+  pokeTimer();
   nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), *pid, phase);
   rec[log::schema::field::kOutput] = n.output;
   rec[log::schema::field::kTime] = log_.now();
@@ -255,6 +281,8 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
   {
     std::lock_guard lock(n.mutex);
     if (n.pid == pid) n.pid = 0;
+    n.up = false;
+    n.left_ns = 0;
     asked = n.stopping;
     proxy = n.proxy;
     ++n.exits;
@@ -310,9 +338,14 @@ void NodeSupervisor::stopNode(Node& n, std::chrono::milliseconds grace) {
 Result<void> NodeSupervisor::launch() {
   if (std::any_of(nodes_.begin(), nodes_.end(), [](const auto& n) { return !n->plan->attached; }))
     if (auto r = startGuard(); !r) return r;
+  if (!nodes_.empty() && !timer_.joinable()) timer_ = std::thread([this] { timerLoop(); });
   std::string errors;
   for (auto& n : nodes_) {
-    if (n->plan->attached) continue;
+    if (n->plan->attached) {  // someone else starts it: its start timeout counts from here
+      std::lock_guard lock(n->mutex);
+      n->started_ns = runtime::steadyNs();
+      continue;
+    }
     if (auto pid = start(*n, "started"); !pid) errors += pid.error().message + '\n';
   }
   if (!errors.empty()) {
@@ -342,6 +375,168 @@ pid_t NodeSupervisor::pidOf(std::string_view instance) const {
     return n->pid;
   }
   return 0;
+}
+
+// ---- the ROS 2 graph: up, late, left ----
+
+namespace {
+
+/// How long a node may be gone from the graph before that is a fault: a node that ends by itself
+/// leaves the graph a moment before its process ends, and that exit is its fault (one outage,
+/// one fault); and its writers go a moment before its participant, which says more.
+constexpr std::int64_t kLeaveGraceNs = 250'000'000;
+
+/// Whether sighting `g` is of the node's own process (pid `pid`, 0: none runs): its pid, or a
+/// process of its group (a launcher's child). A participant that announces no pid cannot be told
+/// from an earlier life: it counts if it lists the node. An attached node's is whoever lists it.
+bool owns(bool attached, pid_t pid, const GraphSighting& g) {
+  if (attached || g.pid == 0) return g.listed && (attached || pid != 0);
+  return pid != 0 && (g.pid == pid || ::getpgid(g.pid) == pid);
+}
+
+/// Whether `g` shows the node up: every output topic published (a node with none: listed).
+bool completeWith(const GraphSighting& g, bool has_outputs) { return g.missing.empty() && (g.listed || has_outputs); }
+
+/// The sighting that speaks for the node: its own that is complete, else any of its own.
+const GraphSighting* ownSighting(bool attached, pid_t pid, const std::vector<GraphSighting>& seen, bool has_outputs) {
+  const GraphSighting* own = nullptr;
+  for (const GraphSighting& g : seen)
+    if (owns(attached, pid, g) && (own == nullptr || completeWith(g, has_outputs))) own = &g;
+  return own;
+}
+
+std::string topicList(const std::vector<std::string>& topics) {
+  std::string out;
+  for (const auto& t : topics) out += (out.empty() ? "" : ", ") + t;
+  return out;
+}
+
+}  // namespace
+
+void NodeSupervisor::pokeTimer() {
+  std::lock_guard lock(timer_mutex_);
+  ++timer_pokes_;
+  timer_changed_.notify_all();
+}
+
+void NodeSupervisor::nodeSeen(std::string_view instance, std::vector<GraphSighting> sightings) {
+  const auto it = std::find_if(nodes_.begin(), nodes_.end(), [&](const auto& n) { return n->plan->name == instance; });
+  if (it == nodes_.end()) return;
+  Node& n = **it;
+  const std::int64_t now = runtime::steadyNs();
+  std::optional<nlohmann::json> record;
+  bool unknown_pid = false;
+  {
+    std::lock_guard lock(n.mutex);
+    n.seen = std::move(sightings);
+    n.watched = true;
+    const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
+    if (own != nullptr && own->pid == 0 && !n.plan->attached && !n.warned_unknown_pid)
+      unknown_pid = n.warned_unknown_pid = true;
+    const bool complete = own != nullptr && completeWith(*own, n.has_outputs);
+    const bool running = n.plan->attached || (n.pid != 0 && !n.stopping);
+    if (!n.up && complete && running) {
+      n.up = true;
+      n.left_ns = 0;
+      record = log::schema::node(n.plan->name, n.profile->fullName(), own->pid ? own->pid : n.pid, "up");
+      (*record)[log::schema::field::kAfterMs] = static_cast<double>(now - n.started_ns) / 1e6;
+      if (n.outage && n.proxy)  // an attached node back: its outage ends
+        runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(now, std::memory_order_release);
+      n.outage = false;
+    } else if (n.up && !complete) {
+      n.up = false;
+      if (running) {
+        n.left_ns = now;
+        record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, "left");
+        (*record)[log::schema::field::kDetail] = own == nullptr ? "not in the ROS 2 graph"
+                                                                : "publishes no " + topicList(own->missing);
+      }
+    }
+  }
+  if (unknown_pid)
+    warn_(
+        fmt::format("node '{}': a participant listing {} announces no process id: keel cannot tell it from an "
+                    "earlier life of the node",
+                    n.plan->name, n.profile->fullName()));
+  if (record) {
+    (*record)[log::schema::field::kTime] = log_.sinceStart(now);
+    log_.write(std::move(*record));
+  }
+  pokeTimer();
+}
+
+void NodeSupervisor::timerLoop() {
+  std::unique_lock lock(timer_mutex_);
+  while (!timer_ending_) {
+    const std::uint64_t pokes = timer_pokes_;
+    lock.unlock();
+    const std::int64_t now = runtime::steadyNs();
+    std::int64_t next = std::numeric_limits<std::int64_t>::max();
+    for (auto& n : nodes_) next = std::min(next, checkTimes(*n, now));
+    lock.lock();
+    auto poked = [&] { return timer_ending_ || timer_pokes_ != pokes; };
+    if (next == std::numeric_limits<std::int64_t>::max()) timer_changed_.wait(lock, poked);
+    else timer_changed_.wait_for(lock, std::chrono::nanoseconds(next - now), poked);
+  }
+}
+
+// A node's start timeout, and its leaving the graph: a fault when due. Returns when next to look.
+std::int64_t NodeSupervisor::checkTimes(Node& n, std::int64_t now) {
+  constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+  std::int64_t next = kNever;
+  FaultKind kind = FaultKind::Start;
+  std::string detail;
+  {
+    std::lock_guard lock(n.mutex);
+    const bool running = n.plan->attached || (n.pid != 0 && !n.stopping);
+    const std::string name = n.profile->fullName();
+    if (n.watched && running && !n.up && !n.late) {
+      const auto timeout_ns = static_cast<std::int64_t>(n.profile->start_timeout_ms * 1e6);
+      if (now - n.started_ns < timeout_ns) {
+        next = n.started_ns + timeout_ns;
+      } else {
+        n.late = true;
+        const std::string within = fmt::format("within {:g} ms", n.profile->start_timeout_ms);
+        const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
+        const auto other = std::find_if(n.seen.begin(), n.seen.end(), [](const auto& g) { return g.listed; });
+        if (own != nullptr)
+          detail = fmt::format("node '{}' not up {}: it publishes no {}", name, within, topicList(own->missing));
+        else if (other != n.seen.end())
+          detail = fmt::format("node '{}' not up {}: only pid {} lists that name, not its process", name, within,
+                               other->pid);
+        else detail = fmt::format("node '{}' not in the ROS 2 graph {}", name, within);
+      }
+    }
+    if (detail.empty() && n.left_ns != 0) {
+      const std::int64_t due = n.left_ns + kLeaveGraceNs;
+      if (now < due) {
+        next = std::min(next, due);
+      } else {
+        n.left_ns = 0;
+        if (running && !n.up) {
+          kind = FaultKind::Remote;
+          const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
+          detail = own == nullptr ? fmt::format("node '{}' left the ROS 2 graph", name)
+                                  : fmt::format("node '{}' stopped publishing {}", name, topicList(own->missing));
+        }
+      }
+    }
+    if (!detail.empty() && n.plan->attached) n.outage = true;
+  }
+  if (!detail.empty()) report(n, kind, detail, now);
+  return next;
+}
+
+void NodeSupervisor::report(Node& n, FaultKind kind, const std::string& detail, std::int64_t t_ns) {
+  Proxy* proxy = nullptr;
+  {
+    std::lock_guard lock(n.mutex);
+    proxy = n.proxy;
+  }
+  if (!proxy || !report_) return;
+  FaultEvent ev(kind, n.plan->name, detail);
+  ev.t_ns = t_ns;
+  report_(*proxy, ev);
 }
 
 }  // namespace keel::supervision

@@ -16,11 +16,13 @@
 
 #include <chrono>
 #include <condition_variable>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "keel/component.hpp"
@@ -49,6 +51,14 @@ std::string defaultNodeExec();
 /// The last `n` lines of the text file `path` (its last 4 KiB at most), without their line ends.
 std::vector<std::string> lastLines(const std::string& path, std::size_t n);
 
+/// One participant of the ROS 2 graph that lists a node (what keel run's graph watch saw).
+struct GraphSighting {
+  pid_t pid = 0;        // the process it announces; 0: none announced
+  bool listed = false;  // it lists the node by name (else it publishes one of the node's topics)
+  /// The node's declared output topics it does not publish (yet): none when the node is up.
+  std::vector<std::string> missing;
+};
+
 class NodeSupervisor {
  public:
   /// Every instance of `plan` whose `node` is set is a node this supervisor runs (an attached
@@ -71,6 +81,15 @@ class NodeSupervisor {
   /// after their grace period (at most `within`). Its exit is then no fault.
   void stop(std::chrono::milliseconds within);
 
+  /// What the ROS 2 graph shows of node `instance` now (every participant listing its name or
+  /// publishing one of its output topics), from the graph's watch (any thread). The first call
+  /// for a node arms its start timeout (counted from its start): without a graph to watch, a
+  /// node is never late. A node keel started is up when a participant of its process (or of its
+  /// process group) publishes every declared output topic (one with none: lists its name); an
+  /// attached node when a participant listing its name does. Up and then not, while its process
+  /// runs, it left: a `remote` fault.
+  void nodeSeen(std::string_view instance, std::vector<GraphSighting> sightings);
+
   /// The output file of node `instance` ("" for no such node).
   std::string outputOf(std::string_view instance) const;
   /// The pid of node `instance` now; 0 when it does not run.
@@ -90,6 +109,10 @@ class NodeSupervisor {
   Result<void> startGuard();
   void tellGuard(char op, pid_t pgid) const;
   void endGuard();
+  void timerLoop();
+  void pokeTimer();
+  std::int64_t checkTimes(Node& n, std::int64_t now_ns);
+  void report(Node& n, FaultKind kind, const std::string& detail, std::int64_t t_ns);
 
   NodeLaunch launch_;
   runtime::Warn warn_;
@@ -97,12 +120,18 @@ class NodeSupervisor {
   Spawner& spawner_;
   Report report_;
   std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
-  int guard_fd_ = -1;  // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
+  int guard_fd_ = -1;                         // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
   pid_t guard_pid_ = 0;
   std::mutex guard_mutex_;
   std::condition_variable guard_ended_;
   bool guard_gone_ = false;
   bool guard_closing_ = false;
+  // The timer: start timeouts, and a node gone from the graph while its process lives.
+  std::mutex timer_mutex_;
+  std::condition_variable timer_changed_;
+  bool timer_ending_ = false;
+  std::uint64_t timer_pokes_ = 0;  // a node's times changed: the timer looks again
+  std::thread timer_;
   ExitWatch watch_;  // last: its thread ends (stop()) before the nodes it reports on go
 };
 

@@ -10,6 +10,7 @@ the test peers' venv (scripts/peers.sh): its python3 is the nodes' (put first on
 their profiles' <environment>)."""
 import os
 import signal
+import subprocess
 import sys
 import time
 import unittest
@@ -24,23 +25,44 @@ HERE = Path(__file__).resolve().parent
 VENV_BIN = str(Path(sys.executable).parent)
 
 
-def node_profile(name, command, node, parameters=(), ports=""):
+def node_profile(name, command, node, parameters=(), ports="", start_ms=None):
     params = "".join(f'<parameter name="{k}">{v}</parameter>' for k, v in parameters)
+    start = f'<start timeout="{start_ms}"/>' if start_ms else ""
     return (f'<?xml version="1.0"?>\n<ros2_node_profile><name>{name}</name><command>{command}</command>'
             f"<node>{node}</node>"
             f'<environment><variable name="PATH" value="{VENV_BIN}:{os.environ.get("PATH", "")}"/></environment>'
-            f"<parameters>{params}</parameters><stop grace=\"2000\"/><ports>{ports}</ports></ros2_node_profile>\n")
+            f"<parameters>{params}</parameters>{start}<stop grace=\"2000\"/><ports>{ports}</ports>"
+            "</ros2_node_profile>\n")
+
+
+def string_port(name, topic, usage="output"):
+    return (f"<data_port><name>{name}</name><usage>{usage}</usage><data_type>std_msgs/msg/String</data_type>"
+            f"<topic>{topic}</topic></data_port>")
 
 
 TALKER = node_profile("Talker", "python3 talker.py", "/demo/talker", [("greeting", "hi")],
-                      "<data_port><name>chatter</name><usage>output</usage><data_type>std_msgs/msg/String</data_type>"
-                      "<topic>/demo/chatter</topic></data_port>")
+                      string_port("chatter", "/demo/chatter"))
 
 
-def package(name="nodes_test", ref="talker.xml", policy="<severity>reset</severity>"):
+def package(name="nodes_test", ref="talker.xml", policy="<severity>reset</severity>", attach=False):
     return (f'<?xml version="1.0"?>\n<package_profile><name>{name}</name><subcomponents><subcomponent>'
-            f"<name>talker</name><reference>{ref}</reference><fault_policy>{policy}</fault_policy>"
-            f"</subcomponent></subcomponents></package_profile>\n")
+            f"<name>talker</name><reference>{ref}</reference>{'<attach/>' if attach else ''}"
+            f"<fault_policy>{policy}</fault_policy></subcomponent></subcomponents></package_profile>\n")
+
+
+def start_talker(test, d, name="talker", namespace="/demo"):
+    """talker.py started as `ros2 run` would, by the test: not keel's."""
+    env = peers.peer_env(d)
+    proc = subprocess.Popen([sys.executable, str(HERE / "nodes" / "talker.py"), "--ros-args", "-r",
+                             f"__node:={name}", "-r", f"__ns:={namespace}"], env=env,
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+
+    def end():
+        if proc.poll() is None:
+            proc.kill()
+        proc.wait()
+    test.addCleanup(end)
+    return proc
 
 
 def run_with_talker(test, d, **kw):
@@ -78,13 +100,21 @@ class Supervised(unittest.TestCase):
                                  "the node's start")
         self.assertEqual(started["component"], "talker")
         self.assertEqual(started["node"], "/demo/talker")
+        # Up: its process lists /demo/talker in the graph and publishes /demo/chatter.
+        [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the node up")
+        self.assertEqual(up["pid"], started["pid"])
+        self.assertGreater(up["after_ms"], 0)
+        # Fast DDS announces the participant's pid: keel tells the node's lives apart by it.
+        self.assertEqual([r for r in run.records() if "announces no process id" in r.get("message", "")], [])
         peer = peers.Ros2Peer(self, d)
         heard = []
         peer.node.create_subscription(String, "/demo/chatter", lambda m: heard.append(m.data), 10)
         self.assertTrue(peer.spin_until(lambda: any(h.startswith("hi ") for h in heard), 30), f"heard: {heard}")
-        nodes = peer.node.get_node_names_and_namespaces()
-        self.assertIn(("talker", "/demo"), nodes)
-        self.assertIn(("nodes_test", "/keel"), nodes)
+        # rclpy lists a node once its ros_discovery_info sample came, which can be a Fast DDS
+        # heartbeat (3 s) after the first message.
+        listed = {("talker", "/demo"), ("nodes_test", "/keel")}
+        self.assertTrue(peer.spin_until(lambda: listed <= set(peer.node.get_node_names_and_namespaces()), 10),
+                        peer.node.get_node_names_and_namespaces())
 
         # It prints "talker up" right after its first message: killed before that, its output
         # would hold one line fewer than its lives.
@@ -98,6 +128,11 @@ class Supervised(unittest.TestCase):
         [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
                                "the node's restart")
         self.assertNotEqual(again["pid"], started["pid"])
+        # Up again: the new process, although the dead one stays in the graph until its lease
+        # expires (about 20 s after a kill -9), listing the same name and topic.
+        [up_again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up"
+                                     and r["pid"] != started["pid"], 30, "the new process up")
+        self.assertEqual(up_again["pid"], again["pid"])
         run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 20,
                      "the fault's recovery")
         # The new process says "talker up" once it has published; spinning until then also takes
@@ -148,6 +183,57 @@ class Supervised(unittest.TestCase):
         run.stop()
         self.assertIn("  it ended by itself: exited with status 1; its last lines:\n"
                       "  | opening /dev/ttyUSB0\n  | no sonar on /dev/ttyUSB0\n", run.output)
+
+
+class Graph(unittest.TestCase):
+    def test_a_node_whose_topic_never_appears_is_a_start_fault_saying_what_was_missing(self):
+        """The talker is up in the graph but never publishes a topic its profile declares: when
+        its start timeout ends, a `start` fault naming that topic, and no `up` record."""
+        d = domain()
+        profile = node_profile("Talker", "python3 talker.py", "/demo/talker", [("greeting", "hi")],
+                               string_port("chatter", "/demo/chatter") + string_port("status", "/demo/status"),
+                               start_ms=3000)
+        files = {"talker.xml": profile, "talker.py": (HERE / "nodes" / "talker.py").read_text()}
+        run = peers.KeelRun(self, d, package(policy="<severity>stop</severity>"), files)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the start fault")
+        self.assertEqual(fault["kind"], "start")
+        self.assertEqual(fault["detail"], "node '/demo/talker' not up within 3000 ms: it publishes no /demo/status")
+        self.assertEqual([r for r in run.records() if r.get("phase") == "up"], [])
+
+    def test_an_attached_node_is_up_when_it_appears_and_a_remote_fault_when_it_leaves(self):
+        """<attach/>: keel starts nothing; the talker someone else started is up once in the
+        graph with its topic; ended with SIGINT it leaves the graph: a `remote` fault; started
+        again, it is up again."""
+        d = domain()
+        files = {"talker.xml": TALKER}
+        run = peers.KeelRun(self, d, package(attach=True, policy="<severity>stop</severity>"), files)
+        self.assertEqual([r for r in run.records() if r.get("event") == "node"], [])
+        talker = start_talker(self, d)
+        [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the node up")
+        self.assertEqual(up["pid"], talker.pid)
+        self.assertEqual(up["node"], "/demo/talker")
+        talker.send_signal(signal.SIGINT)
+        talker.wait(10)
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "its leaving as a fault")
+        self.assertEqual(fault["kind"], "remote")
+        self.assertEqual(fault["detail"], "node '/demo/talker' left the ROS 2 graph")
+        again = start_talker(self, d)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up" and r["pid"] == again.pid, 30,
+                     "the node up again")
+
+    def test_an_attached_node_that_never_appears_is_a_start_fault(self):
+        d = domain()
+        profile = node_profile("Talker", "python3 talker.py", "/demo/talker", ports=string_port("chatter", "/x"),
+                               start_ms=1500)
+        run = peers.KeelRun(self, d, package(attach=True, policy="<severity>stop</severity>"),
+                            {"talker.xml": profile})
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the start fault")
+        self.assertEqual(fault["kind"], "start")
+        self.assertEqual(fault["detail"], "node '/demo/talker' not in the ROS 2 graph within 1500 ms")
 
 
 if __name__ == "__main__":

@@ -94,6 +94,7 @@ const Constant kFields[] = {
     {"kPid", fd::kPid},
     {"kNodeName", fd::kNodeName},
     {"kLastLines", fd::kLastLines},
+    {"kAfterMs", fd::kAfterMs},
     {"kOutput", fd::kOutput},
     {"kName", fd::kName},
     {"kClass", fd::kClass},

@@ -14,6 +14,7 @@
 #include <condition_variable>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <sstream>
@@ -33,7 +34,9 @@ namespace fs = std::filesystem;
 
 // One node, `/bin/sh -c SCRIPT` run as /demo/talker, in a plan of its own.
 struct Rig {
-  explicit Rig(const std::string& script, double grace_ms = 2000)
+  // `adjust` changes the node's profile before the supervisor reads it.
+  explicit Rig(const std::string& script, double grace_ms = 2000,
+               const std::function<void(profile::NodeProfile&)>& adjust = {})
       : dir(fs::temp_directory_path() / ("keel_node_sup_" + std::to_string(::getpid()))) {
     fs::remove_all(dir);
     fs::create_directories(dir);
@@ -47,6 +50,7 @@ struct Rig {
     node.parameters = {{"speed", "0.2", {}}, {"mode", "fast", {}}};
     node.stop_grace_ms = grace_ms;
     node.component.name = "Talker";
+    if (adjust) adjust(node);
     plan::PlannedInstance pi;
     pi.name = "talker";
     pi.profile = &node.component;
@@ -260,11 +264,97 @@ TEST(NodeSupervisor, WhatANodeProfileSaysThatIsNotActedOnYetIsAWarningAtItsLine)
       plan, {KEEL_NODE_EXEC, rig.dir.string(), "run", 7}, [&](const std::string& m) { warnings.push_back(m); },
       rig.log.log, rig.spawner);
   const std::string why =
-      " is accepted, not acted on yet: this keel starts, watches the death of, restarts and "
-      "stops nodes (docs/ros2-nodes.md)";
-  EXPECT_EQ(warnings, (std::vector<std::string>{"app.xml:4: <attach/> of node 'talker' (nothing watches it)" + why,
-                                                "talker.xml:12: the deadline or liveliness of /demo/chatter" + why}));
+      " is accepted, not acted on yet: this keel starts nodes and watches their death and the ROS 2 graph, "
+      "restarts and stops them (docs/ros2-nodes.md)";
+  EXPECT_EQ(warnings, (std::vector<std::string>{"talker.xml:12: the deadline or liveliness of /demo/chatter" + why}));
   EXPECT_TRUE(rig.warnings.empty()) << "a plain node was warned of: " << rig.warnings.front();
+}
+
+// A node whose profile declares output topic /demo/chatter, started late unless seen in time.
+void chatterNode(profile::NodeProfile& node) {
+  node.topics = {{"chatter", "/demo/chatter", profile::DdsQos::Default, std::nullopt, std::nullopt, std::nullopt, {}}};
+  profile::DataPort port;
+  port.name = "chatter";
+  port.usage = PortDirection::Output;
+  port.data_type = "std_msgs/msg/String";
+  node.component.data_ports = {port};
+  node.start_timeout_ms = 300;
+}
+
+TEST(NodeSupervisor, ANodeIsUpWhenItsOwnProcessPublishesItsTopicsNotWhenAnotherDoes) {
+  Rig rig("exec sleep 60", 2000, chatterNode);
+  rig.node.start_timeout_ms = 60000;  // no start fault here
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t pid = rig.sup->pidOf("talker");
+  // An earlier life (or anyone else) listing the name and publishing the topic is not it, nor is
+  // its own process before it publishes.
+  rig.sup->nodeSeen("talker", {{pid + 100000, true, {}}, {pid, true, {"/demo/chatter"}}});
+  auto phases = [&] {
+    std::vector<std::string> out;
+    for (const auto& r : rig.nodeRecords()) out.push_back(r["phase"]);
+    return out;
+  };
+  EXPECT_EQ(phases(), std::vector<std::string>{"started"});
+  // Its own process publishing: up, though its name is not listed yet (a Fast DDS node's
+  // listing can come seconds after its writers).
+  rig.sup->nodeSeen("talker", {{pid + 100000, true, {}}, {pid, false, {}}});
+  ASSERT_EQ(phases(), (std::vector<std::string>{"started", "up"}));
+  const auto up = rig.nodeRecords().back();
+  EXPECT_EQ(up["pid"], pid);
+  EXPECT_GE(up["after_ms"].get<double>(), 0.0);
+  rig.sup->nodeSeen("talker", {{pid, true, {}}});  // still up: no second record
+  EXPECT_EQ(phases().size(), 2u);
+  std::lock_guard lock(rig.mutex);
+  EXPECT_TRUE(rig.faults.empty());
+}
+
+TEST(NodeSupervisor, ANodeNotUpWithinItsStartTimeoutIsAStartFaultSayingWhatWasMissing) {
+  Rig rig("exec sleep 60", 2000, chatterNode);
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t pid = rig.sup->pidOf("talker");
+  rig.sup->nodeSeen("talker", {{pid, true, {"/demo/chatter"}}});
+  ASSERT_TRUE(rig.waitForFault());
+  std::lock_guard lock(rig.mutex);
+  ASSERT_EQ(rig.faults.size(), 1u);
+  EXPECT_EQ(rig.faults[0].kind, FaultKind::Start);
+  EXPECT_EQ(rig.faults[0].detailText(), "node '/demo/talker' not up within 300 ms: it publishes no /demo/chatter");
+}
+
+TEST(NodeSupervisor, WithoutTheGraphWatchedANodeIsNeverLate) {
+  Rig rig("exec sleep 60", 2000, chatterNode);
+  ASSERT_TRUE(rig.sup->launch());
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // twice its start timeout
+  std::lock_guard lock(rig.mutex);
+  EXPECT_TRUE(rig.faults.empty());
+}
+
+TEST(NodeSupervisor, AStartedNodeThatLeavesTheGraphWhileItRunsIsARemoteFaultOnceItsExitDoesNotFollow) {
+  Rig rig("exec sleep 60", 2000, chatterNode);
+  rig.node.start_timeout_ms = 60000;
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t pid = rig.sup->pidOf("talker");
+  rig.sup->nodeSeen("talker", {{pid, true, {}}});
+  rig.sup->nodeSeen("talker", {});  // its participant gone, its process still there
+  ASSERT_TRUE(rig.waitForFault());
+  std::lock_guard lock(rig.mutex);
+  ASSERT_EQ(rig.faults.size(), 1u);
+  EXPECT_EQ(rig.faults[0].kind, FaultKind::Remote);
+  EXPECT_EQ(rig.faults[0].detailText(), "node '/demo/talker' left the ROS 2 graph");
+}
+
+TEST(NodeSupervisor, ANodeThatLeavesTheGraphAndThenExitsIsOneFaultItsExit) {
+  Rig rig("exec sleep 60", 2000, chatterNode);
+  rig.node.start_timeout_ms = 60000;
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t pid = rig.sup->pidOf("talker");
+  rig.sup->nodeSeen("talker", {{pid, true, {}}});
+  rig.sup->nodeSeen("talker", {});  // leaves the graph: its exit comes within the grace
+  ::kill(pid, SIGKILL);
+  ASSERT_TRUE(rig.waitForFault());
+  std::this_thread::sleep_for(std::chrono::milliseconds(600));  // past the grace
+  std::lock_guard lock(rig.mutex);
+  ASSERT_EQ(rig.faults.size(), 1u);
+  EXPECT_EQ(rig.faults[0].kind, FaultKind::Process);
 }
 
 // keel-node-exec --guard alone: what keel run's death (its socket's end) does to the groups it was
