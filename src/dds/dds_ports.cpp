@@ -4,14 +4,17 @@
 #include <dds/dds.h>
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cctype>
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <mutex>
 #include <optional>
+#include <set>
 
 #include "dds/qos.hpp"
 #include "dds/type_registry.hpp"
@@ -55,6 +58,29 @@ struct DdsPorts::Reader {
   std::atomic<bool> serving{true};
   std::optional<std::string> held;  // an outage that began while standing by and lasts: why
   bool warned_incompatible = false;
+  // A ROS 2 node's output topic: samples of the node's own writers go into its stand-in's
+  // output port (not to a connection); others' are dropped.
+  detail::PortBase* node_port = nullptr;
+  std::atomic<std::int64_t> last_ns{0};  // its last sample of the node's (steady); keel's deadline
+  std::atomic<bool> armed{false};        // a sample since the node was quiet: its deadline counts
+  std::mutex writers_mutex;
+  std::set<dds_instance_handle_t> node_writers;  // writers known to be the node's
+
+  /// Whether the writer of a sample (its publication handle) is the node's.
+  bool fromNode(dds_entity_t reader, dds_instance_handle_t writer) {
+    {
+      std::lock_guard lock(writers_mutex);
+      if (node_writers.contains(writer)) return true;
+    }
+    dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(reader, writer);
+    if (e == nullptr) return false;
+    const bool mine = owner->graph_ && owner->graph_->ownedBy(instance, e->participant_key.v);
+    dds_builtintopic_free_endpoint(e);
+    if (!mine) return false;  // another's, or one not known yet: asked again at its next sample
+    std::lock_guard lock(writers_mutex);
+    node_writers.insert(writer);
+    return true;
+  }
   static constexpr std::uint64_t kNoId = std::numeric_limits<std::uint64_t>::max();
 
   void lost(const std::string& why) {
@@ -94,7 +120,8 @@ struct DdsPorts::Reader {
     FaultEvent f(FaultKind::Remote, instance, why);
     f.t_ns = runtime::steadyNs();
     const std::uint64_t id = owner->watch_.peerLost(instance, f);
-    outage.store(id != 0 ? id : kNoId, std::memory_order_release);
+    // Not reported (a node's silence of its own doing): no outage, asked again at the next miss.
+    if (id != 0) outage.store(id, std::memory_order_release);
   }
 };
 
@@ -117,10 +144,16 @@ void onData(dds_entity_t reader, void* arg) {
     const bool serving = r->serving.load(std::memory_order_acquire);
     for (dds_return_t i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
+      if (r->node_port != nullptr) {
+        if (!r->fromNode(reader, infos[i].publication_handle)) continue;
+        r->last_ns.store(runtime::steadyNs(), std::memory_order_relaxed);
+        r->armed.store(true, std::memory_order_release);
+      }
       any = true;
       if (!serving) continue;
       try {
-        r->type->deliver(samples[i], *r->connection);
+        if (r->node_port != nullptr) r->type->push(samples[i], *r->node_port);
+        else r->type->deliver(samples[i], *r->connection);
       } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
       }
     }
@@ -257,6 +290,14 @@ Result<void> DdsPorts::joinGraph(int domain, std::string_view name) {
 }
 
 void DdsPorts::close() {
+  if (node_timer_.joinable()) {
+    {
+      std::lock_guard lock(node_timer_mutex_);
+      node_timer_ending_ = true;
+    }
+    node_timer_wake_.notify_all();
+    node_timer_.join();
+  }
   if (diagnostics_) diagnostics_->stop();  // before its writer goes
   if (graph_) graph_->close();             // its watch hears nothing more
   // Deleting a participant deletes its topics, writers and readers, and waits for their
@@ -271,6 +312,84 @@ Result<void> DdsPorts::watchNodes(int domain, std::vector<WatchedNode> nodes, Gr
   if (!pp) return fail("the ROS 2 graph: " + pp.error().message);
   graph_ = std::make_unique<Ros2Graph>(watch, warn_);
   return graph_->open(*pp, std::move(nodes));
+}
+
+Result<void> DdsPorts::readNodeOutputs(int domain, const std::vector<NodeOutput>& outputs) {
+  std::string errors;
+  auto pp = participant(domain);
+  if (!pp) return fail("the nodes' topics: " + pp.error().message);
+  for (const NodeOutput& o : outputs) {
+    const profile::DdsBinding& b = o.binding;
+    auto problem = [&](const std::string& what) {
+      errors += fmt::format("{}: output {} of node '{}' ({}): {}\n", b.where.str(), b.endpoint.port, o.instance,
+                            b.topic, what);
+    };
+    const detail::DdsType* type = findType(b.type);
+    if (type == nullptr || o.port == nullptr || o.port->type() != type->type) {
+      problem(fmt::format("no message type '{}' is linked into this keel", b.type));
+      continue;
+    }
+    const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
+    const std::string topic_name = ddsTopicName(b.topic);
+    const dds_entity_t topic = dds_create_topic(*pp, descriptor, topic_name.c_str(), nullptr, nullptr);
+    if (topic < 0) {
+      problem(fmt::format("CycloneDDS refused the topic: {}", dds_strretcode(topic)));
+      continue;
+    }
+    auto reader = std::make_unique<Reader>();
+    reader->owner = this;
+    reader->type = type;
+    reader->node_port = o.port;
+    reader->binding = b;
+    reader->instance = o.instance;
+    // No deadline or liveliness asked of the writer: a ROS 2 publisher offers none (its
+    // default), and a reader asking for one would not match it. keel times the samples.
+    profile::DdsBinding asked = b;
+    asked.deadline_ms.reset();
+    asked.liveliness_ms.reset();
+    const Qos qos = qosOf(asked);
+    dds_listener_t* listener = dds_create_listener(reader.get());
+    dds_lset_data_available(listener, onData);
+    dds_lset_requested_incompatible_qos(listener, Reader::incompatible);
+    const dds_entity_t made = dds_create_reader(*pp, topic, qos.get(), listener);
+    dds_delete_listener(listener);
+    if (made < 0) {
+      problem(fmt::format("CycloneDDS refused the reader: {}", dds_strretcode(made)));
+      continue;
+    }
+    endpoints_.push_back({*pp, made, false});
+    if (b.deadline_ms) timed_.push_back(reader.get());
+    readers_.push_back(std::move(reader));
+  }
+  if (!timed_.empty() && !node_timer_.joinable()) node_timer_ = std::thread([this] { timeNodeOutputs(); });
+  if (!errors.empty()) {
+    errors.pop_back();
+    return fail(errors);
+  }
+  return {};
+}
+
+void DdsPorts::timeNodeOutputs() {
+  double shortest = std::numeric_limits<double>::max();
+  for (const Reader* r : timed_) shortest = std::min(shortest, *r->binding.deadline_ms);
+  // A quarter of the shortest deadline between looks (at least 5 ms): a miss is seen within
+  // 125 % of its deadline.
+  const auto tick = std::chrono::microseconds(std::max<std::int64_t>(5000, static_cast<std::int64_t>(shortest * 250)));
+  std::unique_lock lock(node_timer_mutex_);
+  while (!node_timer_wake_.wait_for(lock, tick, [&] { return node_timer_ending_; })) {
+    const std::int64_t now = runtime::steadyNs();
+    for (Reader* r : timed_) {
+      if (watch_.quiet(r->instance)) {  // dead, restarting, not up: counts from its next sample
+        r->armed.store(false, std::memory_order_relaxed);
+        continue;
+      }
+      if (!r->armed.load(std::memory_order_acquire)) continue;
+      const auto deadline_ns = static_cast<std::int64_t>(*r->binding.deadline_ms * 1e6);
+      if (now - r->last_ns.load(std::memory_order_relaxed) > deadline_ns)
+        r->lost(
+            fmt::format("no sample on {} within its deadline of {}", r->binding.topic, ms(*r->binding.deadline_ms)));
+    }
+  }
 }
 
 void DdsPorts::takeOver() {

@@ -15,12 +15,15 @@
 // after open; listeners run on CycloneDDS's threads.
 #pragma once
 
+#include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <string_view>
+#include <thread>
 #include <vector>
 
 #include "dds/diagnostics.hpp"
@@ -43,6 +46,9 @@ class PeerWatch {
   virtual std::uint64_t peerLost(const std::string& instance, const FaultEvent& fault) = 0;
   /// Samples (or a live writer) came back after fault `id`, at steady time `t_ns`.
   virtual void peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) = 0;
+  /// Whether `instance`'s silence is its own doing (a ROS 2 node not up: dead, restarting,
+  /// stopped, not come up yet): its output topics' deadlines then count from its next sample.
+  virtual bool quiet(const std::string& instance) = 0;
 };
 
 /// The DDS name of ROS 2 topic `topic` ("/a/b" → "rt/a/b").
@@ -98,10 +104,25 @@ class DdsPorts {
   /// Watches `nodes` in the ROS 2 graph of `domain` (ROS_DOMAIN_ID overrides it): what it shows
   /// of each goes to `watch` (ros2_graph.hpp), from now until close().
   Result<void> watchNodes(int domain, std::vector<WatchedNode> nodes, GraphWatch& watch);
+  /// One output topic of a ROS 2 node keel watches, read into its stand-in's output port.
+  struct NodeOutput {
+    std::string instance;
+    profile::DdsBinding binding;  // as a <subscribe>'s: topic, type, QoS, deadline, liveliness
+    detail::PortBase* port = nullptr;
+  };
+  /// Reads each of `outputs` in `domain` into its port, taking only the samples of the node's own
+  /// writers (as watchNodes' watch judges their participants: call watchNodes first). keel times
+  /// the node's samples against the port's deadline itself (a ROS 2 writer offers none, and other
+  /// writers of the topic must not count); a miss goes to the PeerWatch as a <subscribe>'s does,
+  /// once the node has sent a sample since it was quiet.
+  Result<void> readNodeOutputs(int domain, const std::vector<NodeOutput>& outputs);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
   struct Reader;  // dds_ports.cpp
+
+  /// keel's own deadline timer of the node readers (its thread's body).
+  void timeNodeOutputs();
 
  private:
   /// The participant of `domain` in this process, joined on first use.
@@ -116,6 +137,11 @@ class DdsPorts {
   std::vector<runtime::Wire> wires_;
   std::unique_ptr<DiagnosticsWriter> diagnostics_;
   std::unique_ptr<Ros2Graph> graph_;
+  std::vector<Reader*> timed_;  // node readers with a deadline, timed by node_timer_
+  std::mutex node_timer_mutex_;
+  std::condition_variable node_timer_wake_;
+  bool node_timer_ending_ = false;
+  std::thread node_timer_;
   struct Endpoint {
     std::int32_t participant;
     std::int32_t entity;

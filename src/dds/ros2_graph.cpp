@@ -262,6 +262,19 @@ Result<void> Ros2Graph::open(std::int32_t participant, std::vector<WatchedNode> 
   return {};
 }
 
+bool Ros2Graph::ownedBy(const std::string& instance, const std::uint8_t* participant) {
+  State& s = *state_;
+  Guid guid;
+  std::memcpy(guid.data(), participant, guid.size());
+  std::lock_guard lock(s.mutex);
+  const auto node = std::find_if(s.nodes.begin(), s.nodes.end(), [&](const auto& n) { return n.instance == instance; });
+  const auto p = s.participants.find(guid);
+  if (node == s.nodes.end() || p == s.participants.end()) return false;  // not discovered yet: not known to be
+  const auto names = s.listed.find(guid);
+  const bool listed = names != s.listed.end() && names->second.contains(node->name);
+  return s.watch.ownsParticipant(instance, p->second.pid, listed);
+}
+
 void Ros2Graph::close() {
   if (!state_) return;
   // Deleting a reader waits for its listener to return.

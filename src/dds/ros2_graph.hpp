@@ -40,6 +40,9 @@ class GraphWatch {
   /// publishing one of its topics now (none: it is not in the graph). Called on CycloneDDS's threads, under the graph's
   /// lock: it must not call back into the graph.
   virtual void nodeSeen(const std::string& instance, const std::vector<NodeSighting>& sightings) = 0;
+  /// Whether a participant of process `pid` (0: not announced) that lists node `instance` or
+  /// not (`listed`) is the node's: its writers' samples are the node's values. Any thread.
+  virtual bool ownsParticipant(const std::string& instance, pid_t pid, bool listed) = 0;
 };
 
 /// A node to watch: keel's instance, its ROS 2 name, its declared output topics.
@@ -59,6 +62,9 @@ class Ros2Graph {
   /// Reads the graph in `participant`'s domain for `nodes`. Each node's first sightings (none,
   /// if it is not there) are reported once the readers have what DDS holds.
   Result<void> open(std::int32_t participant, std::vector<WatchedNode> nodes);
+  /// Whether the participant whose GUID is `participant` (16 bytes) is node `instance`'s, as the
+  /// watch judges from its pid and listing. Any thread.
+  bool ownedBy(const std::string& instance, const std::uint8_t* participant);
   /// Deletes the readers; no listener runs once it returns. Idempotent.
   void close();
 

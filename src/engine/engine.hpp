@@ -152,6 +152,7 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   // dds::PeerWatch: a subscription's writers lost (a `remote` fault), and back.
   std::uint64_t peerLost(const std::string& instance, const FaultEvent& fault) override;
   void peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) override;
+  bool quiet(const std::string& instance) override { return side_->quiet(instance); }
   /// Each component's health as /diagnostics reports it (engine_recovery.cpp).
   std::vector<dds::Health> health() const;
   /// How long a handled fault keeps a running component's /diagnostics level at WARN.

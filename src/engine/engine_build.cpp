@@ -95,7 +95,11 @@ Result<void> Engine::instantiate() {
       core.instance_name = pi.name;
       core.class_name = cp.name;
       core.fault_sink = &fault_manager_;
-      if (pi.node) core.hooks = this;  // a node has no engine of its own: keel run logs its states
+      if (pi.node) {
+        core.hooks = this;  // a node has no engine of its own: keel run logs its states
+        // Its output ports, filled from its topics: their <validity> is checked on each value.
+        if (auto r = configurePorts(inst); !r) errors += r.error().message + '\n';
+      }
       inst.serving_slot->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
       continue;
@@ -263,7 +267,11 @@ Result<void> Engine::connect() {
     const plan::PlannedConnection& pc = planned_.plan.connections[i];
     if (std::find(crossing.begin(), crossing.end(), i) != crossing.end()) continue;  // below
     const plan::PlannedInstance* a = planned_.plan.find(pc.source.component);
-    if (a && !isLocal(*a)) continue;  // both ends in another process (the plan keeps services in one)
+    const plan::PlannedInstance* b = planned_.plan.find(pc.target.component);
+    if (b && b->node) continue;  // a node's input: keel writes no node topic (warned at start)
+    // Both ends in another process (the plan keeps services in one); a node's output is its
+    // stand-in's port, here.
+    if (a && !isLocal(*a) && !a->node) continue;
     detail::PortBase* src = port(pc.source);
     detail::PortBase* dst = port(pc.target);
     if (!src || !dst) {
@@ -337,6 +345,30 @@ Result<void> Engine::connect() {
     }
     if (auto watching = dds_->watchNodes(planned_.plan.rosDomain(), std::move(nodes), *watch); !watching)
       errors += watching.error().message + '\n';
+    // Their output topics, into their stand-ins' output ports.
+    std::vector<dds::DdsPorts::NodeOutput> outputs;
+    for (const plan::PlannedInstance& pi : planned_.plan.instances) {
+      if (!pi.node) continue;
+      for (const profile::NodeTopic& t : pi.node->topics) {
+        detail::PortBase* p = port({pi.name, t.port});
+        if (p == nullptr || p->direction() != PortDirection::Output) continue;
+        profile::DdsBinding b;
+        b.publish = false;
+        b.endpoint = {pi.name, t.port};
+        b.topic = t.topic;
+        b.type = p->typeName();
+        for (const profile::DataPort& d : pi.node->component.data_ports)
+          if (d.name == t.port) b.type = d.data_type;
+        b.qos = t.qos;
+        b.depth = t.depth;
+        b.deadline_ms = t.deadline_ms;
+        b.liveliness_ms = t.liveliness_ms;
+        b.where = t.where;
+        outputs.push_back({pi.name, std::move(b), p});
+      }
+    }
+    if (auto reading = dds_->readNodeOutputs(planned_.plan.rosDomain(), outputs); !reading)
+      errors += reading.error().message + '\n';
   }
   if (graph) {  // last: it lists the writers and readers made above
     if (auto joined = dds_->joinGraph(planned_.plan.rosDomain(), planned_.plan.name); !joined)

@@ -177,6 +177,7 @@ Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternat
 }
 
 std::uint64_t Engine::peerLost(const std::string& instance, const FaultEvent& fault) {
+  if (side_->quiet(instance)) return 0;  // a node not up: its death, start or stop speaks for it
   Component* c = find(instance);
   return c ? fault_manager_.report(*c, fault, "dds") : 0;
 }

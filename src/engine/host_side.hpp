@@ -41,6 +41,7 @@ class HostSide final : public Side {
   bool publishesDiagnostics() const override { return false; }
   bool joinsRosGraph() const override { return false; }
   dds::GraphWatch* graphWatch() override { return nullptr; }
+  bool quiet(std::string_view) const override { return false; }
   bool standingBy() const override { return host_.role().standby; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;

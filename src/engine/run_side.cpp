@@ -9,6 +9,7 @@
 #include <filesystem>
 
 #include "dds/dds_ports.hpp"
+#include "dds/type_registry.hpp"
 #include "engine/engine.hpp"
 #include "log/schema.hpp"
 #include "supervision/crossing.hpp"
@@ -106,7 +107,14 @@ Result<void> RunSide::setUpNodes() {
 }
 
 std::unique_ptr<Component> RunSide::standIn(const plan::PlannedInstance& pi) {
-  if (pi.node) return nodes_ ? nodes_->makeProxy(pi) : nullptr;
+  if (pi.node) {
+    if (!nodes_) return nullptr;
+    // Its output ports are of the types its topics carry, keel::msg's.
+    return nodes_->makeProxy(pi, [](Component* owner, const profile::DataPort& d) -> std::unique_ptr<detail::PortBase> {
+      const detail::DdsType* type = dds::findType(d.data_type);
+      return type ? type->make_output(owner, d.name) : nullptr;
+    });
+  }
   std::unique_ptr<Component> proxy = supervisor_ ? supervisor_->makeProxy(pi) : nullptr;
   if (proxy) runtime::coreOf(*proxy).hooks = nullptr;  // its states are logged by the process that runs it
   return proxy;

@@ -41,6 +41,7 @@ class RunSide final : public Side, private dds::GraphWatch {
   bool publishesDiagnostics() const override;
   bool joinsRosGraph() const override;
   dds::GraphWatch* graphWatch() override { return nodes_ ? this : nullptr; }
+  bool quiet(std::string_view instance) const override { return nodes_ && nodes_->quiet(instance); }
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;
@@ -56,6 +57,9 @@ class RunSide final : public Side, private dds::GraphWatch {
  private:
   // What the ROS 2 graph shows of a node: to the node supervisor.
   void nodeSeen(const std::string& instance, const std::vector<dds::NodeSighting>& sightings) override;
+  bool ownsParticipant(const std::string& instance, pid_t pid, bool listed) override {
+    return nodes_->owns(instance, pid, listed);
+  }
   Result<void> setUpNodes();
 
   Engine& e_;

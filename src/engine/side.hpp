@@ -50,6 +50,9 @@ class Side {
   /// Where what the ROS 2 graph shows of the plan's nodes goes (keel run's node supervisor);
   /// null: this side watches no node.
   virtual dds::GraphWatch* graphWatch() = 0;
+  /// Whether instance `instance`'s topics are quiet by its own start, death or stop (a ROS 2
+  /// node that is not up): a missed deadline on them is then no fault. Any thread.
+  virtual bool quiet(std::string_view instance) const = 0;
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;
   /// Whether fault `f` of the scenario is injected by this process; `pi`: the instance it

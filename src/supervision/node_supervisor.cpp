@@ -86,7 +86,17 @@ struct NodeSupervisor::Node {
 };
 
 struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
-  Proxy(NodeSupervisor& s, std::shared_ptr<Node> n) : sup(s), held(std::move(n)), node(*held) {}
+  Proxy(NodeSupervisor& s, std::shared_ptr<Node> n, const PortMaker& make) : sup(s), held(std::move(n)), node(*held) {
+    if (!make) return;
+    const profile::NodeProfile& p = *node.profile;
+    for (const profile::DataPort& d : p.component.data_ports) {
+      if (d.usage != PortDirection::Output) continue;
+      const bool has_topic = std::any_of(p.topics.begin(), p.topics.end(),
+                                         [&](const auto& t) { return t.port == d.name; });
+      if (!has_topic) continue;
+      if (auto port = make(this, d)) ports.push_back(std::move(port));
+    }
+  }
   ~Proxy() override {  // may come after the supervisor's end: the engine closes its side first
     std::lock_guard lock(node.mutex);
     node.proxy = nullptr;
@@ -120,6 +130,7 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
   NodeSupervisor& sup;  // not used once the engine shut down: only the destructor runs then
   std::shared_ptr<Node> held;
   Node& node;
+  std::vector<std::unique_ptr<detail::PortBase>> ports;  // its output topics' values, from DDS
 };
 
 NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtime::Warn warn, log::FaultLog& log,
@@ -144,9 +155,9 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
 // each a warning at its line: the run goes on without it, and the integrator knows.
 void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
   auto note = [this](const profile::Where& where, const std::string& what) {
-    warn_(fmt::format("{}: {} is accepted, not acted on yet: {}", where.str(), what,
-                      "this keel starts nodes and watches their death and the ROS 2 graph, restarts and stops them "
-                      "(docs/ros2-nodes.md)"));
+    warn_(
+        fmt::format("{}: {} is accepted, not acted on yet: {}", where.str(), what,
+                    "this keel starts, watches and restarts nodes and reads their output topics (docs/ros2-nodes.md)"));
   };
   for (const auto& n : nodes_) {
     const plan::PlannedInstance& pi = *n->plan;
@@ -154,16 +165,17 @@ void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
     if (pi.policy && pi.policy->alternative)
       note(pi.policy->alternative->where, fmt::format("the <alternative> of node '{}'", pi.name));
     for (const auto& t : p.topics)
-      if (t.deadline_ms || t.liveliness_ms) note(t.where, fmt::format("the deadline or liveliness of {}", t.topic));
+      for (const auto& d : p.component.data_ports)
+        if (d.name == t.port && d.usage == PortDirection::Input && (t.deadline_ms || t.liveliness_ms))
+          note(t.where, fmt::format("the deadline or liveliness of input {}", t.topic));
     for (const auto& port : p.component.data_ports)
       for (const auto& v : port.field_validity) note(v.where, fmt::format("<validity field=\"{}\">", v.field));
     if (p.emergency)
       for (const auto& c : p.emergency->publish) note(c.where, fmt::format("<publish topic=\"{}\">", c.topic));
     if (!p.diagnostics_name.empty()) note(p.where, fmt::format("<diagnostics name=\"{}\">", p.diagnostics_name));
     for (const auto& c : plan.connections)
-      if (c.source.component == pi.name || c.target.component == pi.name)
-        note(c.where,
-             fmt::format("a connection to node '{}'s port (keel reads and writes no node topic yet)", pi.name));
+      if (c.target.component == pi.name)
+        note(c.where, fmt::format("a connection to node '{}'s input port (keel writes no node topic yet)", pi.name));
   }
 }
 
@@ -221,10 +233,10 @@ void NodeSupervisor::endGuard() {
     warn_(fmt::format("the node guard (pid {}) did not end 5 s after keel run closed its socket", guard_pid_));
 }
 
-std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance& instance) {
+std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance& instance, const PortMaker& make) {
   for (auto& n : nodes_) {
     if (n->plan != &instance) continue;
-    auto proxy = std::make_unique<Proxy>(*this, n);
+    auto proxy = std::make_unique<Proxy>(*this, n, make);
     std::lock_guard lock(n->mutex);
     n->proxy = proxy.get();
     return proxy;
@@ -463,6 +475,24 @@ void NodeSupervisor::nodeSeen(std::string_view instance, std::vector<GraphSighti
     log_.write(std::move(*record));
   }
   pokeTimer();
+}
+
+bool NodeSupervisor::owns(std::string_view instance, pid_t pid, bool listed) const {
+  for (const auto& n : nodes_) {
+    if (n->plan->name != instance) continue;
+    std::lock_guard lock(n->mutex);
+    return supervision::owns(n->plan->attached, n->pid, GraphSighting{pid, listed, {}});
+  }
+  return false;
+}
+
+bool NodeSupervisor::quiet(std::string_view instance) const {
+  for (const auto& n : nodes_) {
+    if (n->plan->name != instance) continue;
+    std::lock_guard lock(n->mutex);
+    return !n->up;
+  }
+  return false;
 }
 
 void NodeSupervisor::timerLoop() {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "keel/component.hpp"
+#include "keel/detail/port_base.hpp"
 #include "keel/result.hpp"
 #include "log/fault_log.hpp"
 #include "plan/plan.hpp"
@@ -68,8 +69,11 @@ class NodeSupervisor {
   NodeSupervisor(const NodeSupervisor&) = delete;
   NodeSupervisor& operator=(const NodeSupervisor&) = delete;
 
-  /// keel run's stand-in for node `instance`; null when it is not a node.
-  std::unique_ptr<Component> makeProxy(const plan::PlannedInstance& instance);
+  /// Makes output port `port` of type `port.data_type` on `owner` (null: no such type here).
+  using PortMaker = std::function<std::unique_ptr<detail::PortBase>(Component* owner, const profile::DataPort& port)>;
+  /// keel run's stand-in for node `instance`, with an output port (made by `make`) for each
+  /// output topic its profile declares, which keel fills from DDS; null when it is not a node.
+  std::unique_ptr<Component> makeProxy(const plan::PlannedInstance& instance, const PortMaker& make = {});
   /// Where the proxies' faults go (the fault manager), before launch().
   using Report = std::function<void(Component& proxy, const FaultEvent& fault)>;
   void setReport(Report report) { report_ = std::move(report); }
@@ -89,6 +93,15 @@ class NodeSupervisor {
   /// attached node when a participant listing its name does. Up and then not, while its process
   /// runs, it left: a `remote` fault.
   void nodeSeen(std::string_view instance, std::vector<GraphSighting> sightings);
+
+  /// Whether a participant of process `pid` that lists node `instance` by name or not
+  /// (`listed`) is the node's own: its process or process group; an attached node's, one
+  /// that lists it. Its writers' samples are the node's (any thread).
+  bool owns(std::string_view instance, pid_t pid, bool listed) const;
+  /// Whether node `instance`'s topics are quiet by keel's doing or its start: it is not up (dead,
+  /// being restarted, stopped, not come up yet). A deadline missed then is no fault of its own:
+  /// its death, its start timeout or its stop speaks for it (any thread).
+  bool quiet(std::string_view instance) const;
 
   /// The output file of node `instance` ("" for no such node).
   std::string outputOf(std::string_view instance) const;

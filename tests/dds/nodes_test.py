@@ -3,7 +3,7 @@
 ordinary nodes (tests/dds/nodes/), knowing nothing of keel, started by `keel run` from node
 profiles (docs/ros2-nodes.md), watched, restarted and stopped by it.
 
-  nodes_test.py KEEL_CLI [unittest options]
+  nodes_test.py KEEL_CLI COMPONENT_DIR [unittest options]
 
 Each test runs on a ROS_DOMAIN_ID of its own, pinned to the loopback (tests/dds/*-lo.xml), with
 the test peers' venv (scripts/peers.sh): its python3 is the nodes' (put first on their PATH by
@@ -12,6 +12,7 @@ import os
 import signal
 import subprocess
 import sys
+import tempfile
 import time
 import unittest
 from pathlib import Path
@@ -236,7 +237,82 @@ class Graph(unittest.TestCase):
         self.assertEqual(fault["detail"], "node '/demo/talker' not in the ROS 2 graph within 1500 ms")
 
 
+def sonar_profile(parameters=(), validity="", deadline_ms=None):
+    deadline = f"<deadline>{deadline_ms}</deadline>" if deadline_ms else ""
+    port = ("<data_port><name>range</name><usage>output</usage><data_type>sensor_msgs/msg/Range</data_type>"
+            f"<topic>/demo/range</topic>{deadline}{validity}</data_port>")
+    return node_profile("Sonar", "python3 sonar.py", "/demo/sonar", parameters, port)
+
+
+def sonar_files(profile):
+    return {"sonar.xml": profile, "sonar.py": (HERE / "nodes" / "sonar.py").read_text()}
+
+
+def records_of(run, **fields):
+    return [r for r in run.records() if all(r.get(k) == v for k, v in fields.items())]
+
+
+class Topics(unittest.TestCase):
+    def test_a_nodes_values_reach_a_keel_component_and_another_writers_do_not(self):
+        """The talker's /demo/chatter is its stand-in's output port, connected to a keel
+        component (Recorder): every line it records is the talker's; an impostor publishing on
+        the same topic from another process is not the node, and is not heard."""
+        d = domain()
+        rec = Path(tempfile.mkdtemp(prefix="keel_rec_")) / "heard.txt"
+        app = ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>'
+               "<subcomponent><name>talker</name><reference>talker.xml</reference></subcomponent>"
+               "<subcomponent><name>recorder</name><reference>Recorder.xml</reference>"
+               f'<properties><property name="path">{rec}</property></properties></subcomponent>'
+               '</subcomponents><port_connections><port_connection port_type="data">'
+               '<source component_name="talker" port_name="chatter"/>'
+               '<target component_name="recorder" port_name="heard"/></port_connection></port_connections>'
+               "</package_profile>\n")
+        files = {"talker.xml": TALKER, "talker.py": (HERE / "nodes" / "talker.py").read_text(),
+                 "Recorder.xml": peers.component_profile("Recorder", [("heard", "input", "std_msgs/msg/String")],
+                                                         properties='<property name="path" type="string">?</property>')}
+        run = peers.KeelRun(self, d, app, files)
+        peer = peers.Ros2Peer(self, d)
+        impostor = peer.node.create_publisher(String, "/demo/chatter", 10)
+        self.assertTrue(wait_until(lambda: rec.exists() and rec.read_text().count(" hi ") >= 1, 30),
+                        "the node's values did not reach the component")
+        for i in range(40):
+            impostor.publish(String(data=f"impostor {i}"))
+            peer.executor.spin_once(timeout_sec=0.025)
+        self.assertTrue(wait_until(lambda: rec.read_text().count(" hi ") >= 20, 30), rec.read_text())
+        lines = rec.read_text().splitlines()
+        self.assertEqual([l for l in lines if "impostor" in l], [])
+        self.assertEqual([l for l in lines if l.split(" ", 1)[1].split(" ")[0] != "hi"], [])
+
+    def test_a_node_that_stalls_alive_misses_its_deadline_and_is_restarted(self):
+        """The sonar stops publishing after its 20th message but stays alive: its topic's deadline
+        (300 ms) is a `remote` fault of the node; reset restarts it, a new process."""
+        d = domain()
+        run = peers.KeelRun(self, d, package(ref="sonar.xml"),
+                            sonar_files(sonar_profile([("stall_at", "20")], deadline_ms=300)))
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the missed deadline")
+        self.assertEqual(fault["kind"], "remote")
+        self.assertEqual(fault["detail"], "no sample on /demo/range within its deadline of 300 ms")
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                               "its restart")
+        self.assertNotEqual(again["pid"], started["pid"])
+
+    def test_a_killed_node_is_one_fault_not_also_its_topics_deadline(self):
+        """kill -9 of the sonar: its `process` fault; its topic's deadline, missed while it is
+        dead and restarting, raises nothing more."""
+        d = domain()
+        run = peers.KeelRun(self, d, package(ref="sonar.xml"), sonar_files(sonar_profile(deadline_ms=300)))
+        [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the node up")
+        os.kill(up["pid"], signal.SIGKILL)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up" and r["pid"] != up["pid"], 30,
+                     "the new process up")
+        time.sleep(1.0)  # more than three deadlines after
+        faults = records_of(run, event="detected", component="talker")
+        self.assertEqual([f["kind"] for f in faults], ["process"], faults)
+
+
 if __name__ == "__main__":
-    peers.KEEL, peers.COMPONENTS = sys.argv[1], ""  # no component libraries: nodes only
+    peers.KEEL, peers.COMPONENTS = sys.argv[1], sys.argv[2]  # keel, tests/dds/components.cpp's library
     os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = str(HERE / "fastdds-lo.xml")
-    unittest.main(argv=[sys.argv[0]] + sys.argv[2:], verbosity=2)
+    unittest.main(argv=[sys.argv[0]] + sys.argv[3:], verbosity=2)

@@ -45,15 +45,16 @@ def peer_env(domain):
     return env
 
 
-def component_profile(name, ports, periodic_ms=None):
-    """A component profile of tests/dds/components.cpp: ports are (name, usage, data_type)."""
+def component_profile(name, ports, periodic_ms=None, properties=""):
+    """A component profile of tests/dds/components.cpp: ports are (name, usage, data_type);
+    `properties` its <property> elements."""
     semantics = (f"<type>periodic</type><period>{periodic_ms}</period>" if periodic_ms else "<type>aperiodic</type>")
     port_xml = "".join(f"<data_port><name>{n}</name><usage>{u}</usage><data_type>{t}</data_type>"
                        f"<queue_size>100</queue_size></data_port>" for n, u, t in ports)
     return (f'<?xml version="1.0"?>\n<component_profile><name>{name}</name>'
             f"<execution_environment><library_type>so</library_type><library_name>keel_test_dds_components"
             f"</library_name></execution_environment><execution_semantics>{semantics}</execution_semantics>"
-            f"<ports>{port_xml}</ports></component_profile>\n")
+            f"<properties>{properties}</properties><ports>{port_xml}</ports></component_profile>\n")
 
 
 def echo_profile(cls, ros_type):

@@ -11,9 +11,11 @@
 #include <cstdint>
 #include <memory>
 #include <new>
+#include <string>
 #include <typeindex>
 #include <vector>
 
+#include "keel/data_port.hpp"
 #include "keel/detail/connection.hpp"
 #include "keel/detail/port_base.hpp"
 
@@ -53,6 +55,12 @@ struct DdsType {
   /// Converts one sample (the C struct at `sample`) and sends it on `connection`, a
   /// Connection<T> of this type made by an input port.
   void (*deliver)(const void* sample, ConnectionBase& connection);
+  /// An OutputDataPort<T> `name` of `owner`: a port whose values come from DDS (the output of a
+  /// ROS 2 node keel watches, on its stand-in).
+  std::unique_ptr<PortBase> (*make_output)(Component* owner, std::string name);
+  /// Converts one sample and pushes it on `port`, made by make_output: validity checked, sent
+  /// to every connected input, as a component's push.
+  void (*push)(const void* sample, PortBase& port);
 };
 
 /// Adds `type` to the registry (defined in libkeel). A second registration of a name keeps
@@ -87,6 +95,14 @@ struct DdsTypeOf {
     FromDds(*static_cast<const C*>(sample), value);
     static_cast<Connection<T>&>(connection).send(value);
   }
+  static std::unique_ptr<PortBase> makeOutput(Component* owner, std::string name) {
+    return std::make_unique<OutputDataPort<T>>(owner, std::move(name));
+  }
+  static void push(const void* sample, PortBase& port) {
+    T value{};
+    FromDds(*static_cast<const C*>(sample), value);
+    static_cast<OutputDataPort<T>&>(port).push(value);
+  }
 };
 
 }  // namespace keel::detail
@@ -98,7 +114,8 @@ struct DdsTypeOf {
   namespace {                                                                                       \
   const bool keel_dds_type_registered_ = [] {                                                       \
     using Of = ::keel::detail::DdsTypeOf<T, C, TO_DDS, FROM_DDS>;                                   \
-    ::keel::detail::registerDdsType({ROS_NAME, typeid(T), &(DESC), &Of::makeOutlet, &Of::deliver}); \
+    ::keel::detail::registerDdsType(                                                                \
+        {ROS_NAME, typeid(T), &(DESC), &Of::makeOutlet, &Of::deliver, &Of::makeOutput, &Of::push}); \
     return true;                                                                                    \
   }();                                                                                              \
   }
