@@ -5,8 +5,9 @@
 # <target> (docs/messages.md). For each message pkg/Name, at build time:
 #   keel_msggen.py (next to this file) writes the IDL, the C++ header
 #     <keel/msg/<pkg>/msg/<name>.hpp> (keel::msg::<pkg>::<Name>), its conversions to the C sample
-#     (<keel/msg/<pkg>/msg/detail/<name>__dds.hpp>) and a .cpp that registers the type with keel's
-#     DDS layer under "<pkg>/msg/<Name>";
+#     (<keel/msg/<pkg>/msg/detail/<name>__dds.hpp>), the table of its fields by name
+#     (<keel/msg/<pkg>/msg/detail/<name>__fields.hpp>) and a .cpp that registers the type with
+#     keel's DDS layer under "<pkg>/msg/<Name>";
 #   CycloneDDS's idlc -t -x final turns the IDL into the C sample type and its descriptor.
 # Editing a .msg file regenerates its code on the next build.
 #
@@ -125,13 +126,15 @@ function(keel_add_messages target)
     set(include "${out}/include/keel/msg/${pkg}/msg")
     set(cpp "${out}/src/${pkg}/msg/${snake}__dds.cpp")
     add_custom_command(
-      OUTPUT "${idl}" "${include}/${snake}.hpp" "${include}/detail/${snake}__dds.hpp" "${cpp}"
+      OUTPUT "${idl}" "${include}/${snake}.hpp" "${include}/detail/${snake}__dds.hpp"
+             "${include}/detail/${snake}__fields.hpp" "${cpp}"
       COMMAND "${Python3_EXECUTABLE}" "${_KEEL_MSGGEN}" ${gen_args} --package "${pkg}" "${path}"
       DEPENDS "${path}" "${_KEEL_MSGGEN}"
       COMMENT "keel_msggen ${pkg}/msg/${name}"
       VERBATIM)
     list(APPEND idls "${idl}")
-    list(APPEND generated "${idl}" "${include}/${snake}.hpp" "${include}/detail/${snake}__dds.hpp")
+    list(APPEND generated "${idl}" "${include}/${snake}.hpp" "${include}/detail/${snake}__dds.hpp"
+                          "${include}/detail/${snake}__fields.hpp")
     list(APPEND sources "${cpp}")
   endforeach()
 

@@ -34,6 +34,8 @@ class InputDataPort final : public detail::QueuedInput<T, detail::InputPortBase>
         detail::reportRange(this->owner(), this->name(), v, true);
         return;  // an invalid value is not queued
       }
+    } else if (this->field_rules_) [[unlikely]] {
+      if (!detail::checkFields(*this->field_rules_, &value, this->owner(), this->name(), true)) return;
     }
     this->queue_.push(value);
     detail::notifyInput(this->owner(), false);
@@ -46,7 +48,8 @@ class OutputDataPort final : public detail::Fanout<T> {
   OutputDataPort(Component* owner, std::string name) : detail::Fanout<T>(owner, std::move(name), PortKind::Data) {}
 
   /// Sends `value` to every connected input. A value that violates the port's validity rule
-  /// is a `range` fault of this component and is not sent.
+  /// (or, for a message, a rule of one of its fields) is a `range` fault of this component and
+  /// is not sent.
   void push(const T& value) {
     if constexpr (detail::NumericTraits<T>::numeric) {
       if (corrupt_next_.load(std::memory_order_relaxed)) [[unlikely]] {
@@ -58,6 +61,8 @@ class OutputDataPort final : public detail::Fanout<T> {
         detail::reportRange(this->owner(), this->name(), v, false);
         return;
       }
+    } else if (this->field_rules_) [[unlikely]] {
+      if (!detail::checkFields(*this->field_rules_, &value, this->owner(), this->name(), false)) return;
     }
     this->sendAll(value);
   }

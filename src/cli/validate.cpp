@@ -2,19 +2,36 @@
 // exit 2. What loads but has no effect is a `file:line: warning: message` (exit 0; with --strict
 // a problem, `file:line: message (--strict)`).
 // Profiles, and fault scenarios (checked as `keel run --inject` reads them, before a run).
-// With --load, libraries are also loaded — every instance's, whatever its <process> — and every
-// port of code checked against its profile, and each connection between processes as the
-// component processes check it when they connect (nothing is initialized or run); what loading warns of (an OPRoS
-// component's code that disagrees with its profile) is printed as `keel run` prints it, and is a problem with --strict.
+// Without --load, each <validity field=".."> on a port of a message type keel ships is checked
+// against the message's fields. With --load, libraries are also loaded — every instance's, whatever its <process> — and
+// every port of code checked against its profile, and each connection between processes as the component processes
+// check it when they connect (nothing is initialized or run); what loading warns of (an OPRoS component's code that
+// disagrees with its profile) is printed as `keel run` prints it, and is a problem with --strict.
+#include <algorithm>
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "dds/field_validity.hpp"
 #include "engine/engine.hpp"
 #include "injection/scenario.hpp"
 #include "profile/loader.hpp"
 
 namespace keel::cli {
 namespace {
+
+/// Without --load: each <validity field=".."> whose port's type is a message keel has without
+/// loading anything (the shipped ones) names a numeric field of it; the others are checked by
+/// --load, which loads the libraries that have them. Each problem printed; how many.
+int fieldRuleProblems(const profile::ProfileSet& set) {
+  int problems = 0;
+  for (const auto& [path, component] : set.components)
+    for (const auto& port : component.data_ports)
+      if (auto r = dds::resolveFieldRules(port, "", true); !r) {
+        std::cerr << r.error().message;
+        problems += static_cast<int>(std::count(r.error().message.begin(), r.error().message.end(), '\n'));
+      }
+  return problems;
+}
 
 struct ValidateOptions {
   std::vector<std::string> files;
@@ -50,6 +67,12 @@ int validateFiles(const ValidateOptions& o) {
       continue;
     }
     for (const auto& w : set->warnings) std::cerr << w.warningStr() << '\n';
+    if (!o.load) {
+      if (const int bad = fieldRuleProblems(*set); bad > 0) {
+        problems += bad;
+        continue;
+      }
+    }
     std::size_t load_warnings_seen = 0;
     bool runnable = set->root_kind == profile::RootKind::Package || set->root_kind == profile::RootKind::System ||
                     set->root_kind == profile::RootKind::Component;

@@ -1,7 +1,7 @@
 // The message types DDS ports can carry: every keel::detail::DdsType registered by generated
 // message code (keel's shipped messages in libkeel, a user's keel_add_messages library), found
-// by ROS 2 name. Thread-safety: registration in static initialisers (libraries being loaded,
-// under the dynamic loader's lock); lookups from any thread.
+// by ROS 2 name, each with the table of its fields a <validity field=".."> names. Thread-safety: registration in static
+// initialisers (libraries being loaded, under the dynamic loader's lock); lookups from any thread.
 #pragma once
 
 #include <string>

@@ -41,6 +41,7 @@
 #include "runtime/cpu_latency.hpp"
 #include "runtime/execution_gate.hpp"
 #include "runtime/executor.hpp"
+#include "runtime/field_rules.hpp"
 #include "runtime/loader.hpp"
 #include "runtime/warning.hpp"
 #include "runtime/wire.hpp"
@@ -171,6 +172,10 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   void redirectInputs(Component& failed, Component& alternative);
   Result<void> checkPorts(const Instance& inst);  // an OPRoS component's differences: warnings
   Result<void> configurePorts(Instance& inst);    // queues, validity rules, call timeouts
+  /// The <validity field=".."> of `d` resolved in `port`'s message type and set on the port.
+  Result<void> configureFieldRules(const Instance& inst, const profile::DataPort& d, detail::PortBase& port);
+  /// Each node's <validity field=".."> names a numeric field of its port's message type.
+  Result<void> checkNodeFieldRules() const;
   /// An input data port's queue: the profile's, or the one an OPRoS component's code fixed.
   void configureQueue(const Instance& inst, const profile::DataPort& d, detail::InputPortBase& port);
   Result<void> connect();
@@ -213,6 +218,7 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   std::deque<plan::PlannedInstance> alternative_plans_;   // the alternatives' plans (stable addresses)
   std::vector<std::unique_ptr<Component>> alternatives_;  // alternatives created: standing by or serving
   std::vector<std::unique_ptr<detail::ValidityRule>> rules_;
+  std::vector<std::unique_ptr<detail::FieldRules>> field_rules_;
   std::map<std::string, std::unique_ptr<runtime::ExecutionGate>> gates_;  // by instance: OPRoS's depends
   mutable std::mutex executors_mutex_;  // the fault manager's thread adds to executors_
   // Opened once every executor has started its members: no first cycle before that (runComponents).

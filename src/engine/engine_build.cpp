@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "dds/field_validity.hpp"
+#include "dds/type_registry.hpp"
 #include "engine/engine.hpp"
 #include "fault/fault_manager_component.hpp"
 #include "runtime/port_access.hpp"
@@ -113,6 +115,11 @@ Result<void> Engine::instantiate() {
     instances_.push_back(std::move(*inst));
   }
   for (const auto& inst : instances_) by_name_.emplace(inst.plan->name, &inst);
+  // A node's rules are checked once, by keel run (or keel validate): after the libraries above
+  // are loaded, whose messages a node's ports may carry.
+  if (options_.host == nullptr) {
+    if (auto r = checkNodeFieldRules(); !r) errors += r.error().message + '\n';
+  }
   if (!errors.empty()) {
     errors.pop_back();
     return fail(errors);
@@ -167,6 +174,9 @@ Result<void> Engine::configurePorts(Instance& inst) {
     detail::PortBase* port = core.findPort(d.name);
     if (!port) continue;  // an OPRoS component without it: checkPorts warned
     if (d.usage == PortDirection::Input) configureQueue(inst, d, *static_cast<detail::InputPortBase*>(port));
+    if (!d.field_validity.empty()) {
+      if (auto r = configureFieldRules(inst, d, *port); !r) errors += r.error().message;
+    }
     if (!d.validity) continue;
     if (!port->numeric()) {
       errors += fmt::format(
@@ -190,6 +200,30 @@ Result<void> Engine::configurePorts(Instance& inst) {
   }
   if (!errors.empty()) return fail(errors);
   return {};
+}
+
+Result<void> Engine::configureFieldRules(const Instance& inst, const profile::DataPort& d, detail::PortBase& port) {
+  // The port's own type, not the profile's data_type: the rules walk values of this C++ type.
+  const detail::DdsType* type = dds::findType(port.typeName());
+  if (type != nullptr && type->type != port.type()) type = nullptr;
+  auto rules = dds::resolveFieldRules(type, port.typeName(), d, fmt::format("component '{}': ", inst.plan->name));
+  if (!rules) return rules.error();
+  field_rules_.push_back(std::make_unique<detail::FieldRules>(detail::FieldRules{std::move(*rules)}));
+  detail::PortAccess::setFieldRules(port, field_rules_.back().get());
+  return {};
+}
+
+Result<void> Engine::checkNodeFieldRules() const {
+  std::string errors;
+  for (const auto& pi : planned_.plan.instances) {
+    if (pi.node == nullptr) continue;
+    for (const auto& d : pi.profile->data_ports)
+      if (auto r = dds::resolveFieldRules(d, fmt::format("node '{}': ", pi.name), false); !r)
+        errors += r.error().message;
+  }
+  if (errors.empty()) return {};
+  errors.pop_back();
+  return fail(errors);
 }
 
 void Engine::configureQueue(const Instance& inst, const profile::DataPort& d, detail::InputPortBase& port) {

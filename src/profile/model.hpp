@@ -89,11 +89,10 @@ struct Execution {
 struct Validity {
   std::vector<double> min;  // empty: no lower bound
   std::vector<double> max;  // empty: no upper bound
-  /// A node's port (a ROS 2 message): the dotted path of the checked field ("linear.x"; an
-  /// array field is checked element by element). Empty: the port's value itself.
   Where where;
-  /// A node's port (a ROS 2 message): the dotted path of the checked field ("linear.x"; an
-  /// array field is checked element by element). Empty: the port's value itself.
+  /// A port whose type is a generated message (keel::msg): the dotted path of the checked
+  /// field ("linear.x"; an array, and an array of messages on the way, is checked element by
+  /// element: docs/profiles.md). Empty: the port's value itself.
   std::string field{};
 };
 
@@ -104,8 +103,8 @@ struct DataPort {
   QueuePolicy queue_policy = QueuePolicy::Fifo;
   std::size_t queue_size = 10;
   std::optional<Validity> validity;
-  /// A node's port (a ROS 2 message): one <validity field=".."> per checked field, each field
-  /// once, in the profile's order; `validity` stays empty. A component's port has none.
+  /// A port whose type is a generated message (keel::msg): one <validity field=".."> per
+  /// checked field, each field once, in the profile's order. A node's port has no `validity`.
   std::vector<Validity> field_validity;
   std::string reference;  // absolute path of an OPRoS data type profile (<reference>), or ""
   Where where;

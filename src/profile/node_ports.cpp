@@ -46,17 +46,6 @@ struct NodePortReader {
       ctx.error(n, fmt::format("<topic> '{}' of {} is not a ROS 2 topic name: {}", t.topic, owner, why));
   }
 
-  /// One <validity field="..">: each field checked once.
-  void validity(pugi::xml_node n) {
-    Validity v = parseValidity(ctx, n, owner, true);
-    if (v.field.empty()) return;  // reported
-    for (const Validity& w : p.field_validity)
-      if (w.field == v.field)
-        return ctx.error(n, fmt::format("duplicate <validity field=\"{}\"> in {} (first at line {})", v.field, owner,
-                                        w.where.line));
-    p.field_validity.push_back(std::move(v));
-  }
-
   void read() {
     readChildren(ctx, node,
                  {{"name", [&](pugi::xml_node n) { p.name = text(n); }},
@@ -84,7 +73,7 @@ struct NodePortReader {
                      liveliness = n;
                      t.liveliness_ms = readPositive(ctx, n, text(n), "<liveliness> of " + owner);
                    }},
-                  {"validity", [&](pugi::xml_node n) { validity(n); }, true},
+                  {"validity", [&](pugi::xml_node n) { readValidity(ctx, n, owner, p, true); }, true},
                   {"description", {}}});
   }
 

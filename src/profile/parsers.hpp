@@ -32,9 +32,13 @@ Execution parseExecution(Ctx& ctx, pugi::xml_node node, const std::string& owner
 std::vector<Property> parseProperties(Ctx& ctx, pugi::xml_node node, const std::string& owner);
 /// <ports> (ports.cpp).
 void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out);
-/// <validity> of port `owner` (ports.cpp). `field`: a node's port, whose <validity> names the
-/// checked field of its message in a required attribute `field`.
+/// <validity> of port `owner` (ports.cpp). `field`: the rule names the checked field of the
+/// port's message in a required attribute `field`.
 Validity parseValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, bool field = false);
+/// One <validity> of data port `p` (ports.cpp): the whole value's, once, or with `field=".."`
+/// one of its message's fields, each field once. `field_only`: a node's port, whose every
+/// <validity> names a field.
+void readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, DataPort& p, bool field_only);
 /// <ports> of node profile `owner`: its data ports, each on a topic (node_ports.cpp).
 void parseNodePorts(Ctx& ctx, pugi::xml_node node, NodeProfile& out, const std::string& owner);
 /// <emergency> of node profile `owner`, after its ports (node_ports.cpp).

@@ -125,7 +125,7 @@ void readDataPort(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {
                                             param, owner));
                  },
                  true},
-                {"validity", [&](pugi::xml_node n) { p.validity = parseValidity(ctx, n, owner); }},
+                {"validity", [&](pugi::xml_node n) { readValidity(ctx, n, owner, p, false); }, true},
                 {"reference",
                  [&](pugi::xml_node n) {
                    p.reference = ctx.optionalReference(n, r.text(n), owner, RootKind::DataType);
@@ -203,7 +203,7 @@ void checkUniqueNames(Ctx& ctx, const ComponentProfile& c) {
 Validity parseValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, bool field) {
   Validity v;
   v.where = ctx.where(node);
-  // A node port's bound names its field: "<min> of <validity field="linear.x"> of data port 'cmd'".
+  // A field's bound names it: "<min> of <validity field="linear.x"> of data port 'cmd'".
   std::string rule = "<validity>";
   if (field) {
     if (const auto path = requiredAttribute(ctx, node, "field")) {
@@ -232,6 +232,24 @@ Validity parseValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, 
   else readChildren(ctx, node, {{"min", bound(v.min)}, {"max", bound(v.max)}});
   checkBounds(ctx, node, v, fmt::format("{} of {}", rule, owner));
   return v;
+}
+
+void readValidity(Ctx& ctx, pugi::xml_node node, const std::string& owner, DataPort& p, bool field_only) {
+  if (!field_only && !node.attribute("field")) {
+    if (p.validity)
+      return ctx.error(node, fmt::format("duplicate <validity> in <data_port> (first at line {}); a field's "
+                                         "<validity> names it: <validity field=\"linear.x\">",
+                                         p.validity->where.line));
+    p.validity = parseValidity(ctx, node, owner);
+    return;
+  }
+  Validity v = parseValidity(ctx, node, owner, true);
+  if (v.field.empty()) return;  // reported
+  for (const Validity& w : p.field_validity)
+    if (w.field == v.field)
+      return ctx.error(node, fmt::format("duplicate <validity field=\"{}\"> in {} (first at line {})", v.field, owner,
+                                         w.where.line));
+  p.field_validity.push_back(std::move(v));
 }
 
 void parsePorts(Ctx& ctx, pugi::xml_node node, ComponentProfile& out) {

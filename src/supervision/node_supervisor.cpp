@@ -168,8 +168,6 @@ void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
       for (const auto& d : p.component.data_ports)
         if (d.name == t.port && d.usage == PortDirection::Input && (t.deadline_ms || t.liveliness_ms))
           note(t.where, fmt::format("the deadline or liveliness of input {}", t.topic));
-    for (const auto& port : p.component.data_ports)
-      for (const auto& v : port.field_validity) note(v.where, fmt::format("<validity field=\"{}\">", v.field));
     if (p.emergency)
       for (const auto& c : p.emergency->publish) note(c.where, fmt::format("<publish topic=\"{}\">", c.topic));
     if (!p.diagnostics_name.empty()) note(p.where, fmt::format("<diagnostics name=\"{}\">", p.diagnostics_name));

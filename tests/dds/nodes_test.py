@@ -311,6 +311,24 @@ class Topics(unittest.TestCase):
         faults = records_of(run, event="detected", component="talker")
         self.assertEqual([f["kind"] for f in faults], ["process"], faults)
 
+    def test_a_lying_sonar_is_a_range_fault_of_the_node_naming_the_field(self):
+        """The sonar reads -1 m from its 20th message on (a cable come loose) while running
+        normally: `<validity field="range">` makes it a `range` fault of the node, whose reset
+        restarts it."""
+        d = domain()
+        validity = '<validity field="range"><min>0.02</min><max>4.0</max></validity>'
+        run = peers.KeelRun(self, d, package(ref="sonar.xml"),
+                            sonar_files(sonar_profile([("lie_at", "20")], validity=validity)))
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the lie")
+        self.assertEqual(fault["kind"], "range")
+        self.assertIn("field 'range'", fault["detail"])
+        self.assertIn("-1", fault["detail"])
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                               "its restart")
+        self.assertNotEqual(again["pid"], started["pid"])
+
 
 if __name__ == "__main__":
     peers.KEEL, peers.COMPONENTS = sys.argv[1], sys.argv[2]  # keel, tests/dds/components.cpp's library

@@ -2,7 +2,8 @@
 // sample type CycloneDDS's idlc generates for it, and the conversions between the two. Each
 // message's generated code (keel's shipped messages, a user's keel_add_messages) registers one
 // DdsType with KEEL_DDS_TYPE; keel's DDS layer (src/dds) finds it by the ROS 2 type name a
-// profile's <publish>/<subscribe> gives. Authors never name this header; it does not include
+// profile's <publish>/<subscribe> gives, and the engine the table of its fields a <validity
+// field=".."> names. Authors never name this header; it does not include
 // CycloneDDS (the generated code does).
 // Thread-safety: registration runs in static initialisers; the rest is reentrant.
 #pragma once
@@ -11,12 +12,14 @@
 #include <cstdint>
 #include <memory>
 #include <new>
+#include <span>
 #include <string>
 #include <typeindex>
 #include <vector>
 
 #include "keel/data_port.hpp"
 #include "keel/detail/connection.hpp"
+#include "keel/detail/message_fields.hpp"
 #include "keel/detail/port_base.hpp"
 
 namespace keel::detail {
@@ -61,6 +64,8 @@ struct DdsType {
   /// Converts one sample and pushes it on `port`, made by make_output: validity checked, sent
   /// to every connected input, as a component's push.
   void (*push)(const void* sample, PortBase& port);
+  /// The type's fields by name (message_fields.hpp): what a <validity field=".."> may name.
+  std::span<const MessageField> fields;
 };
 
 /// Adds `type` to the registry (defined in libkeel). A second registration of a name keeps
@@ -109,13 +114,14 @@ struct DdsTypeOf {
 
 /// In one .cpp per message (generated): registers the C++ type T, whose C sample type is C
 /// with idlc descriptor DESC, converted by TO_DDS(const T&, C&, DdsScratch&) and
-/// FROM_DDS(const C&, T&), under the ROS 2 name ROS_NAME.
-#define KEEL_DDS_TYPE(T, C, DESC, TO_DDS, FROM_DDS, ROS_NAME)                                       \
-  namespace {                                                                                       \
-  const bool keel_dds_type_registered_ = [] {                                                       \
-    using Of = ::keel::detail::DdsTypeOf<T, C, TO_DDS, FROM_DDS>;                                   \
-    ::keel::detail::registerDdsType(                                                                \
-        {ROS_NAME, typeid(T), &(DESC), &Of::makeOutlet, &Of::deliver, &Of::makeOutput, &Of::push}); \
-    return true;                                                                                    \
-  }();                                                                                              \
+/// FROM_DDS(const C&, T&), under the ROS 2 name ROS_NAME, with its fields' table (T's
+/// MessageFieldsOf, from the message's __fields.hpp, which the .cpp includes).
+#define KEEL_DDS_TYPE(T, C, DESC, TO_DDS, FROM_DDS, ROS_NAME)                                                      \
+  namespace {                                                                                                      \
+  const bool keel_dds_type_registered_ = [] {                                                                      \
+    using Of = ::keel::detail::DdsTypeOf<T, C, TO_DDS, FROM_DDS>;                                                  \
+    ::keel::detail::registerDdsType({ROS_NAME, typeid(T), &(DESC), &Of::makeOutlet, &Of::deliver, &Of::makeOutput, \
+                                     &Of::push, ::keel::detail::MessageFieldsOf<T>::fields()});                    \
+    return true;                                                                                                   \
+  }();                                                                                                             \
   }

@@ -78,6 +78,8 @@ class PortBase {
   std::size_t byte_size_ = 0;
   /// The port's validity rule (set by the runtime before start); null: none.
   const ValidityRule* validity_ = nullptr;
+  /// A message port's rules per field (set by the runtime before start); null: none.
+  const FieldRules* field_rules_ = nullptr;
 
  private:
   friend struct PortAccess;

@@ -1,7 +1,8 @@
 // The signal-model rule of paper §5.1.2 as ports apply it: `<validity><min>…</min><max>…</max>`
 // on a data port. Numbers, and arrays of numbers (std::vector, std::array), can be checked;
 // NaN and infinity always violate a rule. One bound applies to every element; several bounds
-// apply element by element (and the array must have that many elements).
+// apply element by element (and the array must have that many elements). A message's fields are
+// checked by the same rules, one per field path (checkFields).
 // Thread-safety: a rule is immutable once set on a port (before start).
 #pragma once
 
@@ -109,6 +110,14 @@ struct ValidityRule {
 
 /// Reports a `range` fault of `owner` found on `port` (defined in libkeel).
 void reportRange(Component& owner, const std::string& port, const Violation& v, bool on_delivery);
+
+/// The <validity field=".."> rules of a port whose type is a generated message (set by the
+/// runtime before start; src/runtime/field_rules.hpp).
+struct FieldRules;
+/// Checks the message at `value` against `rules`. On the first violation, reports a `range`
+/// fault of `owner` found on `port`, naming the field, and returns false (defined in libkeel).
+bool checkFields(const FieldRules& rules, const void* value, Component& owner, const std::string& port,
+                 bool on_delivery);
 
 /// Fault injection (`out_of_range`): records the manifestation on `owner` and marks the
 /// calling thread as pushing an injected value until endInjectedCorruption() (libkeel).

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """cmake/keel_msggen.py as a message author meets it: every bad .msg is refused with
 `file:line: error: what and why` (exit 1, nothing written for it), and good ones give rosidl's
-file names, IDL that idlc compiles, and C++ headers that include only the standard library and
-keel. ctest: Msggen.RefusesBadMessagesWithFileAndLine (label unit).
+file names, IDL that idlc compiles, C++ headers that include only the standard library and
+keel, and each message's table of fields by name. ctest: Msggen.RefusesBadMessagesWithFileAndLine (label unit).
 
 Writes only in a temporary directory; runs idlc when it is installed and cmake -P (for
 KeelMessages.cmake's snake case). Standard library only: python3 tests/unit/msgs/msggen_test.py"""
@@ -167,6 +167,9 @@ def check_shipped(tmp, failures):
     check("struct PoseStamped {" in pose and "::keel::msg::std_msgs::Header header{};" in pose
           and 'KEEL_TYPE_NAME(keel::msg::geometry_msgs::PoseStamped, "geometry_msgs/msg/PoseStamped");' in pose,
           "pose_stamped.hpp lacks the struct, its header field or its type name", failures)
+    empty_fields = (out / "include" / "keel" / "msg" / "std_msgs" / "msg" / "detail" / "empty__fields.hpp").read_text()
+    check("static std::span<const MessageField> fields() { return {}; }" in empty_fields
+          and "kFields" not in empty_fields, "empty__fields.hpp: a message without fields has an empty table", failures)
     empty = (out / "idl" / "std_msgs" / "msg" / "Empty_.idl").read_text()
     check("uint8 structure_needs_at_least_one_member;" in empty, "Empty_.idl has no placeholder member", failures)
     status = (out / "idl" / "diagnostic_msgs" / "msg" / "DiagnosticStatus_.idl").read_text()
@@ -197,6 +200,22 @@ def check_user_messages(tmp, shipped_out, failures):
     check('#include "keel/msg/std_msgs/msg/header.hpp"' in hpp and "std::int32_t class_{};" in hpp
           and "std::uint8_t module{};" in hpp and "std::array<::keel::msg::robot_msgs::Wheel, 4> wheels{};" in hpp,
           "drive.hpp: Header, a keyword field or a same-package array", failures)
+    fields = (out / "include" / "keel" / "msg" / "robot_msgs" / "msg" / "detail" / "drive__fields.hpp").read_text()
+    check('#include "keel/msg/robot_msgs/msg/detail/wheel__fields.hpp"' in fields
+          and "struct MessageFieldsOf<::keel::msg::robot_msgs::Drive> {" in fields
+          and '{"wheels", "robot_msgs/msg/Wheel[4]", FieldKind::Message, true, '
+              '&MessageFieldsOf<::keel::msg::robot_msgs::Wheel>::fields,' in fields
+          and '{"class", "int32", FieldKind::Number, false, nullptr,' in fields
+          and "&visitNumbers<&M::class_>, nullptr}," in fields
+          and '{"cmd", "geometry_msgs/msg/Twist", FieldKind::Message, false,' in fields,
+          "drive__fields.hpp: a table entry for an array of messages, a keyword field or a shipped type", failures)
+    wheel = (out / "include" / "keel" / "msg" / "robot_msgs" / "msg" / "detail" / "wheel__fields.hpp").read_text()
+    check('{"name", "string", FieldKind::String, false, nullptr,\n       nullptr, nullptr},' in wheel
+          and '{"speed", "float64", FieldKind::Number, false, nullptr,' in wheel,
+          "wheel__fields.hpp: a string is no number, a float64 is", failures)
+    source = (out / "src" / "robot_msgs" / "msg" / "drive__dds.cpp").read_text()
+    check('#include "keel/msg/robot_msgs/msg/detail/drive__fields.hpp"' in source,
+          "drive__dds.cpp does not include its fields' table, which its registration carries", failures)
     idl = (out / "idl" / "robot_msgs" / "msg" / "Drive_.idl").read_text()
     check("int32 class_;" in idl and "uint8 module_;" in idl and "::robot_msgs::msg::dds_::Wheel_ wheels[4];" in idl,
           "Drive_.idl: keyword fields or the array of a same-package type", failures)
