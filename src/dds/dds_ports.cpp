@@ -259,6 +259,7 @@ Result<void> DdsPorts::joinGraph(int domain, std::string_view name) {
 void DdsPorts::close() {
   if (diagnostics_) diagnostics_->stop();  // before its writer goes
   if (graph_) graph_->close();             // its watch hears nothing more
+  if (parameters_) parameters_->close();   // nor this one
   // Deleting a participant deletes its topics, writers and readers, and waits for their
   // listeners: no sample is delivered after this. The outlets stay (ports may still hold
   // their connections): a write to a deleted writer fails and is dropped.
@@ -271,6 +272,16 @@ Result<void> DdsPorts::watchNodes(int domain, std::vector<WatchedNode> nodes, Gr
   if (!pp) return fail("the ROS 2 graph: " + pp.error().message);
   graph_ = std::make_unique<Ros2Graph>(watch, warn_);
   return graph_->open(*pp, std::move(nodes));
+}
+
+Result<void> DdsPorts::watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch) {
+  auto pp = participant(domain);
+  if (!pp) return fail("/parameter_events: " + pp.error().message);
+  parameters_ = std::make_unique<ParameterEvents>(watch, warn_);
+  auto reader = parameters_->open(*pp, std::move(nodes));
+  if (!reader) return reader.error();
+  endpoints_.push_back({*pp, *reader, false});  // keel's node subscribes to it, as ROS 2 tools show
+  return {};
 }
 
 void DdsPorts::takeOver() {

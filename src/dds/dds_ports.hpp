@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "dds/diagnostics.hpp"
+#include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
 #include "keel/detail/port_base.hpp"
 #include "keel/fault_event.hpp"
@@ -98,6 +99,9 @@ class DdsPorts {
   /// Watches `nodes` in the ROS 2 graph of `domain` (ROS_DOMAIN_ID overrides it): what it shows
   /// of each goes to `watch` (ros2_graph.hpp), from now until close().
   Result<void> watchNodes(int domain, std::vector<WatchedNode> nodes, GraphWatch& watch);
+  /// Reads /parameter_events in `domain` (ROS_DOMAIN_ID overrides it) for `nodes`, the nodes keel
+  /// runs: each change one of them announces goes to `watch` (parameter_events.hpp), until close().
+  Result<void> watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
@@ -116,6 +120,7 @@ class DdsPorts {
   std::vector<runtime::Wire> wires_;
   std::unique_ptr<DiagnosticsWriter> diagnostics_;
   std::unique_ptr<Ros2Graph> graph_;
+  std::unique_ptr<ParameterEvents> parameters_;
   struct Endpoint {
     std::int32_t participant;
     std::int32_t entity;

@@ -338,6 +338,14 @@ Result<void> Engine::connect() {
     if (auto watching = dds_->watchNodes(planned_.plan.rosDomain(), std::move(nodes), *watch); !watching)
       errors += watching.error().message + '\n';
   }
+  if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
+    std::vector<dds::WatchedNode> nodes;
+    for (const plan::PlannedInstance& pi : planned_.plan.instances)
+      if (pi.node && !pi.attached) nodes.push_back({pi.name, pi.node->fullName(), {}});
+    if (!nodes.empty())
+      if (auto watching = dds_->watchParameters(planned_.plan.rosDomain(), std::move(nodes), *params); !watching)
+        errors += watching.error().message + '\n';
+  }
   if (graph) {  // last: it lists the writers and readers made above
     if (auto joined = dds_->joinGraph(planned_.plan.rosDomain(), planned_.plan.name); !joined)
       errors += joined.error().message + '\n';

@@ -24,7 +24,7 @@ namespace keel::engine {
 
 class Engine;
 
-class RunSide final : public Side, private dds::GraphWatch {
+class RunSide final : public Side, private dds::GraphWatch, private dds::ParameterWatch {
  public:
   explicit RunSide(Engine& engine);
   ~RunSide() override;
@@ -41,6 +41,7 @@ class RunSide final : public Side, private dds::GraphWatch {
   bool publishesDiagnostics() const override;
   bool joinsRosGraph() const override;
   dds::GraphWatch* graphWatch() override { return nodes_ ? this : nullptr; }
+  dds::ParameterWatch* parameterWatch() override { return nodes_ ? this : nullptr; }
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;
@@ -56,6 +57,10 @@ class RunSide final : public Side, private dds::GraphWatch {
  private:
   // What the ROS 2 graph shows of a node: to the node supervisor.
   void nodeSeen(const std::string& instance, const std::vector<dds::NodeSighting>& sightings) override;
+  // A node's parameter changes: to the node supervisor, for its restarts.
+  void parametersChanged(const std::string& instance, const profile::ParameterUpdate& update) override {
+    nodes_->parametersChanged(instance, update);
+  }
   Result<void> setUpNodes();
 
   Engine& e_;

@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
 #include "injection/scenario.hpp"
 #include "keel/component.hpp"
@@ -50,6 +51,9 @@ class Side {
   /// Where what the ROS 2 graph shows of the plan's nodes goes (keel run's node supervisor);
   /// null: this side watches no node.
   virtual dds::GraphWatch* graphWatch() = 0;
+  /// Where the parameter changes of the nodes keel runs go (keel run's node supervisor, which
+  /// restarts a node with them); null: this side restarts no node.
+  virtual dds::ParameterWatch* parameterWatch() { return nullptr; }
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;
   /// Whether fault `f` of the scenario is injected by this process; `pi`: the instance it
