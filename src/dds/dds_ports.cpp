@@ -300,6 +300,7 @@ void DdsPorts::close() {
   }
   if (diagnostics_) diagnostics_->stop();  // before its writer goes
   if (graph_) graph_->close();             // its watch hears nothing more
+  if (parameters_) parameters_->close();   // nor this one
   // Deleting a participant deletes its topics, writers and readers, and waits for their
   // listeners: no sample is delivered after this. The outlets stay (ports may still hold
   // their connections): a write to a deleted writer fails and is dropped.
@@ -390,6 +391,16 @@ void DdsPorts::timeNodeOutputs() {
             fmt::format("no sample on {} within its deadline of {}", r->binding.topic, ms(*r->binding.deadline_ms)));
     }
   }
+}
+
+Result<void> DdsPorts::watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch) {
+  auto pp = participant(domain);
+  if (!pp) return fail("/parameter_events: " + pp.error().message);
+  parameters_ = std::make_unique<ParameterEvents>(watch, warn_);
+  auto reader = parameters_->open(*pp, std::move(nodes));
+  if (!reader) return reader.error();
+  endpoints_.push_back({*pp, *reader, false});  // keel's node subscribes to it, as ROS 2 tools show
+  return {};
 }
 
 void DdsPorts::takeOver() {

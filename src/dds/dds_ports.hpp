@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "dds/diagnostics.hpp"
+#include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
 #include "keel/detail/port_base.hpp"
 #include "keel/fault_event.hpp"
@@ -116,6 +117,9 @@ class DdsPorts {
   /// writers of the topic must not count); a miss goes to the PeerWatch as a <subscribe>'s does,
   /// once the node has sent a sample since it was quiet.
   Result<void> readNodeOutputs(int domain, const std::vector<NodeOutput>& outputs);
+  /// Reads /parameter_events in `domain` (ROS_DOMAIN_ID overrides it) for `nodes`, the nodes keel
+  /// runs: each change one of them announces goes to `watch` (parameter_events.hpp), until close().
+  Result<void> watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
@@ -142,6 +146,7 @@ class DdsPorts {
   std::condition_variable node_timer_wake_;
   bool node_timer_ending_ = false;
   std::thread node_timer_;
+  std::unique_ptr<ParameterEvents> parameters_;
   struct Endpoint {
     std::int32_t participant;
     std::int32_t entity;

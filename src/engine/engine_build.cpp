@@ -404,6 +404,14 @@ Result<void> Engine::connect() {
     if (auto reading = dds_->readNodeOutputs(planned_.plan.rosDomain(), outputs); !reading)
       errors += reading.error().message + '\n';
   }
+  if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
+    std::vector<dds::WatchedNode> nodes;
+    for (const plan::PlannedInstance& pi : planned_.plan.instances)
+      if (pi.node && !pi.attached) nodes.push_back({pi.name, pi.node->fullName(), {}});
+    if (!nodes.empty())
+      if (auto watching = dds_->watchParameters(planned_.plan.rosDomain(), std::move(nodes), *params); !watching)
+        errors += watching.error().message + '\n';
+  }
   if (graph) {  // last: it lists the writers and readers made above
     if (auto joined = dds_->joinGraph(planned_.plan.rosDomain(), planned_.plan.name); !joined)
       errors += joined.error().message + '\n';

@@ -24,7 +24,7 @@ namespace keel::engine {
 
 class Engine;
 
-class RunSide final : public Side, private dds::GraphWatch {
+class RunSide final : public Side, private dds::GraphWatch, private dds::ParameterWatch {
  public:
   explicit RunSide(Engine& engine);
   ~RunSide() override;
@@ -42,6 +42,7 @@ class RunSide final : public Side, private dds::GraphWatch {
   bool joinsRosGraph() const override;
   dds::GraphWatch* graphWatch() override { return nodes_ ? this : nullptr; }
   bool quiet(std::string_view instance) const override { return nodes_ && nodes_->quiet(instance); }
+  dds::ParameterWatch* parameterWatch() override { return nodes_ ? this : nullptr; }
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;
@@ -59,6 +60,10 @@ class RunSide final : public Side, private dds::GraphWatch {
   void nodeSeen(const std::string& instance, const std::vector<dds::NodeSighting>& sightings) override;
   bool ownsParticipant(const std::string& instance, pid_t pid, bool listed) override {
     return nodes_->owns(instance, pid, listed);
+  }
+  // A node's parameter changes: to the node supervisor, for its restarts.
+  void parametersChanged(const std::string& instance, const profile::ParameterUpdate& update) override {
+    nodes_->parametersChanged(instance, update);
   }
   Result<void> setUpNodes();
 

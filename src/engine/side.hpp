@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
 #include "injection/scenario.hpp"
 #include "keel/component.hpp"
@@ -53,6 +54,9 @@ class Side {
   /// Whether instance `instance`'s topics are quiet by its own start, death or stop (a ROS 2
   /// node that is not up): a missed deadline on them is then no fault. Any thread.
   virtual bool quiet(std::string_view instance) const = 0;
+  /// Where the parameter changes of the nodes keel runs go (keel run's node supervisor, which
+  /// restarts a node with them); null: this side restarts no node.
+  virtual dds::ParameterWatch* parameterWatch() { return nullptr; }
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;
   /// Whether fault `f` of the scenario is injected by this process; `pi`: the instance it

@@ -77,6 +77,7 @@ inline constexpr char kPid[] = "pid";                             // `host`, `no
 inline constexpr char kNodeName[] = "node";                       // `node`: its name in the ROS 2 graph
 inline constexpr char kLastLines[] = "last_lines";                // `node` `exited`: its output's last lines
 inline constexpr char kOutput[] = "output";                       // `node` `started`: its output file
+inline constexpr char kParams[] = "params";                       // `node` `restarted`: its params file
 inline constexpr char kAfterMs[] = "after_ms";                    // `node` `up`: since its (re)start
 inline constexpr char kName[] = "name";                           // engine `load`: the run's (root profile's) name
 inline constexpr char kClass[] = "class";                         // `counts`, `state`: the component's class

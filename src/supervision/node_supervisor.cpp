@@ -83,6 +83,9 @@ struct NodeSupervisor::Node {
   bool warned_unknown_pid = false;  // a participant listing it announced no pid
   bool has_outputs = false;         // its profile declares output topics
   std::vector<GraphSighting> seen;
+  // Its parameter values for a restart: the profile's, overlaid by /parameter_events.
+  ParameterMap parameters;
+  std::string params_file;  // where its restart's params file is written
 };
 
 struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
@@ -144,8 +147,14 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     for (const auto& t : pi.node->topics)
       for (const auto& d : pi.node->component.data_ports)
         n->has_outputs |= d.name == t.port && d.usage == PortDirection::Output;
-    if (!pi.attached)
+    if (!pi.attached) {
       n->output = (fs::path(launch_.output_dir) / fmt::format("{}.{}.out", launch_.output_stem, pi.name)).string();
+      // Absolute: the node reads it from its own folder.
+      n->params_file = fs::absolute(fs::path(launch_.output_dir) /
+                                    fmt::format("{}.{}.params.yaml", launch_.output_stem, pi.name))
+                           .string();
+      n->parameters = typedParameters(pi.node->parameters);
+    }
     nodes_.push_back(std::move(n));
   }
   warnNotYet(plan);
@@ -242,14 +251,17 @@ std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance
   return nullptr;
 }
 
-ChildSpec NodeSupervisor::childOf(const Node& n) const {
+ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file) const {
   const profile::NodeProfile& p = *n.profile;
   ChildSpec child{p.executable, {}, {}};
   child.args.assign(p.command.begin() + (p.command.empty() ? 0 : 1), p.command.end());
   // ROS 2's own section last, as launch_ros writes it: rcl reads what follows --ros-args.
   child.args.insert(child.args.end(),
                     {"--ros-args", "-r", "__node:=" + p.node_name, "-r", "__ns:=" + p.node_namespace});
-  for (const auto& param : p.parameters) child.args.insert(child.args.end(), {"-p", param.name + ":=" + param.value});
+  // A restart's values are all in its params file: a `-p` would win over the file in rcl.
+  if (!params_file.empty()) child.args.insert(child.args.end(), {"--params-file", params_file});
+  else
+    for (const auto& param : p.parameters) child.args.insert(child.args.end(), {"-p", param.name + ":=" + param.value});
   // Defaults first, the profile's over them; the domain is keel's, always.
   child.environment = {"RCUTILS_COLORIZED_OUTPUT=0", "PYTHONUNBUFFERED=1"};
   for (const auto& v : p.environment) child.environment.push_back(v.name + "=" + v.value);
@@ -260,8 +272,8 @@ ChildSpec NodeSupervisor::childOf(const Node& n) const {
   return child;
 }
 
-Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase) {
-  auto pid = spawner_.start(childOf(n));
+Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::string& params_file) {
+  auto pid = spawner_.start(childOf(n, params_file));
   if (!pid) return fail(fmt::format("node '{}': {}", n.plan->name, pid.error().message));
   tellGuard('+', *pid);  // its process group's id is its pid
   {
@@ -276,6 +288,7 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase) {
   pokeTimer();
   nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), *pid, phase);
   rec[log::schema::field::kOutput] = n.output;
+  if (!params_file.empty()) rec[log::schema::field::kParams] = params_file;
   rec[log::schema::field::kTime] = log_.now();
   log_.write(std::move(rec));
   if (auto watched = watch_.watch(*pid, [this, &n](pid_t p, const Exit& e) { exited(n, p, e); }); !watched) {
@@ -322,7 +335,7 @@ Result<void> NodeSupervisor::restart(Node& n) {
   if (n.plan->attached) return fail("an attached node is not keel's to restart");
   std::lock_guard one(n.restart_mutex);
   stopNode(n, Proxy::graceOf(n));  // alive when its fault came from its topics
-  auto pid = start(n, "restarted");
+  auto pid = start(n, "restarted", writeParameters(n));
   if (!pid) return pid.error();
   std::lock_guard lock(n.mutex);
   if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
@@ -385,6 +398,41 @@ pid_t NodeSupervisor::pidOf(std::string_view instance) const {
     return n->pid;
   }
   return 0;
+}
+
+// ---- parameters: the values it last had, for its restart ----
+
+void NodeSupervisor::parametersChanged(std::string_view instance, const profile::ParameterUpdate& update) {
+  for (auto& n : nodes_) {
+    if (n->plan->name != instance || n->plan->attached) continue;
+    std::lock_guard lock(n->mutex);
+    overlay(n->parameters, update);
+  }
+}
+
+ParameterMap NodeSupervisor::parametersOf(std::string_view instance) const {
+  for (const auto& n : nodes_) {
+    if (n->plan->name != instance) continue;
+    std::lock_guard lock(n->mutex);
+    return n->parameters;
+  }
+  return {};
+}
+
+// Its params file, written now: the file, or "" when it could not be (warned): then the restart
+// has the profile's `-p`s, as its first start had.
+std::string NodeSupervisor::writeParameters(Node& n) {
+  ParameterMap values;
+  {
+    std::lock_guard lock(n.mutex);
+    values = n.parameters;
+  }
+  if (auto written = writeParamsFile(n.params_file, n.profile->fullName(), values); !written) {
+    warn_(
+        fmt::format("node '{}': {}: it restarts with its profile's parameters", n.plan->name, written.error().message));
+    return {};
+  }
+  return n.params_file;
 }
 
 // ---- the ROS 2 graph: up, late, left ----

@@ -3,8 +3,9 @@
 // keel run, kill -9 included), its output appended to a file beside the run's log; it sees the
 // node's death the moment it happens (exit_watch.hpp) and reports it as a `process` fault of the
 // node's proxy, keel run's stand-in for the node in the engine, with its exit status and its last
-// output lines. The proxy is passive: its reset restarts the node, its stop stops it (SIGINT to
-// its group, a grace period, then SIGKILL), its emergency stop stops it when its profile says so.
+// output lines. The proxy is passive: its reset restarts the node (with the parameter values it
+// last had: node_parameters.hpp), its stop stops it (SIGINT to its group, a grace period, then
+// SIGKILL), its emergency stop stops it when its profile says so.
 // Every start, exit and stop is a `node` record of the log. A guard process (keel-node-exec
 // --guard) knows every node's process group: when keel run dies, kill -9 included, it kills what
 // is left of them (what a node forked, which dies with keel run no other way).
@@ -32,6 +33,7 @@
 #include "plan/plan.hpp"
 #include "runtime/warning.hpp"
 #include "supervision/exit_watch.hpp"
+#include "supervision/node_parameters.hpp"
 #include "supervision/spawner.hpp"
 
 namespace keel::supervision {
@@ -102,6 +104,11 @@ class NodeSupervisor {
   /// being restarted, stopped, not come up yet). A deadline missed then is no fault of its own:
   /// its death, its start timeout or its stop speaks for it (any thread).
   bool quiet(std::string_view instance) const;
+  /// Node `instance` announced `update` on /parameter_events (any thread): its values for its
+  /// next restart, which starts it with them all in a params file (node_parameters.hpp).
+  void parametersChanged(std::string_view instance, const profile::ParameterUpdate& update);
+  /// The parameter values node `instance` would be restarted with now (empty for no such node).
+  ParameterMap parametersOf(std::string_view instance) const;
 
   /// The output file of node `instance` ("" for no such node).
   std::string outputOf(std::string_view instance) const;
@@ -113,11 +120,12 @@ class NodeSupervisor {
   struct Proxy;
   friend struct Proxy;
 
-  Result<pid_t> start(Node& n, std::string_view phase);
+  Result<pid_t> start(Node& n, std::string_view phase, const std::string& params_file = {});
   void exited(Node& n, pid_t pid, const Exit& exit);
   Result<void> restart(Node& n);
   void stopNode(Node& n, std::chrono::milliseconds grace);
-  ChildSpec childOf(const Node& n) const;
+  ChildSpec childOf(const Node& n, const std::string& params_file) const;
+  std::string writeParameters(Node& n);
   void warnNotYet(const plan::Plan& plan) const;
   Result<void> startGuard();
   void tellGuard(char op, pid_t pgid) const;

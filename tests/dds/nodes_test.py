@@ -21,6 +21,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ros2_peer_test as peers  # noqa: E402
 from domains import domain  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
+from rclpy.parameter import Parameter  # noqa: E402
+from rclpy.parameter_client import AsyncParameterClient  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
 VENV_BIN = str(Path(sys.executable).parent)
@@ -184,6 +186,51 @@ class Supervised(unittest.TestCase):
         run.stop()
         self.assertIn("  it ended by itself: exited with status 1; its last lines:\n"
                       "  | opening /dev/ttyUSB0\n  | no sonar on /dev/ttyUSB0\n", run.output)
+
+
+class Parameters(unittest.TestCase):
+    def test_a_node_restarted_after_a_kill_9_has_the_parameter_value_set_on_it_at_run_time(self):
+        """The talker starts with greeting "hi" (its profile's); a parameter client sets it to
+        "changed" and the node says so; killed with kill -9 and restarted by its reset, the new
+        process says "changed" too: its `restarted` record names the params file it was given,
+        which holds the value set."""
+        d = domain()
+        run = run_with_talker(self, d)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20,
+                                 "the node's start")
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the node up")
+        peer = peers.Ros2Peer(self, d)
+        heard = []
+        peer.node.create_subscription(String, "/demo/chatter", lambda m: heard.append(m.data), 10)
+        self.assertTrue(peer.spin_until(lambda: any(h.startswith("hi ") for h in heard), 30), f"heard: {heard}")
+
+        client = AsyncParameterClient(peer.node, "/demo/talker")
+        self.assertTrue(client.wait_for_services(timeout_sec=20), "the talker's parameter services")
+        future = client.set_parameters([Parameter("greeting", value="changed")])
+        self.assertTrue(peer.spin_until(future.done, 20), "no answer to set_parameters")
+        self.assertTrue(future.result().results[0].successful, future.result())
+        # The node publishes its event before it answers; keel's reader has it a moment later.
+        self.assertTrue(peer.spin_until(lambda: any(h.startswith("changed ") for h in heard), 10), heard)
+        out_file = run.dir / "log.talker.out"
+        self.assertTrue(wait_until(lambda: "talker up" in out_file.read_text(), 30), out_file.read_text())
+        time.sleep(0.5)
+
+        os.kill(started["pid"], signal.SIGKILL)
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                               "the node's restart")
+        params = Path(again["params"])
+        self.assertEqual(params, run.dir / "log.talker.params.yaml")
+        text = params.read_text()
+        self.assertIn('/demo/talker:\n  ros__parameters:\n', text)
+        self.assertIn('    greeting: "changed"\n', text)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up" and r["pid"] == again["pid"], 30,
+                     "the new process up")
+        # Every message after its "talker up" is the new process's (nodes_test's first test says why).
+        self.assertTrue(peer.spin_until(lambda: out_file.read_text().count("talker up") == 2, 30),
+                        out_file.read_text())
+        heard.clear()
+        self.assertTrue(peer.spin_until(lambda: len(heard) >= 3, 30), f"the new process was not heard: {heard}")
+        self.assertTrue(all(h.startswith("changed ") for h in heard), f"the new process says: {heard}")
 
 
 class Graph(unittest.TestCase):

@@ -96,6 +96,7 @@ const Constant kFields[] = {
     {"kLastLines", fd::kLastLines},
     {"kAfterMs", fd::kAfterMs},
     {"kOutput", fd::kOutput},
+    {"kParams", fd::kParams},
     {"kName", fd::kName},
     {"kClass", fd::kClass},
     {"kExecutor", fd::kExecutor},
