@@ -298,9 +298,10 @@ void DdsPorts::close() {
     node_timer_wake_.notify_all();
     node_timer_.join();
   }
-  if (diagnostics_) diagnostics_->stop();  // before its writer goes
-  if (graph_) graph_->close();             // its watch hears nothing more
-  if (parameters_) parameters_->close();   // nor this one
+  if (diagnostics_) diagnostics_->stop();             // before its writer goes
+  if (node_diagnostics_) node_diagnostics_->close();  // before the graph it asks
+  if (graph_) graph_->close();                        // its watch hears nothing more
+  if (parameters_) parameters_->close();              // nor this one
   // Deleting a participant deletes its topics, writers and readers, and waits for their
   // listeners: no sample is delivered after this. The outlets stay (ports may still hold
   // their connections): a write to a deleted writer fails and is dropped.
@@ -312,7 +313,9 @@ Result<void> DdsPorts::watchNodes(int domain, std::vector<WatchedNode> nodes, Gr
   auto pp = participant(domain);
   if (!pp) return fail("the ROS 2 graph: " + pp.error().message);
   graph_ = std::make_unique<Ros2Graph>(watch, warn_);
-  return graph_->open(*pp, std::move(nodes));
+  if (auto r = graph_->open(*pp, nodes); !r) return r;
+  node_diagnostics_ = std::make_unique<NodeDiagnostics>(*graph_, watch);
+  return node_diagnostics_->open(*pp, std::move(nodes));
 }
 
 Result<void> DdsPorts::readNodeOutputs(int domain, const std::vector<NodeOutput>& outputs) {

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "dds/diagnostics.hpp"
+#include "dds/node_diagnostics.hpp"
 #include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
 #include "keel/detail/port_base.hpp"
@@ -103,7 +104,8 @@ class DdsPorts {
   /// publishDiagnostics() made what it has.
   Result<void> joinGraph(int domain, std::string_view name);
   /// Watches `nodes` in the ROS 2 graph of `domain` (ROS_DOMAIN_ID overrides it): what it shows
-  /// of each goes to `watch` (ros2_graph.hpp), from now until close().
+  /// of each goes to `watch` (ros2_graph.hpp), and so does the status of each that names one of
+  /// its own on /diagnostics (node_diagnostics.hpp), from now until close().
   Result<void> watchNodes(int domain, std::vector<WatchedNode> nodes, GraphWatch& watch);
   /// One output topic of a ROS 2 node keel watches, read into its stand-in's output port.
   struct NodeOutput {
@@ -141,6 +143,7 @@ class DdsPorts {
   std::vector<runtime::Wire> wires_;
   std::unique_ptr<DiagnosticsWriter> diagnostics_;
   std::unique_ptr<Ros2Graph> graph_;
+  std::unique_ptr<NodeDiagnostics> node_diagnostics_;
   std::vector<Reader*> timed_;  // node readers with a deadline, timed by node_timer_
   std::mutex node_timer_mutex_;
   std::condition_variable node_timer_wake_;

@@ -43,6 +43,9 @@ class GraphWatch {
   /// Whether a participant of process `pid` (0: not announced) that lists node `instance` or
   /// not (`listed`) is the node's: its writers' samples are the node's values. Any thread.
   virtual bool ownsParticipant(const std::string& instance, pid_t pid, bool listed) = 0;
+  /// Node `instance` published its own status (its profile's <diagnostics name>) on
+  /// /diagnostics: at ERROR (`error`) or not; `what` is the status's name and message.
+  virtual void nodeReported(const std::string& instance, bool error, const std::string& what) = 0;
 };
 
 /// A node to watch: keel's instance, its ROS 2 name, its declared output topics.
@@ -50,6 +53,7 @@ struct WatchedNode {
   std::string instance;
   std::string name;                  // "/ns/name"
   std::vector<std::string> outputs;  // ROS 2 topic names: "/cmd_vel"
+  std::string diagnostics;           // the name of its own /diagnostics status; "": none
 };
 
 class Ros2Graph {

@@ -372,7 +372,8 @@ Result<void> Engine::connect() {
     std::vector<dds::WatchedNode> nodes;
     for (const plan::PlannedInstance& pi : planned_.plan.instances) {
       if (!pi.node) continue;
-      dds::WatchedNode& w = nodes.emplace_back(dds::WatchedNode{pi.name, pi.node->fullName(), {}});
+      dds::WatchedNode& w = nodes.emplace_back(
+          dds::WatchedNode{pi.name, pi.node->fullName(), {}, pi.node->diagnostics_name});
       for (const profile::NodeTopic& t : pi.node->topics)
         for (const profile::DataPort& d : pi.node->component.data_ports)
           if (d.name == t.port && d.usage == PortDirection::Output) w.outputs.push_back(t.topic);
@@ -407,7 +408,7 @@ Result<void> Engine::connect() {
   if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
     std::vector<dds::WatchedNode> nodes;
     for (const plan::PlannedInstance& pi : planned_.plan.instances)
-      if (pi.node && !pi.attached) nodes.push_back({pi.name, pi.node->fullName(), {}});
+      if (pi.node && !pi.attached) nodes.push_back({pi.name, pi.node->fullName(), {}, {}});
     if (!nodes.empty())
       if (auto watching = dds_->watchParameters(planned_.plan.rosDomain(), std::move(nodes), *params); !watching)
         errors += watching.error().message + '\n';

@@ -61,6 +61,9 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
   bool ownsParticipant(const std::string& instance, pid_t pid, bool listed) override {
     return nodes_->owns(instance, pid, listed);
   }
+  void nodeReported(const std::string& instance, bool error, const std::string& what) override {
+    nodes_->nodeReported(instance, error, what);
+  }
   // A node's parameter changes: to the node supervisor, for its restarts.
   void parametersChanged(const std::string& instance, const profile::ParameterUpdate& update) override {
     nodes_->parametersChanged(instance, update);

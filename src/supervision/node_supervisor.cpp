@@ -82,6 +82,7 @@ struct NodeSupervisor::Node {
   bool outage = false;              // an attached node's start or remote fault, until it is up again
   bool warned_unknown_pid = false;  // a participant listing it announced no pid
   bool has_outputs = false;         // its profile declares output topics
+  bool reported = false;            // its own /diagnostics status is at ERROR (a fault raised)
   std::vector<GraphSighting> seen;
   // Its parameter values for a restart: the profile's, overlaid by /parameter_events.
   ParameterMap parameters;
@@ -179,7 +180,6 @@ void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
           note(t.where, fmt::format("the deadline or liveliness of input {}", t.topic));
     if (p.emergency)
       for (const auto& c : p.emergency->publish) note(c.where, fmt::format("<publish topic=\"{}\">", c.topic));
-    if (!p.diagnostics_name.empty()) note(p.where, fmt::format("<diagnostics name=\"{}\">", p.diagnostics_name));
     for (const auto& c : plan.connections)
       if (c.target.component == pi.name)
         note(c.where, fmt::format("a connection to node '{}'s input port (keel writes no node topic yet)", pi.name));
@@ -284,6 +284,7 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::
     n.started_ns = runtime::steadyNs();
     n.late = false;
     n.left_ns = 0;
+    n.reported = false;
   }
   pokeTimer();
   nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), *pid, phase);
@@ -530,6 +531,22 @@ bool NodeSupervisor::owns(std::string_view instance, pid_t pid, bool listed) con
     return supervision::owns(n->plan->attached, n->pid, GraphSighting{pid, listed, {}});
   }
   return false;
+}
+
+void NodeSupervisor::nodeReported(std::string_view instance, bool error, const std::string& what) {
+  const auto it = std::find_if(nodes_.begin(), nodes_.end(), [&](const auto& n) { return n->plan->name == instance; });
+  if (it == nodes_.end()) return;
+  Node& n = **it;
+  bool raise = false;
+  {
+    std::lock_guard lock(n.mutex);
+    raise = error && !n.reported && (n.plan->attached || (n.pid != 0 && !n.stopping));
+    if (error) n.reported = n.reported || raise;
+    if (!error) n.reported = false;  // the episode is over: the next ERROR is a fault again
+  }
+  if (raise)
+    report(n, FaultKind::Reported, fmt::format("node '{}' reported ERROR: {}", n.profile->fullName(), what),
+           runtime::steadyNs());
 }
 
 bool NodeSupervisor::quiet(std::string_view instance) const {

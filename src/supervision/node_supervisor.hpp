@@ -100,6 +100,10 @@ class NodeSupervisor {
   /// (`listed`) is the node's own: its process or process group; an attached node's, one
   /// that lists it. Its writers' samples are the node's (any thread).
   bool owns(std::string_view instance, pid_t pid, bool listed) const;
+  /// Node `instance` published its own /diagnostics status (its profile's <diagnostics name>),
+  /// at ERROR (`error`) or not; `what`: its name and message (any thread). The first at ERROR
+  /// of a life, or after one below ERROR, is a `reported` fault: one fault per episode.
+  void nodeReported(std::string_view instance, bool error, const std::string& what);
   /// Whether node `instance`'s topics are quiet by keel's doing or its start: it is not up (dead,
   /// being restarted, stopped, not come up yet). A deadline missed then is no fault of its own:
   /// its death, its start timeout or its stop speaks for it (any thread).

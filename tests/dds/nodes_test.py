@@ -20,6 +20,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import ros2_peer_test as peers  # noqa: E402
 from domains import domain  # noqa: E402
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus  # noqa: E402
 from std_msgs.msg import String  # noqa: E402
 from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.parameter_client import AsyncParameterClient  # noqa: E402
@@ -284,11 +285,14 @@ class Graph(unittest.TestCase):
         self.assertEqual(fault["detail"], "node '/demo/talker' not in the ROS 2 graph within 1500 ms")
 
 
-def sonar_profile(parameters=(), validity="", deadline_ms=None):
+def sonar_profile(parameters=(), validity="", deadline_ms=None, diagnostics=False):
     deadline = f"<deadline>{deadline_ms}</deadline>" if deadline_ms else ""
     port = ("<data_port><name>range</name><usage>output</usage><data_type>sensor_msgs/msg/Range</data_type>"
             f"<topic>/demo/range</topic>{deadline}{validity}</data_port>")
-    return node_profile("Sonar", "python3 sonar.py", "/demo/sonar", parameters, port)
+    profile = node_profile("Sonar", "python3 sonar.py", "/demo/sonar", parameters, port)
+    if diagnostics:  # its own status, named as sonar.py publishes it
+        profile = profile.replace("<stop ", '<diagnostics name="sonar: driver"/><stop ')
+    return profile
 
 
 def sonar_files(profile):
@@ -375,6 +379,35 @@ class Topics(unittest.TestCase):
         [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
                                "its restart")
         self.assertNotEqual(again["pid"], started["pid"])
+
+    def test_a_node_reporting_error_on_diagnostics_is_one_reported_fault_per_episode(self):
+        """The sonar's own status on /diagnostics goes to ERROR from its 20th message on (it
+        repeats it with every message): one `reported` fault, not one per message; and the same
+        status from another process (an impostor) is not the node's."""
+        d = domain()
+        run = peers.KeelRun(self, d, package(ref="sonar.xml", policy="<severity>ignore</severity>"),
+                            sonar_files(sonar_profile([("error_at", "20")], diagnostics=True)))
+        self.assertEqual(records_of(run, event="warning"), [])
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the reported error")
+        self.assertEqual(fault["kind"], "reported")
+        self.assertEqual(fault["detail"], "node '/demo/sonar' reported ERROR: sonar: driver: no echo")
+        time.sleep(1.0)  # twenty more ERROR statuses
+        self.assertEqual(len(records_of(run, event="detected", component="talker")), 1)
+
+    def test_an_impostors_error_status_is_not_the_nodes(self):
+        d = domain()
+        run = peers.KeelRun(self, d, package(ref="sonar.xml", policy="<severity>ignore</severity>"),
+                            sonar_files(sonar_profile(diagnostics=True)))
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the node up")
+        peer = peers.Ros2Peer(self, d)
+        pub = peer.node.create_publisher(DiagnosticArray, "/diagnostics", 10)
+        for _ in range(40):
+            pub.publish(DiagnosticArray(status=[DiagnosticStatus(level=DiagnosticStatus.ERROR, name="sonar: driver",
+                                                                 message="impostor")]))
+            peer.executor.spin_once(timeout_sec=0.025)
+        time.sleep(0.5)
+        self.assertEqual(records_of(run, event="detected", component="talker"), [])
 
 
 if __name__ == "__main__":

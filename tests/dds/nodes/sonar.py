@@ -4,11 +4,14 @@ publishes sensor_msgs/Range on `range` (relative: in its namespace) every 50 ms,
 metres (a parameter, default 1.0). Two parameters make it misbehave as broken drivers do, each
 from its `n`th message on (-1: never): `lie_at`, after which it reads `lie` (default -1.0: a
 cable come loose) while running normally; `stall_at`, after which it publishes nothing more
-but stays alive (a hung driver). It ends cleanly on SIGINT or SIGTERM (rclpy's handlers)."""
+but stays alive (a hung driver); `error_at`, after which its own status on /diagnostics
+("sonar: driver", published with each message, OK before) is at ERROR ("no echo") while it
+goes on publishing. It ends cleanly on SIGINT or SIGTERM (rclpy's handlers)."""
 import sys
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rclpy.node import Node
 from sensor_msgs.msg import Range
 
@@ -20,7 +23,9 @@ class Sonar(Node):
         self.declare_parameter("lie_at", -1)
         self.declare_parameter("lie", -1.0)
         self.declare_parameter("stall_at", -1)
+        self.declare_parameter("error_at", -1)
         self.publisher = self.create_publisher(Range, "range", 10)
+        self.diagnostics = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
         self.count = 0
         self.create_timer(0.05, self.tick)
 
@@ -35,6 +40,11 @@ class Sonar(Node):
         msg.header.frame_id = "sonar"
         msg.range = float(self.get_parameter("lie" if lying else "distance").value)
         self.publisher.publish(msg)
+        error_at = self.get_parameter("error_at").value
+        failing = 0 <= error_at <= self.count
+        status = DiagnosticStatus(level=DiagnosticStatus.ERROR if failing else DiagnosticStatus.OK,
+                                  name="sonar: driver", message="no echo" if failing else "ok", hardware_id="sonar")
+        self.diagnostics.publish(DiagnosticArray(status=[status]))
 
 
 def main():

@@ -102,7 +102,7 @@ TEST(ParameterEvents, TheEventsOfTheWatchedNodesReachTheWatchAndOthersDoNot) {
   std::vector<std::string> warnings;
   {
     ParameterEvents events(heard, [&](const std::string& m) { warnings.push_back(m); });
-    ASSERT_TRUE(events.open(participant, {{"talker", "/demo/talker", {}}}));
+    ASSERT_TRUE(events.open(participant, {{"talker", "/demo/talker", {}, {}}}));
     // A writer as rclcpp's and rclpy's: reliable, volatile, keep last 1000.
     const detail::DdsType* type = findType("rcl_interfaces/msg/ParameterEvent");
     ASSERT_NE(type, nullptr);
