@@ -8,6 +8,7 @@
 
 #include "dds/dds_ports.hpp"
 #include "dds/qos.hpp"
+#include "dds/take.hpp"
 #include "dds/type_registry.hpp"
 #include "keel/detail/connection.hpp"
 #include "keel/msg/diagnostic_msgs/msg/diagnostic_array.hpp"
@@ -39,27 +40,18 @@ namespace {
 
 void onDiagnostics(dds_entity_t reader, void* arg) {
   auto* s = static_cast<NodeDiagnostics::State*>(arg);
-  constexpr std::uint32_t kBatch = 16;
-  void* samples[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (;;) {
-    samples[0] = nullptr;
-    const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
-    if (n <= 0) break;
-    for (dds_return_t i = 0; i < n; ++i) {
-      if (!infos[i].valid_data) continue;
-      dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(reader, infos[i].publication_handle);
-      if (e == nullptr) continue;  // a writer gone already: whose it was is not known
-      s->writer_participant = e->participant_key.v;
-      try {
-        s->type->deliver(samples[i], s->connection);
-      } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
-      }
-      s->writer_participant = nullptr;
-      dds_builtintopic_free_endpoint(e);
+  takeAll(reader, [&](const void* sample, const dds_sample_info_t& info) {
+    if (!info.valid_data) return;
+    dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(reader, info.publication_handle);
+    if (e == nullptr) return;  // a writer gone already: whose it was is not known
+    s->writer_participant = e->participant_key.v;
+    try {
+      s->type->deliver(sample, s->connection);
+    } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
     }
-    dds_return_loan(reader, samples, n);
-  }
+    s->writer_participant = nullptr;
+    dds_builtintopic_free_endpoint(e);
+  });
 }
 
 }  // namespace

@@ -12,6 +12,7 @@
 
 #include "dds/dds_ports.hpp"
 #include "dds/qos.hpp"
+#include "dds/take.hpp"
 #include "dds/type_registry.hpp"
 #include "keel/detail/connection.hpp"
 #include "keel/msg/rcl_interfaces/msg/parameter_event.hpp"
@@ -85,26 +86,16 @@ struct ParameterEvents::State final : detail::Sink<msg::rcl_interfaces::Paramete
 
 namespace {
 
-constexpr std::uint32_t kBatch = 16;
-
 void onEvents(dds_entity_t reader, void* arg) {
   auto* s = static_cast<ParameterEvents::State*>(arg);
   std::lock_guard lock(s->mutex);
-  void* samples[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (;;) {
-    samples[0] = nullptr;
-    const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
-    if (n <= 0) break;
-    for (dds_return_t i = 0; i < n; ++i) {
-      if (!infos[i].valid_data) continue;
-      try {
-        s->type->deliver(samples[i], s->connection);
-      } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
-      }
+  takeAll(reader, [&](const void* sample, const dds_sample_info_t& info) {
+    if (!info.valid_data) return;
+    try {
+      s->type->deliver(sample, s->connection);
+    } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
     }
-    dds_return_loan(reader, samples, n);
-  }
+  });
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include "dds/dds_ports.hpp"
 #include "dds/qos.hpp"
+#include "dds/take.hpp"
 #include "dds/type_registry.hpp"
 #include "keel/detail/connection.hpp"
 #include "keel/msg/rmw_dds_common/msg/participant_entities_info.hpp"
@@ -135,22 +136,6 @@ struct Ros2Graph::State final : detail::Sink<msg::rmw_dds_common::ParticipantEnt
 };
 
 namespace {
-
-constexpr std::uint32_t kBatch = 16;
-
-/// Takes every sample of `reader`, calling `each(sample, info)`; loaned, no copy.
-template <class Each>
-void takeAll(dds_entity_t reader, Each&& each) {
-  void* samples[kBatch];
-  dds_sample_info_t infos[kBatch];
-  for (;;) {
-    samples[0] = nullptr;
-    const dds_return_t n = dds_take(reader, samples, infos, kBatch, kBatch);
-    if (n <= 0) break;
-    for (dds_return_t i = 0; i < n; ++i) each(samples[i], infos[i]);
-    dds_return_loan(reader, samples, n);
-  }
-}
 
 void onParticipant(dds_entity_t reader, void* arg) {
   auto* s = static_cast<Ros2Graph::State*>(arg);
