@@ -420,14 +420,16 @@ ParameterMap NodeSupervisor::parametersOf(std::string_view instance) const {
   return {};
 }
 
-// Its params file, written now: the file, or "" when it could not be (warned): then the restart
-// has the profile's `-p`s, as its first start had.
+// Its params file, written now: the file, or "" when it could not be (warned) or would hold no
+// value (rcl refuses a params file whose node has no parameters): then the restart has the
+// profile's `-p`s, as its first start had.
 std::string NodeSupervisor::writeParameters(Node& n) {
   ParameterMap values;
   {
     std::lock_guard lock(n.mutex);
     values = n.parameters;
   }
+  if (values.empty()) return {};
   if (auto written = writeParamsFile(n.params_file, n.profile->fullName(), values); !written) {
     warn_(
         fmt::format("node '{}': {}: it restarts with its profile's parameters", n.plan->name, written.error().message));
@@ -553,7 +555,10 @@ bool NodeSupervisor::quiet(std::string_view instance) const {
   for (const auto& n : nodes_) {
     if (n->plan->name != instance) continue;
     std::lock_guard lock(n->mutex);
-    return !n->up;
+    // A node keel runs: while it has no process, or keel is stopping it (its samples are its
+    // life's only, so a new life's deadline counts from its own first sample). An attached one:
+    // while it is not up (its leaving the graph is its fault).
+    return n->plan->attached ? !n->up : n->pid == 0 || n->stopping;
   }
   return false;
 }

@@ -104,9 +104,9 @@ class NodeSupervisor {
   /// at ERROR (`error`) or not; `what`: its name and message (any thread). The first at ERROR
   /// of a life, or after one below ERROR, is a `reported` fault: one fault per episode.
   void nodeReported(std::string_view instance, bool error, const std::string& what);
-  /// Whether node `instance`'s topics are quiet by keel's doing or its start: it is not up (dead,
-  /// being restarted, stopped, not come up yet). A deadline missed then is no fault of its own:
-  /// its death, its start timeout or its stop speaks for it (any thread).
+  /// Whether node `instance`'s topics are quiet by its death or keel's doing: it has no process
+  /// (dead, being restarted) or keel is stopping it; an attached node: it is not up. A deadline
+  /// missed then is no fault of its own: its death or its stop speaks for it (any thread).
   bool quiet(std::string_view instance) const;
   /// Node `instance` announced `update` on /parameter_events (any thread): its values for its
   /// next restart, which starts it with them all in a params file (node_parameters.hpp).

@@ -30,9 +30,11 @@ std::string readFile(const fs::path& path) {
   return ss.str();
 }
 
-// Node /demo/talker, which prints its arguments, and a second node, /demo/other.
+// Node /demo/talker, which prints its arguments, and a second node, /demo/other; each with
+// three parameters in its profile, or none.
 struct Rig {
-  Rig() : dir(fs::temp_directory_path() / ("keel_node_params_" + std::to_string(::getpid()))) {
+  explicit Rig(bool with_parameters = true)
+      : dir(fs::temp_directory_path() / ("keel_node_params_" + std::to_string(::getpid()))) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     auto make = [&](profile::NodeProfile& node, const std::string& name) {
@@ -42,7 +44,7 @@ struct Rig {
       node.executable = "/bin/sh";
       node.node_namespace = "/demo";
       node.node_name = name;
-      node.parameters = {{"greeting", "hi", {}}, {"speed", "0.2", {}}, {"mode", "fast", {}}};
+      if (with_parameters) node.parameters = {{"greeting", "hi", {}}, {"speed", "0.2", {}}, {"mode", "fast", {}}};
       node.component.name = name;
       plan::PlannedInstance pi;
       pi.name = name;
@@ -114,6 +116,17 @@ TEST(NodeRestartParameters, ARestartedNodeGetsTheProfilesValuesOverlaidByItsChan
   EXPECT_EQ(rig.argsOf(3), "args: -r __node:=talker -r __ns:=/demo --params-file " + file.string());
   EXPECT_NE(readFile(file).find("    speed: 1.0\n"), std::string::npos) << readFile(file);
   EXPECT_EQ(rig.sup->parametersOf("other").at("speed"), profile::ParameterValue(9.5));
+}
+
+// No value to give (none in its profile, none seen changed): no params file, which rcl would
+// refuse (a node with no parameters in it), and the node restarts as it first started.
+TEST(NodeRestartParameters, ANodeWithNoValueToKeepRestartsWithoutAParamsFile) {
+  Rig rig(false);
+  ASSERT_TRUE(rig.sup->launch());
+  EXPECT_EQ(rig.argsOf(1), "args: -r __node:=talker -r __ns:=/demo");
+  ASSERT_EQ(rig.proxy->onReset(), ReturnCode::Ok);
+  EXPECT_EQ(rig.argsOf(2), "args: -r __node:=talker -r __ns:=/demo");
+  EXPECT_FALSE(fs::exists(rig.dir / "run.talker.params.yaml"));
 }
 
 }  // namespace
