@@ -136,6 +136,7 @@ bool RunSide::injects(const injection::ScheduledFault& f, const plan::PlannedIns
 
 void RunSide::nodeSeen(const std::string& instance, const std::vector<dds::NodeSighting>& sightings) {
   std::vector<supervision::GraphSighting> seen;
+  seen.reserve(sightings.size());
   for (const dds::NodeSighting& s : sightings) seen.push_back({s.pid, s.listed, s.missing});
   nodes_->nodeSeen(instance, std::move(seen));
 }

@@ -100,8 +100,9 @@ TEST(MessageFields, MessagesAreVisitedByAddressAndArraysOfThemElementByElement) 
   Everything m;
   m.parts.resize(3);
   EXPECT_THAT(messages(field(everything(), "twist"), &m), ElementsAre(&m.twist));
-  EXPECT_THAT(messages(field(everything(), "pair"), &m), ElementsAre(&m.pair[0], &m.pair[1]));
-  EXPECT_THAT(messages(field(everything(), "parts"), &m), ElementsAre(&m.parts[0], &m.parts[1], &m.parts[2]));
+  EXPECT_THAT(messages(field(everything(), "pair"), &m), ElementsAre(m.pair.data(), m.pair.data() + 1));
+  EXPECT_THAT(messages(field(everything(), "parts"), &m),
+              ElementsAre(m.parts.data(), m.parts.data() + 1, m.parts.data() + 2));
   m.parts[1].xyz = {4, 5, 6};
   const MessageField& xyz = field(field(everything(), "parts").nested(), "xyz");
   EXPECT_THAT(numbers(xyz, &m.parts[1]), ElementsAre(4, 5, 6));
