@@ -4,8 +4,9 @@
 # without faults, then through the paper's experiments, each injected while it drives: a
 # segmentation fault, the vision's process killed with `kill -9` (twice), an unplugged sonar, a
 # lying sonar, the left wheel's driver losing power (Fig. 6), an obstacle avoider that keeps
-# crashing. Last, `ros2`: a ROS 2 node (rclpy, from PyPI) drives the robot over DDS from the
-# sonar ranges keel publishes, is killed with `kill -9` and started again (robot/ros2/). For each
+# crashing. Last, `ros2`: a ROS 2 node (rclpy, from PyPI), started and supervised by keel, drives
+# the robot over DDS from the sonar ranges keel publishes, is killed with `kill -9` and restarted
+# by keel (robot/ros2/). For each
 # run keel prints what it detected, how it handled it and the mission's outcome, and for a killed
 # process how soon its standby took over; the fault logs, MCAP recordings and plots (trajectory
 # with the faults marked, Fig. 6's rpm and detection) go to demo/. While each runs, its live
@@ -63,7 +64,7 @@ for e in "${experiments[@]}"; do
     # A ROS 2 node drives the robot (robot/ros2.xml, robot/ros2/): rclpy from PyPI, in the test
     # peers' venv; without it (no network, no python3-venv) this experiment alone is skipped.
     echo
-    echo "=== ros2: a ROS 2 node drives keel's robot, is killed with kill -9, comes back ==="
+    echo "=== ros2: a ROS 2 node keel supervises drives the robot, is killed with kill -9, keel restarts it ==="
     if ! scripts/peers.sh python; then
       echo "demo.sh: skipping ros2: rclpy could not be installed (scripts/peers.sh python, above)" >&2
       continue

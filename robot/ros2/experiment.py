@@ -1,20 +1,23 @@
 #!/usr/bin/env python3
-"""The `ros2` experiment of scripts/demo.sh (docs/robot.md): a ROS 2 node drives keel's
-simulated robot, is killed with kill -9 mid-run, and is started again.
+"""The `ros2` experiment of scripts/demo.sh (docs/robot.md): a ROS 2 node that keel started and
+supervises drives keel's simulated robot, is killed with kill -9 mid-run, and keel restarts it.
 
   experiment.py --keel build/bin/keel --python tests/peers/venv/bin/python --out demo/ros2
-                [--monitor 127.0.0.1:8765] [--drive 5] [--gone 2] [--after 5]
+                [--monitor 127.0.0.1:8765] [--drive 5] [--after 5]
 
-keel runs robot/ros2.xml; robot/ros2/wander.py, an rclpy node, plans from the sonar ranges keel
-publishes and sends /cmd_vel. Once the robot has driven `--drive` s on the node's commands, the
-node gets SIGKILL; `--gone` s later it is started again, and runs `--after` s more. Both sides
-are on one ROS domain — ROS_DOMAIN_ID if set, else one held from the DDS tests' pool
-(tests/dds/domains.py) — and on the loopback unless CYCLONEDDS_URI / FASTDDS_DEFAULT_PROFILES_FILE
-say otherwise (tests/dds/*-lo.xml). It watches keel's fault log and the referee's trace as they
-are written (every 10 ms), so each moment is when this process saw it, on one clock, and prints
-the story; OUT.summary.json holds it for tests/robot/ros2_demo_test.py. Files: OUT.jsonl (the
-fault log), OUT.csv (the trace), OUT.mcap, OUT.out (keel run's output), OUT.node1.out /
-OUT.node2.out and their .json stats (the node's view). Exit 1 when a step did not happen."""
+keel runs robot/ros2.xml, which starts robot/ros2/wander.py, an rclpy node (the --python's
+folder first on its PATH, as sourcing ROS 2 would put it): it plans from the sonar ranges keel
+publishes and sends /cmd_vel. Once the robot has driven `--drive` s on the node's commands, this
+script sends the node SIGKILL; keel sees the death, stops the wheels and restarts the node, which
+drives `--after` s more. Both sides are on one ROS domain — ROS_DOMAIN_ID if set, else one held
+from the DDS tests' pool (tests/dds/domains.py) — and on the loopback unless CYCLONEDDS_URI /
+FASTDDS_DEFAULT_PROFILES_FILE say otherwise (tests/dds/*-lo.xml). It watches keel's fault log and
+the referee's trace as they are written (every 10 ms) and prints the story; keel's own times
+(the log's t_ns, lined up with this script's clock by the log's epoch_ns) say how soon keel saw
+the kill. OUT.summary.json holds it for tests/robot/ros2_demo_test.py. Files: OUT.jsonl (the fault
+log), OUT.csv (the trace), OUT.mcap, OUT.out (keel run's output), OUT.wander.out (the node's
+output, both lives, as keel keeps it), OUT.wander-PID.json (each life's stats: the node's view).
+Exit 1 when a step did not happen."""
 import argparse
 import json
 import os
@@ -26,7 +29,6 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 MOVING_RPM = 20.0  # a wheel this fast: the robot drives
-REST_RPM = 2.0  # both wheels slower: at rest
 
 
 class Watch:
@@ -78,12 +80,11 @@ def moving(r):
     return max(abs(r["rpm_left"]), abs(r["rpm_right"])) > MOVING_RPM
 
 
-def at_rest(r):
-    return max(abs(r["rpm_left"]), abs(r["rpm_right"])) < REST_RPM
-
-
-def environment(args):
+def environment(args, out):
     env = dict(os.environ)
+    # What sourcing ROS 2 does for the node keel starts: its python3 first on PATH.
+    env["PATH"] = f"{Path(args.python).absolute().parent}:{env.get('PATH', '')}"
+    env["WANDER_STATS"] = f"{out}.wander-{{pid}}.json"
     held = None
     if not env.get("ROS_DOMAIN_ID"):
         sys.path.insert(0, str(ROOT / "tests" / "dds"))
@@ -102,7 +103,7 @@ class Experiment:
         self.args = args
         self.out = Path(args.out)
         self.out.parent.mkdir(parents=True, exist_ok=True)
-        self.env = environment(args)
+        self.env = environment(args, self.out)
         self.log, self.trace = Path(f"{self.out}.jsonl"), Path(f"{self.out}.csv")
         for p in (self.log, self.trace):
             p.unlink(missing_ok=True)
@@ -110,8 +111,8 @@ class Experiment:
         self.t0 = time.monotonic()
         self.events = []  # (t, text): what this process did and saw
         self.summary = {"domain": int(self.env["ROS_DOMAIN_ID"])}
-        self.nodes = []
         self.keel = None
+        self.epoch_ns = None  # the log's t_ns 0 on this script's clock (CLOCK_MONOTONIC)
 
     def note(self, text, t=None):
         t = time.monotonic() if t is None else t
@@ -145,48 +146,59 @@ class Experiment:
         self.keel = subprocess.Popen(cmd, env=self.env, stdout=self.keel_out, stderr=subprocess.STDOUT)
         self.wait("start of keel run", 30, lambda: self.watch.first(
             lambda r: r.get("event") == "engine" and r.get("phase") == "started", self.watch.records()))
+        self.epoch_ns = next(r for _, r in self.watch.records() if r.get("phase") == "load")["epoch_ns"]
         if self.args.monitor:
             for line in Path(f"{self.out}.out").read_text().splitlines():
                 if line.startswith("monitor: "):
                     print(f"  {line}")
         self.note("keel run robot/ros2.xml: publishes /sonar/a, /sonar/b, /sonar/c and /diagnostics, "
-                  "subscribes /cmd_vel (deadline 300 ms, lease 600 ms)")
+                  "subscribes /cmd_vel (deadline 300 ms, lease 600 ms), starts the node wander")
 
-    def start_node(self):
-        k = len(self.nodes) + 1
-        out = open(f"{self.out}.node{k}.out", "w")
-        stats = f"{self.out}.node{k}.json"
-        Path(stats).unlink(missing_ok=True)
-        proc = subprocess.Popen([self.args.python, "-u", str(ROOT / "robot" / "ros2" / "wander.py"), "--stats", stats],
-                                env=self.env, stdout=out, stderr=subprocess.STDOUT)
-        self.nodes.append((proc, out))
-        self.note(f"the ROS 2 node robot/ros2/wander.py started{' again' if k > 1 else ''}, pid {proc.pid}")
-        return proc, time.monotonic()
+    def log_time(self, t_ns):
+        """A log record's t_ns on this script's clock (s)."""
+        return (t_ns + self.epoch_ns) / 1e9
+
+    def node_record(self, phase, after=None):
+        return self.watch.first(lambda r: r.get("event") == "node" and r.get("component") == "wander"
+                                and r.get("phase") == phase and (after is None or r["pid"] != after),
+                                self.watch.records())
 
     def run(self):
         w = self.watch
         self.start_keel()
-        node, started = self.start_node()
+        _, started = self.wait("the node's start", 10, lambda: self.node_record("started"))
+        self.note(f"keel: started the ROS 2 node /wander (robot/ros2/wander.py), pid {started['pid']}",
+                  self.log_time(started["t_ns"]))
+        _, up = self.wait("the node up", 40, lambda: self.node_record("up"))
+        self.note(f"keel: /wander is up, {up['after_ms']:.0f} ms after its start: its process publishes /cmd_vel",
+                  self.log_time(up["t_ns"]))
+        pid = up["pid"]
         t, _ = self.wait("motion (keel obeying the node's /cmd_vel)", 30,
-                         lambda: w.first(moving, w.rows(), after=started))
-        self.note(f"the robot drives on the node's /cmd_vel ({t - started:.1f} s after the node started)", t)
-        self.summary["moving"] = t - self.t0
+                         lambda: w.first(moving, w.rows(), after=self.log_time(up["t_ns"])))
+        self.note("the robot drives on the node's /cmd_vel", t)
+        self.summary.update(moving=t - self.t0, pid=pid)
         self.idle(self.args.drive)
 
-        remote = [r for _, r in w.records() if r.get("event") == "detected" and r.get("kind") == "remote"]
-        self.summary["remote_faults_before_kill"] = len(remote)
+        faults = [r for _, r in w.records() if r.get("event") == "detected"]
+        self.summary["faults_before_kill"] = faults
         last = w.rows()[-1][1]
         killed = time.monotonic()
-        node.send_signal(signal.SIGKILL)
-        node.wait()
-        self.note(f"kill -9 of the ROS 2 node, pid {node.pid} (the wheels at {last['rpm_left']:.0f} / "
+        os.kill(pid, signal.SIGKILL)
+        self.note(f"kill -9 of the ROS 2 node, pid {pid} (the wheels at {last['rpm_left']:.0f} / "
                   f"{last['rpm_right']:.0f} rpm)", killed)
         self.summary.update(killed=killed - self.t0, rpm_at_kill=[last["rpm_left"], last["rpm_right"]])
 
+        _, death = self.wait("the node's process fault", 10, lambda: w.first(
+            lambda r: r.get("event") == "detected" and r.get("component") == "wander", w.records()))
+        seen_ms = (self.log_time(death["t_ns"]) - killed) * 1e3
+        self.note(f"keel: {death['detail']} — a `{death['kind']}` fault of wander, {seen_ms:.2f} ms after the kill "
+                  "(keel's clock)", self.log_time(death["t_ns"]))
         seen, fault = self.wait("remote fault", 10, lambda: w.first(
             lambda r: r.get("event") == "detected" and r.get("kind") == "remote", w.records(), after=killed))
-        self.note(f"keel: {fault['detail']} — a `remote` fault of {fault['component']}, logged "
-                  f"{(seen - killed) * 1e3:.0f} ms after the kill", seen)
+        self.note(f"keel: {fault['detail']} — a `remote` fault of {fault['component']}, "
+                  f"{(fault['t_ns'] - death['t_ns']) / 1e3:.0f} us after the node's (not at its 300 ms deadline)",
+                  self.log_time(fault["t_ns"]))
+        self.summary.update(death=death, death_seen_ms=seen_ms)
         fid = fault["fault_id"]
         seen_r, rec = self.wait("recovery", 5, lambda: w.first(
             lambda r: r.get("event") == "recovered" and r.get("fault_id") == fid, w.records()))
@@ -198,43 +210,44 @@ class Experiment:
                       + (": the velocity command zeroed" if action["action"] == "reset" else ""), seen)
         self.note(f"keel: `recovered` {(rec['t_ns'] - fault['t_ns']) / 1e3:.0f} us after the detection: the "
                   "teleop runs again, holding the robot still until a Twist comes", seen_r)
-        rest, _ = self.wait("wheels at rest", 10, lambda: w.first(at_rest, w.rows(), after=seen))
-        self.note(f"the wheels at rest, {rest - killed:.2f} s after the kill", rest)
-        self.summary.update(fault=fault, fault_seen=seen - self.t0, action=action, recovered=rec,
-                            at_rest=rest - self.t0)
+        self.summary.update(fault=fault, fault_seen=seen - self.t0, action=action, recovered=rec)
 
-        self.idle(max(0.0, self.args.gone - (time.monotonic() - killed)))
-        moved = [r for t, r in w.rows() if t > rest and not at_rest(r)]
-        self.summary["rows_moving_while_gone"] = len(moved)
-        self.note(f"the robot stood still while no node drove it ({len(moved)} trace rows with a wheel turning)")
-        node2, restarted = self.start_node()
-        again, _ = self.wait("motion after the restart", 30, lambda: w.first(moving, w.rows(), after=restarted))
-        self.note(f"keel hears /cmd_vel again: the robot drives, {again - restarted:.1f} s after the restart", again)
-        self.summary.update(restarted=restarted - self.t0, moving_again=again - self.t0)
+        _, restarted = self.wait("the node's restart", 10, lambda: self.node_record("restarted"))
+        self.note(f"keel: restarted /wander (its policy: reset), pid {restarted['pid']}, "
+                  f"{(restarted['t_ns'] - death['t_ns']) / 1e3:.0f} us after its death", self.log_time(restarted["t_ns"]))
+        _, up2 = self.wait("the node up again", 40, lambda: self.node_record("up", after=pid))
+        self.note(f"keel: /wander is up again, {up2['after_ms']:.0f} ms after its restart",
+                  self.log_time(up2["t_ns"]))
+        again, _ = self.wait("motion after the restart", 30,
+                             lambda: w.first(moving, w.rows(), after=self.log_time(up2["t_ns"])))
+        # The motors' lag is 150 ms: they slow down from the stop command on, towards rest.
+        gone = [max(abs(r["rpm_left"]), abs(r["rpm_right"])) for t, r in w.rows()
+                if killed < t < self.log_time(up2["t_ns"])]
+        self.summary["slowest_rpm_while_gone"] = min(gone, default=None)
+        if gone:
+            self.note(f"while no node drove it the wheels slowed to {min(gone):.0f} rpm (from "
+                      f"{max(abs(v) for v in self.summary['rpm_at_kill']):.0f} at the kill)")
+        self.note(f"keel hears /cmd_vel again: the robot drives, {again - killed:.1f} s after the kill", again)
+        self.summary.update(restarted=self.log_time(restarted["t_ns"]) - self.t0, pid_again=up2["pid"],
+                            up_again=self.log_time(up2["t_ns"]) - self.t0, moving_again=again - self.t0)
         self.idle(self.args.after)
 
         self.keel.send_signal(signal.SIGINT)
         self.keel.wait(30)
-        self.note(f"keel run stopped (SIGINT), exit {self.keel.returncode}")
-        self.idle(1.0)  # the node sees keel's components leave
-        node2.send_signal(signal.SIGINT)
-        node2.wait(10)
-        self.note("the ROS 2 node stopped (SIGINT)")
+        self.note(f"keel run stopped (SIGINT), exit {self.keel.returncode}; it stopped the node with it")
         self.watch.poll()
         records = [r for _, r in w.records()]
         self.summary.update(keel_exit=self.keel.returncode,
                             remote_faults=[r for r in records if r.get("event") == "detected"
                                            and r.get("kind") == "remote"],
+                            node_faults=[r for r in records if r.get("event") == "detected"
+                                         and r.get("component") == "wander"],
+                            node_records=[r for r in records if r.get("event") == "node"],
                             mission=next((r for r in records if r.get("event") == "mission"), None),
                             collisions=max((r["collisions"] for _, r in w.rows()), default=0))
         return 0
 
     def close(self):
-        for proc, out in self.nodes:
-            if proc.poll() is None:
-                proc.kill()
-                proc.wait()
-            out.close()
         if self.keel and self.keel.poll() is None:
             self.keel.kill()
             self.keel.wait()
@@ -244,13 +257,12 @@ class Experiment:
 
 def show(out):
     """The node's view and keel's, as the demo prints them after the run."""
-    for k, title in ((1, "its first run, until the kill"), (2, "started again")):
-        path = Path(f"{out}.node{k}.out")
-        if path.exists():
-            print(f"--- the ROS 2 node's view, {title} ({path}):")
-            lines = path.read_text().splitlines()
-            for line in lines if len(lines) <= 14 else lines[:7] + ["  ..."] + lines[-6:]:
-                print(f"  {line}")
+    path = Path(f"{out}.wander.out")
+    if path.exists():
+        print(f"--- the ROS 2 node's view, both its lives ({path}, kept by keel):")
+        lines = path.read_text().splitlines()
+        for line in lines if len(lines) <= 20 else lines[:8] + ["  ..."] + lines[-10:]:
+            print(f"  {line}")
     print(f"--- keel's view: detections, actions, recoveries ({out}.jsonl):")
     lines = [line for line in Path(f"{out}.jsonl").read_text().splitlines()
              if any(f'"event":"{e}"' in line for e in ("detected", "action", "recovered"))]
@@ -266,7 +278,6 @@ def main():
     p.add_argument("--out", default=str(ROOT / "demo" / "ros2"))
     p.add_argument("--monitor", default="", help="keel run's --monitor address (none by default)")
     p.add_argument("--drive", type=float, default=5.0, help="s of driving before the kill")
-    p.add_argument("--gone", type=float, default=2.0, help="s from the kill to the restart")
     p.add_argument("--after", type=float, default=5.0, help="s of driving after the restart")
     args = p.parse_args()
     e = Experiment(args)

@@ -2,7 +2,7 @@
 """A ROS 2 node (rclpy) that drives keel's simulated robot (robot/ros2.xml): it wanders the
 room, planning from the robot's sonar ranges that keel publishes, and reads keel's health.
 
-  wander.py [--stats FILE] [--speed M_S] [--turn RAD_S]
+  wander.py [--stats FILE] [--speed M_S] [--turn RAD_S] [--ros-args ...]
 
 - subscribes /sonar/a, /sonar/b, /sonar/c (sensor_msgs/msg/Range, sensor-data QoS) and
   /diagnostics (diagnostic_msgs/msg/DiagnosticArray);
@@ -12,11 +12,14 @@ room, planning from the robot's sonar ranges that keel publishes, and reads keel
   liveliness lease: keel's subscription requests them (DDS matches a reader only with writers
   that offer what it requests) and makes a lost node a fault;
 - prints what it sees: the first range, once a second what came, each change of a keel
-  component's diagnostic level; with --stats, the same as JSON in FILE, rewritten each second
-  (what a kill -9 leaves is the last second's).
+  component's diagnostic level; with --stats (default: $WANDER_STATS), the same as JSON in
+  FILE, rewritten each second (what a kill -9 leaves is the last second's); `{pid}` in FILE is
+  its process id, so that each life has a file of its own.
 
-An ordinary ROS 2 node: run it with ROS 2's own environment (ROS_DOMAIN_ID, the rmw's
-configuration) beside `keel run robot/ros2.xml`, or let robot/ros2/experiment.py do both."""
+An ordinary ROS 2 node, named `keel_wander` unless remapped (`--ros-args -r __node:=NAME`):
+`keel run robot/ros2.xml` starts it from robot/ros2/wander.xml with ROS 2's environment
+(ROS_DOMAIN_ID, the rmw's configuration, a python3 with rclpy on PATH); robot/ros2/experiment.py
+runs that and kills it."""
 import argparse
 import json
 import os
@@ -28,6 +31,7 @@ import rclpy
 from rclpy.duration import Duration
 from rclpy.qos import LivelinessPolicy, QoSProfile, qos_profile_sensor_data
 from rclpy.signals import SignalHandlerOptions
+from rclpy.utilities import remove_ros_args
 from diagnostic_msgs.msg import DiagnosticArray
 from geometry_msgs.msg import Twist
 from sensor_msgs.msg import Range
@@ -140,11 +144,14 @@ class Wander:
 
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--stats", help="write what it saw to this JSON file, each second")
+    p.add_argument("--stats", default=os.environ.get("WANDER_STATS"),
+                   help="write what it saw to this JSON file, each second ({pid}: its pid)")
     p.add_argument("--speed", type=float, default=0.2, help="m/s ahead (default 0.2)")
     p.add_argument("--turn", type=float, default=1.2, help="rad/s when turning (default 1.2)")
-    args = p.parse_args()
-    rclpy.init(signal_handler_options=SignalHandlerOptions.NO)  # SIGINT, SIGTERM: ours, below
+    args = p.parse_args(remove_ros_args(sys.argv)[1:])
+    if args.stats:
+        args.stats = args.stats.replace("{pid}", str(os.getpid()))
+    rclpy.init(args=sys.argv, signal_handler_options=SignalHandlerOptions.NO)  # SIGINT, SIGTERM: ours, below
     node = rclpy.create_node("keel_wander")
     wander = Wander(node, args)
     stop = []

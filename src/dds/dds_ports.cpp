@@ -49,7 +49,8 @@ struct DdsPorts::Reader {
   detail::ConnectionBase* connection = nullptr;
   profile::DdsBinding binding;
   std::string instance;
-  std::mutex mutex;  // serialises outages' beginnings and ends; guards held, warned_incompatible
+  dds_entity_t entity = 0;  // its DDS reader
+  std::mutex mutex;         // serialises outages' beginnings and ends; guards held, warned_incompatible
   // The fault id of the outage under way (kNoId: one not reported), 0: none. Atomic so that a
   // sample's arrival checks it without the lock.
   std::atomic<std::uint64_t> outage{0};
@@ -309,6 +310,39 @@ void DdsPorts::close() {
   participants_.clear();
 }
 
+void DdsPorts::writersDied(pid_t pid, const std::string& who) {
+  if (!graph_ || pid <= 0) return;
+  std::set<pid_t> dead;
+  {
+    std::lock_guard lock(dead_mutex_);
+    dead_.insert(pid);
+    dead = dead_;
+  }
+  for (const auto& r : readers_) {
+    if (r->node_port != nullptr || r->entity == 0) continue;
+    if (!r->binding.deadline_ms && !r->binding.liveliness_ms) continue;  // it does not watch its writers
+    std::vector<dds_instance_handle_t> writers(8);
+    dds_return_t n = dds_get_matched_publications(r->entity, writers.data(), writers.size());
+    if (n > static_cast<dds_return_t>(writers.size())) {
+      writers.resize(static_cast<std::size_t>(n));
+      n = dds_get_matched_publications(r->entity, writers.data(), writers.size());
+    }
+    if (n <= 0) continue;
+    // A killed writer stays matched until its participant's lease ends: it counts as gone when
+    // its process is one keel saw die; one of unknown process counts as alive.
+    bool died = false, alive = false;
+    for (std::size_t i = 0; i < std::min(writers.size(), static_cast<std::size_t>(n)); ++i) {
+      dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(r->entity, writers[i]);
+      if (e == nullptr) continue;
+      const pid_t p = graph_->pidOf(e->participant_key.v);
+      dds_builtintopic_free_endpoint(e);
+      if (p == pid) died = true;
+      else if (!dead.contains(p)) alive = true;
+    }
+    if (died && !alive) r->lost(fmt::format("the writer of {} died: {}", r->binding.topic, who));
+  }
+}
+
 Result<void> DdsPorts::watchNodes(int domain, std::vector<WatchedNode> nodes, GraphWatch& watch) {
   auto pp = participant(domain);
   if (!pp) return fail("the ROS 2 graph: " + pp.error().message);
@@ -495,6 +529,7 @@ Result<void> DdsPorts::open(const std::vector<plan::PlannedDds>& bindings, const
         problem(b, fmt::format("CycloneDDS refused the reader: {}", dds_strretcode(made)));
         continue;
       }
+      reader->entity = made;
       endpoints_.push_back({*pp, made, false});
       wires_.push_back({connection.get(), nullptr, port});
       inlets_.push_back(std::move(connection));

@@ -15,12 +15,15 @@
 // after open; listeners run on CycloneDDS's threads.
 #pragma once
 
+#include <sys/types.h>
+
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -122,6 +125,11 @@ class DdsPorts {
   /// Reads /parameter_events in `domain` (ROS_DOMAIN_ID overrides it) for `nodes`, the nodes keel
   /// runs: each change one of them announces goes to `watch` (parameter_events.hpp), until close().
   Result<void> watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch);
+  /// The process `pid` died (`who`: which node, how), seen by keel run the moment it happened:
+  /// each <subscribe> watching its writers (a deadline or a liveliness) whose every matched
+  /// writer belonged to that process, or to one that died before, loses them now, without
+  /// waiting for its deadline or lease (any thread; nothing before watchNodes).
+  void writersDied(pid_t pid, const std::string& who);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
@@ -157,6 +165,8 @@ class DdsPorts {
   };
   std::vector<Endpoint> endpoints_;                              // every writer and reader made, for the graph
   std::vector<std::shared_ptr<detail::ByteEnd>> graph_outlets_;  // ros_discovery_info's writers
+  std::mutex dead_mutex_;
+  std::set<pid_t> dead_;  // processes writersDied() was told of: their writers are gone
 };
 
 }  // namespace keel::dds

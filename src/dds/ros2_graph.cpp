@@ -260,6 +260,15 @@ bool Ros2Graph::ownedBy(const std::string& instance, const std::uint8_t* partici
   return s.watch.ownsParticipant(instance, p->second.pid, listed);
 }
 
+pid_t Ros2Graph::pidOf(const std::uint8_t* participant) {
+  State& s = *state_;
+  Guid guid;
+  std::memcpy(guid.data(), participant, guid.size());
+  std::lock_guard lock(s.mutex);
+  const auto p = s.participants.find(guid);
+  return p == s.participants.end() ? 0 : p->second.pid;
+}
+
 void Ros2Graph::close() {
   if (!state_) return;
   // Deleting a reader waits for its listener to return.

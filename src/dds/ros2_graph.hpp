@@ -69,6 +69,9 @@ class Ros2Graph {
   /// Whether the participant whose GUID is `participant` (16 bytes) is node `instance`'s, as the
   /// watch judges from its pid and listing. Any thread.
   bool ownedBy(const std::string& instance, const std::uint8_t* participant);
+  /// The process the participant whose GUID is `participant` (16 bytes) announces; 0: not
+  /// announced, or not discovered. Any thread.
+  pid_t pidOf(const std::uint8_t* participant);
   /// Deletes the readers; no listener runs once it returns. Idempotent.
   void close();
 

@@ -46,6 +46,7 @@ Result<void> RunSide::openLog() {
   nlohmann::json& names = load[field::kComponents] = nlohmann::json::array();
   for (const auto& pi : e_.planned_.plan.instances) names.push_back(pi.name);
   load[field::kInstances] = e_.planned_.plan.instances.size();
+  load[field::kEpochNs] = e_.log_.epoch();  // the steady clock is CLOCK_MONOTONIC: other programs' times line up
   for (const auto& s : o.property_settings) load[field::kSet].push_back(s.text);
   e_.log_.write(std::move(load));
   return {};
@@ -145,6 +146,10 @@ Result<void> RunSide::launch() {
   if (nodes_) {
     nodes_->setReport(
         [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.report(proxy, fault, "supervisor"); });
+    // keel's subscribers of a dead node's topics lose its writers at once, not at their deadline.
+    nodes_->setDied([this](pid_t pid, const std::string& who) {
+      if (e_.dds_) e_.dds_->writersDied(pid, who);
+    });
     if (auto r = nodes_->launch(); !r) return r;
   }
   if (!supervisor_) return {};

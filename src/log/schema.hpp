@@ -70,6 +70,7 @@ inline constexpr char kFieldsError[] = "fields_error";            // on a compon
 inline constexpr char kProfile[] = "profile";                     // engine `load`
 inline constexpr char kInstances[] = "instances";                 // engine `load`
 inline constexpr char kSet[] = "set";                             // engine `load`: keel run --set
+inline constexpr char kEpochNs[] = "epoch_ns";                    // engine `load`: t_ns 0, CLOCK_MONOTONIC
 inline constexpr char kExecutors[] = "executors";                 // engine `started`
 inline constexpr char kCpuDmaLatencyUs[] = "cpu_dma_latency_us";  // engine `started`
 inline constexpr char kProcess[] = "process";                     // `host`: the <process> name

@@ -324,12 +324,14 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
   rec[log::schema::field::kTime] = log_.sinceStart(exit.at_ns);
   log_.write(std::move(rec));
   n.changed.notify_all();
-  if (asked || !proxy || !report_) return;
-  std::string detail = fmt::format("node '{}' (pid {}) {}", n.profile->fullName(), pid, how);
-  if (!last.empty()) detail += ": " + last.back();
-  FaultEvent ev(FaultKind::Process, n.plan->name, detail);
-  ev.t_ns = exit.at_ns;
-  report_(*proxy, ev);
+  if (asked) return;
+  const std::string who = fmt::format("node '{}' (pid {}) {}", n.profile->fullName(), pid, how);
+  if (proxy && report_) {  // the node's fault first: the cause before what it causes
+    FaultEvent ev(FaultKind::Process, n.plan->name, last.empty() ? who : who + ": " + last.back());
+    ev.t_ns = exit.at_ns;
+    report_(*proxy, ev);
+  }
+  if (died_) died_(pid, who);
 }
 
 Result<void> NodeSupervisor::restart(Node& n) {

@@ -79,6 +79,11 @@ class NodeSupervisor {
   /// Where the proxies' faults go (the fault manager), before launch().
   using Report = std::function<void(Component& proxy, const FaultEvent& fault)>;
   void setReport(Report report) { report_ = std::move(report); }
+  /// Where each node's death goes besides its fault (keel's readers of its topics), before
+  /// launch(): its pid and what died how ("node '/wander' (pid 7) was killed by SIGKILL"). Not
+  /// called for an exit keel asked for.
+  using Died = std::function<void(pid_t pid, const std::string& who)>;
+  void setDied(Died died) { died_ = std::move(died); }
 
   /// Starts every node keel runs (not the attached ones); each one that cannot be started is
   /// an error, all said.
@@ -144,6 +149,7 @@ class NodeSupervisor {
   log::FaultLog& log_;
   Spawner& spawner_;
   Report report_;
+  Died died_;
   std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
   int guard_fd_ = -1;                         // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
   pid_t guard_pid_ = 0;

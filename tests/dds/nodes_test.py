@@ -362,6 +362,44 @@ class Topics(unittest.TestCase):
         faults = records_of(run, event="detected", component="talker")
         self.assertEqual([f["kind"] for f in faults], ["process"], faults)
 
+    def test_a_killed_nodes_subscriber_in_keel_loses_its_writer_at_once_not_at_its_deadline(self):
+        """A keel component subscribes to the talker's topic with a 5 s deadline and a 10 s
+        lease. kill -9 of the talker: the subscriber's `remote` fault comes with the node's
+        death (its writer's process died), long before either; one fault for the outage, which
+        ends with the restarted talker's first sample."""
+        d = domain()
+        rec = Path(tempfile.mkdtemp(prefix="keel_rec_")) / "heard.txt"
+        app = ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>'
+               "<subcomponent><name>talker</name><reference>talker.xml</reference>"
+               "<fault_policy><severity>reset</severity></fault_policy></subcomponent>"
+               "<subcomponent><name>recorder</name><reference>Recorder.xml</reference>"
+               f'<properties><property name="path">{rec}</property></properties>'
+               "<fault_policy><severity>ignore</severity></fault_policy></subcomponent>"
+               '</subcomponents><dds><subscribe component="recorder" port="heard" topic="/demo/chatter" '
+               'type="std_msgs/msg/String" deadline="5000" liveliness="10000"/></dds></package_profile>\n')
+        talker = node_profile("Talker", "python3 talker.py", "/demo/talker", [("greeting", "hi"), ("deadline_ms", "5000")],
+                              string_port("chatter", "/demo/chatter"))
+        files = {"talker.xml": talker, "talker.py": (HERE / "nodes" / "talker.py").read_text(),
+                 "Recorder.xml": peers.component_profile("Recorder", [("heard", "input", "std_msgs/msg/String")],
+                                                         properties='<property name="path" type="string">?</property>')}
+        run = peers.KeelRun(self, d, app, files)
+        [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the talker up")
+        self.assertTrue(wait_until(lambda: rec.exists() and rec.read_text().count(" hi ") >= 3, 30),
+                        "the subscriber heard nothing")
+        os.kill(up["pid"], signal.SIGKILL)
+        [died] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 10,
+                              "the talker's death")
+        [lost] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "recorder", 10,
+                              "the subscriber's fault")
+        self.assertEqual((died["kind"], lost["kind"]), ("process", "remote"))
+        self.assertTrue(lost["detail"].startswith(
+            f"the writer of /demo/chatter died: node '/demo/talker' (pid {up['pid']}) killed by signal 9"), lost["detail"])
+        self.assertLess(lost["t_ns"] - died["t_ns"], 2_000_000_000, "not before the 5 s deadline")
+        run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == lost["fault_id"], 30,
+                     "the outage's end with the new talker's samples")
+        faults = records_of(run, event="detected", component="recorder")
+        self.assertEqual(len(faults), 1, faults)
+
     def test_a_lying_sonar_is_a_range_fault_of_the_node_naming_the_field(self):
         """The sonar reads -1 m from its 20th message on (a cable come loose) while running
         normally: `<validity field="range">` makes it a `range` fault of the node, whose reset

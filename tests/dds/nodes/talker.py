@@ -1,13 +1,16 @@
 #!/usr/bin/env python3
 """An ordinary ROS 2 node, written as any rclpy node is and knowing nothing of keel: it publishes
 std_msgs/String "<greeting> <n>" on `chatter` (relative: in its namespace) every 100 ms, its
-`greeting` a parameter (default "hello"). It says "talker up" on stdout once it publishes, and
+`greeting` a parameter (default "hello"). With `deadline_ms` (default 0: none) its publisher
+offers that deadline and a lease of twice it, as a driver whose readers watch it would. It says "talker up" on stdout once it publishes, and
 ends cleanly on SIGINT or SIGTERM (rclpy's handlers)."""
 import sys
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
+from rclpy.duration import Duration
 from rclpy.node import Node
+from rclpy.qos import LivelinessPolicy, QoSProfile
 from std_msgs.msg import String
 
 
@@ -15,7 +18,13 @@ class Talker(Node):
     def __init__(self):
         super().__init__("talker")
         self.declare_parameter("greeting", "hello")
-        self.publisher = self.create_publisher(String, "chatter", 10)
+        deadline_ms = self.declare_parameter("deadline_ms", 0).value
+        qos = QoSProfile(depth=10)
+        if deadline_ms > 0:
+            qos.deadline = Duration(nanoseconds=deadline_ms * 1_000_000)
+            qos.liveliness = LivelinessPolicy.AUTOMATIC
+            qos.liveliness_lease_duration = Duration(nanoseconds=2 * deadline_ms * 1_000_000)
+        self.publisher = self.create_publisher(String, "chatter", qos)
         self.count = 0
         self.create_timer(0.1, self.tick)
 

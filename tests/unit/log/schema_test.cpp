@@ -88,6 +88,7 @@ const Constant kFields[] = {
     {"kProfile", fd::kProfile},
     {"kInstances", fd::kInstances},
     {"kSet", fd::kSet},
+    {"kEpochNs", fd::kEpochNs},
     {"kExecutors", fd::kExecutors},
     {"kCpuDmaLatencyUs", fd::kCpuDmaLatencyUs},
     {"kProcess", fd::kProcess},
