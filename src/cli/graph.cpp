@@ -1,8 +1,8 @@
 // keel graph PROFILE.xml [--fail COMPONENT]... [--scope component|executor|composite|system]: the structure
 // of a package or system profile as Graphviz DOT — applications as clusters (with what each
 // needs and the applications it depends on), executors (tasks) inside them, data/event/service
-// connections and coordination dependencies. With --fail, the blast radius of a fault stop of
-// that component (fault::DependencyGraph): drawn on the graph, and summarised on stderr and in a
+// connections and coordination dependencies; a ROS 2 node an ellipse with its ROS 2 name. With --fail, the blast radius
+// of a fault stop of that component (fault::DependencyGraph): drawn on the graph, and summarised on stderr and in a
 // comment at the top of the DOT. Nothing is loaded or run.
 #include <fmt/format.h>
 
@@ -57,8 +57,9 @@ std::optional<profile::Scope> parseScope(const std::string& s) {
   return std::nullopt;
 }
 
-/// A component node; `loose`: on no executor (passive).
-std::string node(const std::string& name, bool loose, const Marks& marks, const std::string& indent) {
+/// A component node; `loose`: on no executor (passive); `more`: its other attributes (", a=b").
+std::string node(const std::string& name, bool loose, const Marks& marks, const std::string& indent,
+                 const std::string& more = "") {
   std::string style = loose ? "rounded,dotted" : "rounded";
   std::string extra;
   if (marks.failed.count(name)) {
@@ -68,8 +69,16 @@ std::string node(const std::string& name, bool loose, const Marks& marks, const 
     style += ",filled";
     extra = std::string(", ") + kStoppedStyle;
   }
-  if (style == "rounded") return fmt::format("{}{};\n", indent, quote(name));
-  return fmt::format("{}{} [style={}{}];\n", indent, quote(name), quote(style), extra);
+  if (style == "rounded" && more.empty()) return fmt::format("{}{};\n", indent, quote(name));
+  return fmt::format("{}{} [style={}{}{}];\n", indent, quote(name), quote(style), extra, more);
+}
+
+/// A ROS 2 node's look: an ellipse, its ROS 2 name under its own (nothing for a component).
+std::string rosNodeLook(const plan::Plan& plan, const std::string& name) {
+  const plan::PlannedInstance* pi = plan.find(name);
+  if (pi == nullptr || pi->node == nullptr) return {};
+  return fmt::format(", shape=ellipse, label=\"{}\\n{} (ROS 2 node{})\"", escape(name), escape(pi->node->fullName()),
+                     pi->attached ? ", attached" : "");
 }
 
 /// The executors (dashed clusters) running `names`, then the passive ones among them.
@@ -90,7 +99,7 @@ std::string components(const plan::Plan& plan, const std::vector<std::string>& n
     placed.insert(here.begin(), here.end());
   }
   for (const auto& n : names)
-    if (!placed.count(n)) out += node(n, true, marks, indent);
+    if (!placed.count(n)) out += node(n, true, marks, indent, rosNodeLook(plan, n));
   return out;
 }
 

@@ -303,11 +303,31 @@ void DdsPorts::close() {
   if (node_diagnostics_) node_diagnostics_->close();  // before the graph it asks
   if (graph_) graph_->close();                        // its watch hears nothing more
   if (parameters_) parameters_->close();              // nor this one
+  if (safe_commands_) safe_commands_->stop();         // before its writers go
   // Deleting a participant deletes its topics, writers and readers, and waits for their
   // listeners: no sample is delivered after this. The outlets stay (ports may still hold
   // their connections): a write to a deleted writer fails and is dropped.
   for (const auto& [domain, participant] : participants_) dds_delete(participant);
   participants_.clear();
+}
+
+Result<void> DdsPorts::openSafeCommands(int domain, const std::vector<NodeSafeCommand>& commands) {
+  if (commands.empty()) return {};
+  auto pp = participant(domain);
+  if (!pp) return fail("the nodes' safe commands: " + pp.error().message);
+  safe_commands_ = std::make_unique<SafeCommands>();
+  auto opened = safe_commands_->open(*pp, commands);
+  for (const std::int32_t w : safe_commands_->writers()) endpoints_.push_back({*pp, w, true});  // in the graph
+  return opened;
+}
+
+void DdsPorts::nodeExited(const std::string& instance, pid_t pid, const std::string& who, bool died) {
+  // Disarmed here, not only when the timer sees the node quiet: a restart can follow the death
+  // within a millisecond, between two of the timer's looks, and the new life is not to be timed
+  // from the old one's last sample.
+  for (const auto& r : readers_)
+    if (r->node_port != nullptr && r->instance == instance) r->armed.store(false, std::memory_order_release);
+  if (died) writersDied(pid, who);
 }
 
 void DdsPorts::writersDied(pid_t pid, const std::string& who) {

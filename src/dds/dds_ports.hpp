@@ -33,6 +33,7 @@
 #include "dds/node_diagnostics.hpp"
 #include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
+#include "dds/safe_commands.hpp"
 #include "keel/detail/port_base.hpp"
 #include "keel/fault_event.hpp"
 #include "keel/result.hpp"
@@ -125,11 +126,24 @@ class DdsPorts {
   /// Reads /parameter_events in `domain` (ROS_DOMAIN_ID overrides it) for `nodes`, the nodes keel
   /// runs: each change one of them announces goes to `watch` (parameter_events.hpp), until close().
   Result<void> watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch);
-  /// The process `pid` died (`who`: which node, how), seen by keel run the moment it happened:
-  /// each <subscribe> watching its writers (a deadline or a liveliness) whose every matched
-  /// writer belonged to that process, or to one that died before, loses them now, without
-  /// waiting for its deadline or lease (any thread; nothing before watchNodes).
-  void writersDied(pid_t pid, const std::string& who);
+  /// Writes each node's safe command of `commands` (its <emergency>'s <publish>) in `domain` while
+  /// keel's emergency stop holds: from safeCommandsOn(its node) until safeCommandsOff().
+  Result<void> openSafeCommands(int domain, const std::vector<NodeSafeCommand>& commands);
+  /// Node `instance`'s safe commands are written from now on (the emergency stop; any thread).
+  void safeCommandsOn(const std::string& instance) {
+    if (safe_commands_) safe_commands_->start(instance);
+  }
+  /// The emergency stop was cleared: no safe command is written any more (any thread).
+  void safeCommandsOff() {
+    if (safe_commands_) safe_commands_->clear();
+  }
+  /// A life of node `instance` ended, its process `pid` gone (`who`: which node, how), seen by
+  /// keel run the moment it happened (any thread; nothing before watchNodes). Its output topics'
+  /// deadlines count again from its next life's first sample. When it `died` (an exit keel did
+  /// not ask for), each <subscribe> watching its writers (a deadline or a liveliness) whose every
+  /// matched writer belonged to that process, or to one that died before, loses them now,
+  /// without waiting for its deadline or lease.
+  void nodeExited(const std::string& instance, pid_t pid, const std::string& who, bool died);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 
@@ -139,6 +153,8 @@ class DdsPorts {
   void timeNodeOutputs();
 
  private:
+  /// writersDied: the <subscribe>s whose writers were all of `pid` or earlier dead processes.
+  void writersDied(pid_t pid, const std::string& who);
   /// The participant of `domain` in this process, joined on first use.
   Result<std::int32_t> participant(int domain);
 
@@ -158,6 +174,7 @@ class DdsPorts {
   bool node_timer_ending_ = false;
   std::thread node_timer_;
   std::unique_ptr<ParameterEvents> parameters_;
+  std::unique_ptr<SafeCommands> safe_commands_;
   struct Endpoint {
     std::int32_t participant;
     std::int32_t entity;

@@ -404,6 +404,13 @@ Result<void> Engine::connect() {
     }
     if (auto reading = dds_->readNodeOutputs(planned_.plan.rosDomain(), outputs); !reading)
       errors += reading.error().message + '\n';
+    // Their safe commands, written while an emergency stop holds (RunSide).
+    std::vector<dds::NodeSafeCommand> safe;
+    for (const plan::PlannedInstance& pi : planned_.plan.instances)
+      if (pi.node && pi.node->emergency)
+        for (const profile::SafeCommand& c : pi.node->emergency->publish) safe.push_back({pi.name, c});
+    if (auto opened = dds_->openSafeCommands(planned_.plan.rosDomain(), safe); !opened)
+      errors += opened.error().message + '\n';
   }
   if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
     std::vector<dds::WatchedNode> nodes;

@@ -146,9 +146,13 @@ Result<void> RunSide::launch() {
   if (nodes_) {
     nodes_->setReport(
         [this](Component& proxy, const FaultEvent& fault) { e_.fault_manager_.report(proxy, fault, "supervisor"); });
-    // keel's subscribers of a dead node's topics lose its writers at once, not at their deadline.
-    nodes_->setDied([this](pid_t pid, const std::string& who) {
-      if (e_.dds_) e_.dds_->writersDied(pid, who);
+    // A node's topics' deadlines start again with its next life; keel's subscribers of a dead
+    // node's topics lose its writers at once, not at their deadline.
+    nodes_->setExited([this](const std::string& instance, pid_t pid, const std::string& who, bool died) {
+      if (e_.dds_) e_.dds_->nodeExited(instance, pid, who, died);
+    });
+    nodes_->setEmergency([this](const std::string& instance) {
+      if (e_.dds_) e_.dds_->safeCommandsOn(instance);
     });
     if (auto r = nodes_->launch(); !r) return r;
   }
@@ -213,6 +217,7 @@ void RunSide::stateLogged(std::string_view instance) {
 
 void RunSide::emergencyCleared() {
   if (supervisor_) supervisor_->clearEmergency();
+  if (e_.dds_) e_.dds_->safeCommandsOff();
 }
 
 void RunSide::stopProcesses() {

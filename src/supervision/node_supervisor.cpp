@@ -121,7 +121,9 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
     return ReturnCode::Ok;
   }
   ReturnCode onEmergencyStop() override {
-    if (node.profile->emergency && node.profile->emergency->stop) sup.stopNode(node, graceOf(node));
+    if (!node.profile->emergency) return ReturnCode::Ok;
+    if (sup.emergency_) sup.emergency_(node.plan->name);  // its safe commands first: what listens stands still
+    if (node.profile->emergency->stop) sup.stopNode(node, graceOf(node));
     return ReturnCode::Ok;
   }
   bool signalProcess(int signal) override {
@@ -178,8 +180,6 @@ void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
       for (const auto& d : p.component.data_ports)
         if (d.name == t.port && d.usage == PortDirection::Input && (t.deadline_ms || t.liveliness_ms))
           note(t.where, fmt::format("the deadline or liveliness of input {}", t.topic));
-    if (p.emergency)
-      for (const auto& c : p.emergency->publish) note(c.where, fmt::format("<publish topic=\"{}\">", c.topic));
     for (const auto& c : plan.connections)
       if (c.target.component == pi.name)
         note(c.where, fmt::format("a connection to node '{}'s input port (keel writes no node topic yet)", pi.name));
@@ -324,14 +324,13 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
   rec[log::schema::field::kTime] = log_.sinceStart(exit.at_ns);
   log_.write(std::move(rec));
   n.changed.notify_all();
-  if (asked) return;
   const std::string who = fmt::format("node '{}' (pid {}) {}", n.profile->fullName(), pid, how);
-  if (proxy && report_) {  // the node's fault first: the cause before what it causes
+  if (!asked && proxy && report_) {  // the node's fault first: the cause before what it causes
     FaultEvent ev(FaultKind::Process, n.plan->name, last.empty() ? who : who + ": " + last.back());
     ev.t_ns = exit.at_ns;
     report_(*proxy, ev);
   }
-  if (died_) died_(pid, who);
+  if (exited_) exited_(n.plan->name, pid, who, !asked);
 }
 
 Result<void> NodeSupervisor::restart(Node& n) {

@@ -5,7 +5,8 @@
 // node's proxy, keel run's stand-in for the node in the engine, with its exit status and its last
 // output lines. The proxy is passive: its reset restarts the node (with the parameter values it
 // last had: node_parameters.hpp), its stop stops it (SIGINT to its group, a grace period, then
-// SIGKILL), its emergency stop stops it when its profile says so.
+// SIGKILL), its emergency stop stops it when its profile says so and has its safe commands
+// written (setEmergency).
 // Every start, exit and stop is a `node` record of the log. A guard process (keel-node-exec
 // --guard) knows every node's process group: when keel run dies, kill -9 included, it kills what
 // is left of them (what a node forked, which dies with keel run no other way).
@@ -79,11 +80,15 @@ class NodeSupervisor {
   /// Where the proxies' faults go (the fault manager), before launch().
   using Report = std::function<void(Component& proxy, const FaultEvent& fault)>;
   void setReport(Report report) { report_ = std::move(report); }
-  /// Where each node's death goes besides its fault (keel's readers of its topics), before
-  /// launch(): its pid and what died how ("node '/wander' (pid 7) was killed by SIGKILL"). Not
-  /// called for an exit keel asked for.
-  using Died = std::function<void(pid_t pid, const std::string& who)>;
-  void setDied(Died died) { died_ = std::move(died); }
+  /// Where each end of a node's process goes besides its record and fault (keel's readers of its
+  /// topics), before launch(): the node's instance, its pid, what ended how ("node '/wander'
+  /// (pid 7) killed by signal 9 (SIGKILL)"), and whether it died (an exit keel did not ask for).
+  using Exited = std::function<void(const std::string& instance, pid_t pid, const std::string& who, bool died)>;
+  void setExited(Exited exited) { exited_ = std::move(exited); }
+  /// Where a node's part of keel's emergency stop goes besides its <stop/> (its safe commands'
+  /// writer), before launch(): the node's instance, for each node whose profile has <emergency>.
+  using Emergency = std::function<void(const std::string& instance)>;
+  void setEmergency(Emergency emergency) { emergency_ = std::move(emergency); }
 
   /// Starts every node keel runs (not the attached ones); each one that cannot be started is
   /// an error, all said.
@@ -149,7 +154,8 @@ class NodeSupervisor {
   log::FaultLog& log_;
   Spawner& spawner_;
   Report report_;
-  Died died_;
+  Exited exited_;
+  Emergency emergency_;
   std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
   int guard_fd_ = -1;                         // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
   pid_t guard_pid_ = 0;

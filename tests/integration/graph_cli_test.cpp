@@ -3,6 +3,10 @@
 // clusters of a system profile.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -142,6 +146,39 @@ TEST(GraphCli, TheSummariesInTheFaultDiagnosisDocAreWhatKeelPrints) {
     ++checked;
   }
   EXPECT_EQ(checked, 5);
+}
+
+// A ROS 2 node is drawn as one (an ellipse, its ROS 2 name), and its fault stop stops what
+// <needs> it, as a component's does.
+TEST(GraphCli, ANodeIsDrawnWithItsRosNameAndItsFaultStopsWhatNeedsIt) {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path() /
+                                    ("keel_graph_node_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "planner.xml") << R"(<?xml version="1.0"?>
+<ros2_node_profile><name>Planner</name><command>sh -c "sleep 100"</command><node>/nav/planner</node>
+  <ports><data_port><name>plan</name><usage>output</usage><data_type>std_msgs/msg/String</data_type>
+    <topic>/nav/plan</topic></data_port></ports></ros2_node_profile>
+)";
+  std::ofstream(dir / "follower.xml") << R"(<?xml version="1.0"?>
+<ros2_node_profile><name>Follower</name><command>sh -c "sleep 100"</command><node>/nav/follower</node>
+</ros2_node_profile>
+)";
+  std::ofstream(dir / "app.xml") << R"(<?xml version="1.0"?>
+<package_profile><name>nav</name><subcomponents>
+  <subcomponent><name>planner</name><reference>planner.xml</reference>
+    <fault_policy><severity>stop</severity></fault_policy></subcomponent>
+  <subcomponent><name>follower</name><reference>follower.xml</reference><attach/></subcomponent>
+</subcomponents><coordination><needs source="follower" target="planner"/></coordination></package_profile>
+)";
+  auto r = graph({(dir / "app.xml").string(), "--fail", "planner"});
+  std::filesystem::remove_all(dir);
+
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err,
+            "fault at planner (scope component): stops components [planner, follower]; "
+            "stops applications [nav]; keeps running []\n");
+  EXPECT_TRUE(contains(r.out, R"x(shape=ellipse, label="planner\n/nav/planner (ROS 2 node)")x")) << r.out;
+  EXPECT_TRUE(contains(r.out, R"x(label="follower\n/nav/follower (ROS 2 node, attached)")x")) << r.out;
 }
 
 TEST(GraphCli, AFaultInAPackageStopsItsScopeAndTheImplicitApplicationRunsOn) {

@@ -6,8 +6,10 @@ from its `n`th message on (-1: never): `lie_at`, after which it reads `lie` (def
 cable come loose) while running normally; `stall_at`, after which it publishes nothing more
 but stays alive (a hung driver); `error_at`, after which its own status on /diagnostics
 ("sonar: driver", published with each message, OK before) is at ERROR ("no echo") while it
-goes on publishing. It ends cleanly on SIGINT or SIGTERM (rclpy's handlers)."""
+goes on publishing. With `warm_up_s` (default 0) its first message comes that long after its
+start, as a driver's that opens its device first. It ends cleanly on SIGINT or SIGTERM (rclpy's handlers)."""
 import sys
+import time
 
 import rclpy
 from rclpy.executors import ExternalShutdownException
@@ -24,12 +26,15 @@ class Sonar(Node):
         self.declare_parameter("lie", -1.0)
         self.declare_parameter("stall_at", -1)
         self.declare_parameter("error_at", -1)
+        self.ready_at = time.monotonic() + self.declare_parameter("warm_up_s", 0.0).value
         self.publisher = self.create_publisher(Range, "range", 10)
         self.diagnostics = self.create_publisher(DiagnosticArray, "/diagnostics", 10)
         self.count = 0
         self.create_timer(0.05, self.tick)
 
     def tick(self):
+        if time.monotonic() < self.ready_at:
+            return
         self.count += 1
         stall_at = self.get_parameter("stall_at").value
         if 0 <= stall_at <= self.count:
