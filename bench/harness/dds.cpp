@@ -34,7 +34,9 @@ constexpr int kPeriodUs = 1000;    // every writer's period: 1 kHz
 constexpr auto kTrialBound = 5s;   // a kill → its detection or takeover
 constexpr char kHeader[] = "std_msgs/msg/Header";
 
-// Fast DDS (rclpy's rmw) on UDPv4 127.0.0.1 alone, 127.0.0.1 its initial peer.
+// Fast DDS (rclpy's rmw) on UDPv4 127.0.0.1 alone, 127.0.0.1 its initial peer; no type
+// propagation, as tests/dds/fastdds-lo.xml says why (CycloneDDS 0.10.2 crashes on some of Fast DDS
+// 3's type lookup replies: docs/dds.md#what-keel-does-not-do).
 constexpr std::string_view kFastDdsConfig = R"(<?xml version="1.0" encoding="UTF-8"?>
 <profiles xmlns="http://www.eprosima.com/XMLSchemas/fastRTPS_Profiles">
   <transport_descriptors>
@@ -45,51 +47,14 @@ constexpr std::string_view kFastDdsConfig = R"(<?xml version="1.0" encoding="UTF
     <rtps>
       <useBuiltinTransports>false</useBuiltinTransports>
       <userTransports><transport_id>udp_lo</transport_id></userTransports>
+      <propertiesPolicy><properties>
+        <property><name>fastdds.type_propagation</name><value>disabled</value></property>
+      </properties></propertiesPolicy>
       <builtin><initialPeersList><locator><udpv4><address>127.0.0.1</address></udpv4></locator></initialPeersList></builtin>
     </rtps>
   </participant>
 </profiles>
 )";
-
-std::string port(const char* name, const char* usage) {
-  return fmt::format(
-      "<data_port><name>{}</name><usage>{}</usage><data_type>{}</data_type><queue_size>1000</queue_size></data_port>",
-      name, usage, kHeader);
-}
-
-/// The benchmark's three components, profiles on `page`.
-std::vector<std::pair<std::string, std::string>> componentFiles(const std::string& page) {
-  auto xml = [&](const char* name, const std::string& semantics, const std::string& ports) {
-    return benchComponentXml("keel_bench_dds", name, semantics, ports, page,
-                             R"(<property name="who" type="int">1</property>)");
-  };
-  return {{"BenchDdsStamp.xml", xml("BenchDdsStamp", "<type>periodic</type><period>1</period>", port("out", "output"))},
-          {"BenchDdsEcho.xml",
-           xml("BenchDdsEcho", "<type>aperiodic</type>", port("in", "input") + port("out", "output"))},
-          {"BenchDdsSink.xml", xml("BenchDdsSink", "<type>aperiodic</type>", port("in", "input"))}};
-}
-
-/// A package of `subcomponents` (XML) with `<dds>` `bindings`.
-std::string packageXml(const std::string& name, const std::string& subcomponents, const std::string& bindings) {
-  return fmt::format(R"(<?xml version="1.0" encoding="UTF-8"?>
-<package_profile>
-  <name>{}</name>
-  <subcomponents>{}</subcomponents>
-  <dds diagnostics="false">{}</dds>
-</package_profile>
-)",
-                     name, subcomponents, bindings);
-}
-
-std::string subcomponent(const char* name, const char* type, const std::string& more = "") {
-  return fmt::format("<subcomponent><name>{}</name><reference>{}.xml</reference>{}</subcomponent>", name, type, more);
-}
-
-std::string binding(const char* kind, const char* component, const char* port_name, const std::string& topic,
-                    const std::string& more = "") {
-  return fmt::format(R"(<{} component="{}" port="{}" topic="{}" type="{}"{}/>)", kind, component, port_name, topic,
-                     kHeader, more);
-}
 
 /// `command pong IN OUT` and `command ping OUT IN N PERIOD_US` (keel-bench-dds-raw, rclpy's
 /// script) on the topics `<prefix>ping_<tag>` and `<prefix>pong_<tag>`: the ping's `rtt <ns>`
@@ -137,15 +102,6 @@ DdsCell pingPong(const std::vector<std::string>& command, const std::string& pre
   if (cell.latencies_ns.size() < static_cast<std::size_t>(n))
     cell.failed = static_cast<std::size_t>(n) - cell.latencies_ns.size();
   return cell;
-}
-
-/// A python with rclpy: KEEL_RCLPY_PYTHON, else python3 if it imports rclpy; empty otherwise.
-std::string rclpyPython() {
-  if (const char* p = std::getenv("KEEL_RCLPY_PYTHON"); p && *p) return p;
-  const std::string python = findInPath("python3");
-  if (python.empty()) return {};
-  const Captured ran = runCaptured({python, "-c", "import rclpy"}, false, Clock::now() + 20s);
-  return ran.error.empty() && ran.status == 0 ? python : std::string();
 }
 
 /// Network namespaces and a veth pair between them, removed when this goes.
@@ -207,7 +163,53 @@ int domainOf(const char* env) {
   return 1 + ::getpid() % 100;
 }
 
+std::string port(const char* name, const char* usage) {
+  return fmt::format(
+      "<data_port><name>{}</name><usage>{}</usage><data_type>{}</data_type><queue_size>1000</queue_size></data_port>",
+      name, usage, kHeader);
+}
+
 }  // namespace
+
+std::vector<std::pair<std::string, std::string>> componentFiles(const std::string& page) {
+  auto xml = [&](const char* name, const std::string& semantics, const std::string& ports) {
+    return benchComponentXml("keel_bench_dds", name, semantics, ports, page,
+                             R"(<property name="who" type="int">1</property>)");
+  };
+  return {{"BenchDdsStamp.xml", xml("BenchDdsStamp", "<type>periodic</type><period>1</period>", port("out", "output"))},
+          {"BenchDdsEcho.xml",
+           xml("BenchDdsEcho", "<type>aperiodic</type>", port("in", "input") + port("out", "output"))},
+          {"BenchDdsSink.xml", xml("BenchDdsSink", "<type>aperiodic</type>", port("in", "input"))}};
+}
+
+std::string packageXml(const std::string& name, const std::string& subcomponents, const std::string& bindings) {
+  return fmt::format(R"(<?xml version="1.0" encoding="UTF-8"?>
+<package_profile>
+  <name>{}</name>
+  <subcomponents>{}</subcomponents>
+  <dds diagnostics="false">{}</dds>
+</package_profile>
+)",
+                     name, subcomponents, bindings);
+}
+
+std::string subcomponent(const char* name, const char* type, const std::string& more) {
+  return fmt::format("<subcomponent><name>{}</name><reference>{}.xml</reference>{}</subcomponent>", name, type, more);
+}
+
+std::string binding(const char* kind, const char* component, const char* port_name, const std::string& topic,
+                    const std::string& more) {
+  return fmt::format(R"(<{} component="{}" port="{}" topic="{}" type="{}"{}/>)", kind, component, port_name, topic,
+                     kHeader, more);
+}
+
+std::string rclpyPython() {
+  if (const char* p = std::getenv("KEEL_RCLPY_PYTHON"); p && *p) return p;
+  const std::string python = findInPath("python3");
+  if (python.empty()) return {};
+  const Captured ran = runCaptured({python, "-c", "import rclpy"}, false, Clock::now() + 20s);
+  return ran.error.empty() && ran.status == 0 ? python : std::string();
+}
 
 // The harness's own environment, not only its children's: the remote cell's engine runs in this
 // process, and its CycloneDDS reads the same variables. Set on the main thread before the

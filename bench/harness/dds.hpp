@@ -25,6 +25,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "paths.hpp"
@@ -75,6 +76,20 @@ class DdsEnvironment {
   TempDir dir_;  // the configurations, removed after every process that reads them
   int domain_ = 0;
 };
+
+// What the dds cells share with the ros2 cells (ros2.hpp).
+/// The benchmark's three components (BenchDdsStamp, BenchDdsEcho, BenchDdsSink: ports of
+/// std_msgs/msg/Header), their profiles on `page`: file name → text.
+std::vector<std::pair<std::string, std::string>> componentFiles(const std::string& page);
+/// A package of `subcomponents` (XML) with `<dds>` `bindings`.
+std::string packageXml(const std::string& name, const std::string& subcomponents, const std::string& bindings);
+/// `<subcomponent>` `name` of profile `type`.xml, with `more` inside it.
+std::string subcomponent(const char* name, const char* type, const std::string& more = "");
+/// A `<publish>` or `<subscribe>` (`kind`) of a std_msgs/msg/Header port on `topic`; `more`: its attributes.
+std::string binding(const char* kind, const char* component, const char* port_name, const std::string& topic,
+                    const std::string& more = "");
+/// A python with rclpy: KEEL_RCLPY_PYTHON, else python3 if it imports rclpy; empty otherwise.
+std::string rclpyPython();
 
 /// `n` round trips, 1 kHz, between two keel runs.
 DdsCell measureKeelRoundTrip(const Paths& paths, int n);

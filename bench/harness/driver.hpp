@@ -1,7 +1,7 @@
 // What every benchmark of keel-bench shares (main.cpp runs them): the options of a run, the
 // cells over load levels and policies, and the output (markdown tables, --json, the plot).
 // Each benchmark's driver is a file of its own: recovery_driver.cpp, detection_driver.cpp,
-// isolation_driver.cpp, dds_driver.cpp.
+// isolation_driver.cpp, dds_driver.cpp, ros2_driver.cpp.
 #pragma once
 
 #include <array>
@@ -67,11 +67,15 @@ int recoveryBenchmark(Options o, const Paths& paths);
 int detectionBenchmark(Options o, const Paths& paths);
 int isolationBenchmark(Options o, const Paths& paths);
 int ddsBenchmark(Options o, const Paths& paths);
+int ros2Benchmark(Options o, const Paths& paths);
 
 /// A name --only of `keel bench detection` takes besides the injected kinds: a floor's.
 bool isDetectionFloor(std::string_view name);
 /// The cells of `keel bench dds`.
 inline constexpr std::array<std::string_view, 5> kDdsCells{"roundtrip_keel", "roundtrip_raw", "roundtrip_rclpy",
                                                            "remote", "failover"};
+/// The cells of `keel bench ros2`.
+inline constexpr std::array<std::string_view, 6> kRos2Cells{"death",   "floor_death",   "restart",
+                                                            "respawn", "deadline_only", "idle_cpu"};
 
 }  // namespace keel::bench

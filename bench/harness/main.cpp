@@ -12,6 +12,8 @@
 //              respawn, each with the machine's floor; what a waiting standby costs
 //   dds        keel's DDS ports: the round trip keel ↔ keel beside a plain CycloneDDS C program's
 //              (and rclpy's), `remote` fault detection and failover across two hosts
+//   ros2       a ROS 2 node keel supervises: its death seen beside the machine's floor and a
+//              deadline watch, its restart beside a plain respawn loop, keel's CPU with idle nodes
 //   guard      the regression guard CI runs: short cells of recovery, takeover and detection,
 //              each within a bound of the machine's floor measured beside it (guard.hpp)
 // `_load P` is the internal duty-cycle load and `_guard PID CMD...` what starts a load (load.hpp),
@@ -93,6 +95,11 @@ int main(int argc, char** argv) try {
   commonOptions(*dds_cmd, o,
                 "cells: roundtrip_keel,roundtrip_raw (a plain CycloneDDS C program),roundtrip_rclpy,remote,failover "
                 "(root: two network namespaces)");
+  auto* ros2_cmd = app.add_subcommand(
+      "ros2", "ROS 2 nodes under keel: a kill seen, beside the floor and a deadline; restart beside a respawn loop");
+  commonOptions(*ros2_cmd, o,
+                "cells: death,floor_death (the machine's: the pidfd of the killed node),restart,respawn (a plain "
+                "respawn loop),deadline_only,idle_cpu (once, without load)");
   GuardOptions g;
   auto* guard = app.add_subcommand(
       "guard", "the regression guard: recovery, takeover and detection within a bound of the floor beside them");
@@ -124,15 +131,22 @@ int main(int argc, char** argv) try {
                                        "floor_robust", "respawn",     "standby"};
   if (iso->parsed() && !iso->count("--loads")) o.loads = {0, 80};  // its goals' two: idle, and 80 % loaded
   if (dds_cmd->parsed() && !dds_cmd->count("--loads")) o.loads = {0};
+  if (ros2_cmd->parsed() && !ros2_cmd->count("--loads")) o.loads = {0, 80};  // its goals' two
+  if (ros2_cmd->parsed() && !ros2_cmd->count("--n") && !o.quick) o.n = 100;  // a kill is a node's start: ~0.5 s
+  if (ros2_cmd->parsed() && o.policy == "fifo") {
+    std::cerr << "keel bench ros2: --policy fifo: its cells run under SCHED_OTHER only\n";
+    return 2;
+  }
   if (dds_cmd->parsed() && o.policy == "fifo") {
     std::cerr << "keel bench dds: --policy fifo: its cells run under SCHED_OTHER only\n";
     return 2;
   }
   for (const auto& w : o.which) {
-    const bool ok = dds_cmd->parsed() ? std::find(kDdsCells.begin(), kDdsCells.end(), w) != kDdsCells.end()
-                    : iso->parsed()   ? std::find(cells.begin(), cells.end(), w) != cells.end()
-                    : rec->parsed()   ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
-                                      : keel::runtime::parseInjectKind(w).has_value() || isDetectionFloor(w);
+    const bool ok = dds_cmd->parsed()    ? std::find(kDdsCells.begin(), kDdsCells.end(), w) != kDdsCells.end()
+                    : ros2_cmd->parsed() ? std::find(kRos2Cells.begin(), kRos2Cells.end(), w) != kRos2Cells.end()
+                    : iso->parsed()      ? std::find(cells.begin(), cells.end(), w) != cells.end()
+                    : rec->parsed()      ? std::find(mechanisms.begin(), mechanisms.end(), w) != mechanisms.end()
+                                         : keel::runtime::parseInjectKind(w).has_value() || isDetectionFloor(w);
     if (!ok) {
       std::cerr << "keel bench: --only: unknown '" << w << "'\n";
       return 2;
@@ -142,6 +156,7 @@ int main(int argc, char** argv) try {
   if (det->parsed()) return detectionBenchmark(o, paths);
   if (iso->parsed()) return isolationBenchmark(o, paths);
   if (dds_cmd->parsed()) return ddsBenchmark(o, paths);
+  if (ros2_cmd->parsed()) return ros2Benchmark(o, paths);
   if (guard->parsed()) return guardBenchmark(g, paths);
   std::cout << fmt::format("# keel bench scale: sizes {}, {} trial(s) each, machine: {} CPUs\n\n",
                            fmt::join(sizes, "/"), o.quick ? 1 : trials, std::thread::hardware_concurrency())

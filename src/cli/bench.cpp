@@ -1,4 +1,4 @@
-// keel bench recovery|detection|isolation|dds|scale|guard [options]: runs keel-bench, the benchmark
+// keel bench recovery|detection|isolation|dds|ros2|scale|guard [options]: runs keel-bench, the benchmark
 // harness built from bench/ and installed beside keel (bin/keel-bench), with every argument
 // after `bench`. keel itself stays a thin front end; a keel built without benchmarks says so.
 #include <fmt/format.h>
@@ -13,9 +13,10 @@
 namespace keel::cli {
 
 void addBenchCommand(CLI::App& app, std::function<int()>& run) {
-  auto* sub = app.add_subcommand("bench",
-                                 "benchmarks beside peers and the machine's floor: recovery, detection, "
-                                 "isolation, dds, scale; guard, the regression guard CI runs (keel bench --help)");
+  auto* sub =
+      app.add_subcommand("bench",
+                         "benchmarks beside peers and the machine's floor: recovery, detection, "
+                         "isolation, dds, ros2, scale; guard, the regression guard CI runs (keel bench --help)");
   sub->prefix_command();  // everything after `bench` belongs to keel-bench
   sub->set_help_flag();   // --help too
   sub->allow_extras();

@@ -301,6 +301,49 @@ TEST(BenchCli, QuickDdsMeasuresRoundTripsBesideCycloneDdsAndRclpyRemoteFaultsAnd
   EXPECT_NE(r.ran.out.find("keel ÷ CycloneDDS"), std::string::npos) << r.ran.out;
 }
 
+// A supervised rclpy node's death and restart beside the machine's floor and a respawn loop, a
+// deadline watch, and keel's CPU with idle nodes: every cell measured, none of its kills lost; a
+// death seen by keel long before the deadline that a subscriber alone would wait for.
+TEST(BenchCli, Ros2MeasuresANodesDeathAndRestartBesideTheFloorARespawnLoopAndADeadline) {
+  if (::access(KEEL_RCLPY_PYTHON, X_OK) != 0) GTEST_SKIP() << "no rclpy venv (scripts/peers.sh python)";
+  int lock = -1;
+  const int domain = holdRosDomain(lock);
+  ASSERT_GE(domain, 0) << "every ROS domain 1-100 is held";
+  const fs::path dir = fs::temp_directory_path() / ("keel_bench_ros2_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string json = (dir / "cells.json").string();
+  keel::test::Ran ran;
+  {
+    const keel::test::ScopedEnv ros_domain("ROS_DOMAIN_ID", std::to_string(domain));
+    const keel::test::ScopedEnv rclpy("KEEL_RCLPY_PYTHON", std::string(KEEL_RCLPY_PYTHON));
+    ran = runProcess({KEEL_CLI, "bench", "ros2", "--n", "4", "--loads", "0", "--json", json});
+  }
+  ::close(lock);
+  const auto cells = nlohmann::json::parse(keel::test::slurp(json), nullptr, false);
+  fs::remove_all(dir);
+  ASSERT_EQ(ran.status, 0) << ran.err;
+  ASSERT_TRUE(cells.is_array()) << ran.out;
+  std::map<std::string, nlohmann::json> by;
+  for (const auto& c : cells) by[c.value("mechanism", c.value("cell", ""))] = c;
+  for (const char* kills : {"death", "floor_death", "restart", "respawn"}) {
+    ASSERT_TRUE(by.contains(kills)) << kills << " missing: " << ran.out;
+    EXPECT_FALSE(by[kills].value("skipped", false)) << by[kills].dump();
+    EXPECT_EQ(by[kills]["n"].get<int>(), 4) << by[kills].dump();
+    EXPECT_EQ(by[kills]["failed"].get<int>(), 0) << by[kills].dump();
+  }
+  EXPECT_TRUE(by["death"].contains("vs_floor")) << by["death"].dump();
+  EXPECT_TRUE(by["restart"].contains("vs_respawn")) << by["restart"].dump();
+  ASSERT_TRUE(by.contains("deadline_only")) << ran.out;
+  EXPECT_EQ(by["deadline_only"]["n"].get<int>(), 10) << by["deadline_only"].dump();
+  // The deadline counts from the node's last sample (every 10 ms) before the kill.
+  EXPECT_GE(by["deadline_only"]["p50_us"].get<double>(), 250'000) << by["deadline_only"].dump();
+  EXPECT_LT(by["death"]["p50_us"].get<double>(), 250'000) << "keel saw the death no sooner than a deadline";
+  ASSERT_TRUE(by.contains("idle_cpu")) << ran.out;
+  EXPECT_FALSE(by["idle_cpu"].contains("note")) << by["idle_cpu"].dump();
+  EXPECT_GT(by["idle_cpu"]["nodes_cpu_percent"].get<double>(), 0) << by["idle_cpu"].dump();
+  EXPECT_NE(ran.out.find("keel ÷ respawn"), std::string::npos) << ran.out;
+}
+
 TEST(BenchCli, QuickScaleHasARowPerSize) {
   const auto r = quick({"scale", "--sizes", "1,10,100"});
   ASSERT_EQ(r.ran.status, 0) << r.ran.err;
