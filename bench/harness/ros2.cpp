@@ -348,6 +348,7 @@ IdleCpu measureIdleCpu(const Paths& paths, const std::string& python) {
   IdleCpu out;
   TempDir dir("keel-bench-ros2-idle-");
   std::vector<std::pair<std::string, std::string>> files;
+  files.reserve(kIdleNodes + 1);
   for (int k = 0; k < kIdleNodes; ++k)
     files.emplace_back(fmt::format("node_{}.xml", k), nodeProfile(paths, python, fmt::format("idle_{}", k), 1000));
   files.emplace_back("app.xml", nodesPackage(kIdleNodes));
