@@ -410,11 +410,13 @@ class Topics(unittest.TestCase):
         self.assertEqual([l for l in lines if l.split(" ", 1)[1].split(" ")[0] != "hi"], [])
 
     def test_a_node_that_stalls_alive_misses_its_deadline_and_is_restarted(self):
-        """The sonar stops publishing after its 20th message but stays alive: its topic's deadline
-        (300 ms) is a `remote` fault of the node; reset restarts it, a new process."""
+        """The sonar stops publishing after its 100th message (5 s) but stays alive: its topic's
+        deadline (300 ms) is a `remote` fault of the node; reset restarts it, a new process. (Its
+        deadline counts from its first sample keel heard: a stall before keel's reader matched
+        the node's writer, a second after its start under ASan, would raise nothing.)"""
         d = domain()
         run = peers.KeelRun(self, d, package(ref="sonar.xml"),
-                            sonar_files(sonar_profile([("stall_at", "20")], deadline_ms=300)))
+                            sonar_files(sonar_profile([("stall_at", "100")], deadline_ms=300)))
         [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
         [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
                                "the missed deadline")
