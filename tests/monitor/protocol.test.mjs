@@ -201,7 +201,9 @@ test("a client that stops reading loses messages, is told, and slows nobody", as
     const before = steady.values.length;
     await new Promise((r) => setTimeout(r, 6000));
     const during = steady.values.length - before;
-    assert.ok(during > 6 * 5000, `the steady client kept getting values while the other stalled: ${during} in 6 s`);
+    // A quarter of the rate: on a loaded 2-CPU machine the steady client got 4,500 a second; one
+    // held up by the stalled client would get nothing once keel's queue for the other filled.
+    assert.ok(during > 6 * 2500, `the steady client kept getting values while the other stalled: ${during} in 6 s`);
     slow.ws._socket.resume();
     const told = await until(() => slow.statuses.find((s) => /dropped/.test(s.message)), "the drop told to the slow client");
     assert.equal(told.level, 1);
