@@ -63,7 +63,7 @@ class Reader {
     if (added) s_.nodes.push_back({name, str(r, fd::kNodeName), {}, 0, 0, {}, false, {}});
     RunSummary::NodeLine& n = s_.nodes[it->second];
     const std::string phase = str(r, fd::kPhase);
-    if (phase == "started" || phase == "restarted") {
+    if (phase == "started" || phase == "restarted" || phase == "replaced") {
       ++n.starts;
       if (const std::string out = str(r, fd::kOutput); !out.empty()) n.output = out;
     } else if (phase == "exited" || phase == "stopped") {

@@ -18,6 +18,7 @@
 
 #include "dds/qos.hpp"
 #include "dds/type_registry.hpp"
+#include "keel/component.hpp"
 #include "keel/msg/rmw_dds_common/msg/participant_entities_info.hpp"
 #include "runtime/clock.hpp"
 
@@ -60,18 +61,22 @@ struct DdsPorts::Reader {
   std::optional<std::string> held;  // an outage that began while standing by and lasts: why
   bool warned_incompatible = false;
   // A ROS 2 node's output topic: samples of the node's own writers go into its stand-in's
-  // output port (not to a connection); others' are dropped.
-  detail::PortBase* node_port = nullptr;
+  // output port (not to a connection); others' are dropped. The stand-in changes when an
+  // alternative takes the node's place (nodeServedBy).
+  bool node = false;
+  std::atomic<detail::PortBase*> node_port{nullptr};
   std::atomic<std::int64_t> last_ns{0};  // its last sample of the node's (steady); keel's deadline
   std::atomic<bool> armed{false};        // a sample since the node was quiet: its deadline counts
   std::mutex writers_mutex;
   std::set<dds_instance_handle_t> node_writers;  // writers known to be the node's
+  std::set<dds_instance_handle_t> retired;       // the writers of a node an alternative replaced
 
   /// Whether the writer of a sample (its publication handle) is the node's.
   bool fromNode(dds_entity_t reader, dds_instance_handle_t writer) {
     {
       std::lock_guard lock(writers_mutex);
       if (node_writers.contains(writer)) return true;
+      if (retired.contains(writer)) return false;
     }
     dds_builtintopic_endpoint_t* e = dds_get_matched_publication_data(reader, writer);
     if (e == nullptr) return false;
@@ -145,7 +150,7 @@ void onData(dds_entity_t reader, void* arg) {
     const bool serving = r->serving.load(std::memory_order_acquire);
     for (dds_return_t i = 0; i < n; ++i) {
       if (!infos[i].valid_data) continue;
-      if (r->node_port != nullptr) {
+      if (r->node) {
         if (!r->fromNode(reader, infos[i].publication_handle)) continue;
         r->last_ns.store(runtime::steadyNs(), std::memory_order_relaxed);
         r->armed.store(true, std::memory_order_release);
@@ -153,8 +158,14 @@ void onData(dds_entity_t reader, void* arg) {
       any = true;
       if (!serving) continue;
       try {
-        if (r->node_port != nullptr) r->type->push(samples[i], *r->node_port);
-        else r->type->deliver(samples[i], *r->connection);
+        if (r->node) {
+          // A stand-in that is not running (being reset, stopped, a preloaded alternative not
+          // yet switched in) takes no value: what its node still says is what made it faulty.
+          detail::PortBase& port = *r->node_port.load(std::memory_order_acquire);
+          if (port.owner().state() == State::Active) r->type->push(samples[i], port);
+        } else {
+          r->type->deliver(samples[i], *r->connection);
+        }
       } catch (...) {  // a C callback: nothing may leave it (the conversion could not allocate)
       }
     }
@@ -326,8 +337,22 @@ void DdsPorts::nodeExited(const std::string& instance, pid_t pid, const std::str
   // within a millisecond, between two of the timer's looks, and the new life is not to be timed
   // from the old one's last sample.
   for (const auto& r : readers_)
-    if (r->node_port != nullptr && r->instance == instance) r->armed.store(false, std::memory_order_release);
+    if (r->node && r->instance == instance) r->armed.store(false, std::memory_order_release);
   if (died) writersDied(pid, who);
+}
+
+void DdsPorts::nodeServedBy(const std::string& instance,
+                            const std::function<detail::PortBase*(const std::string&)>& port) {
+  for (const auto& r : readers_) {
+    if (!r->node || r->instance != instance) continue;
+    detail::PortBase* to = port(r->binding.endpoint.port);
+    if (to != nullptr && to->type() == r->type->type) r->node_port.store(to, std::memory_order_release);
+    // The replaced node may publish on until the alternative's start ends it: what it still
+    // says is not the role's any more (the values that made it faulty, most likely).
+    std::lock_guard lock(r->writers_mutex);
+    r->retired.merge(r->node_writers);
+    r->node_writers.clear();
+  }
 }
 
 void DdsPorts::writersDied(pid_t pid, const std::string& who) {
@@ -339,7 +364,7 @@ void DdsPorts::writersDied(pid_t pid, const std::string& who) {
     dead = dead_;
   }
   for (const auto& r : readers_) {
-    if (r->node_port != nullptr || r->entity == 0) continue;
+    if (r->node || r->entity == 0) continue;
     if (!r->binding.deadline_ms && !r->binding.liveliness_ms) continue;  // it does not watch its writers
     std::vector<dds_instance_handle_t> writers(8);
     dds_return_t n = dds_get_matched_publications(r->entity, writers.data(), writers.size());
@@ -397,7 +422,8 @@ Result<void> DdsPorts::readNodeOutputs(int domain, const std::vector<NodeOutput>
     auto reader = std::make_unique<Reader>();
     reader->owner = this;
     reader->type = type;
-    reader->node_port = o.port;
+    reader->node = true;
+    reader->node_port.store(o.port, std::memory_order_relaxed);
     reader->binding = b;
     reader->instance = o.instance;
     // No deadline or liveliness asked of the writer: a ROS 2 publisher offers none (its

@@ -144,6 +144,11 @@ class DdsPorts {
   /// matched writer belonged to that process, or to one that died before, loses them now,
   /// without waiting for its deadline or lease.
   void nodeExited(const std::string& instance, pid_t pid, const std::string& who, bool died);
+  /// Node `instance`'s role is served by another stand-in (its alternative took the node's
+  /// place): each of its output topics goes into that stand-in's port of the same name, as
+  /// `port` finds it, from the next sample on (the fault manager's thread, at the switch); the
+  /// writers of the node it replaced are not heard again, though it may publish until ended.
+  void nodeServedBy(const std::string& instance, const std::function<detail::PortBase*(const std::string&)>& port);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
 

@@ -165,6 +165,9 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   void makeExecutionGates();
   Result<void> instantiate();
   Result<Instance> makeInstance(const plan::PlannedInstance& pi);              // created, named, ports checked
+  Instance makeStandIn(const plan::PlannedInstance& pi, std::string& errors);  // keel run's proxy of it, or none
+  /// The node profile of node instance `pi`'s <alternative>; null: none, or `pi` is no node.
+  const profile::NodeProfile* alternativeNode(const plan::PlannedInstance& pi) const;
   Result<std::string> findLibrary(const profile::ComponentProfile& cp) const;  // kept; "": linked in
   void setUpHandling();  // rules and checkpoints per instance, the dependency graph
   Result<void> preloadAlternatives();

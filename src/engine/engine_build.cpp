@@ -88,20 +88,8 @@ Result<void> Engine::instantiate() {
       continue;
     }
     if (!isLocal(pi)) {
-      std::unique_ptr<Component> stand_in = side_->standIn(pi);
-      if (!stand_in) continue;  // runs in another component process
-      Instance inst;            // keel run: the proxy of a component in a process of its own, or of a node
-      inst.plan = &pi;
-      inst.component = std::move(stand_in);
-      detail::ComponentCore& core = runtime::coreOf(*inst.component);
-      core.instance_name = pi.name;
-      core.class_name = cp.name;
-      core.fault_sink = &fault_manager_;
-      if (pi.node) {
-        core.hooks = this;  // a node has no engine of its own: keel run logs its states
-        // Its output ports, filled from its topics: their <validity> is checked on each value.
-        if (auto r = configurePorts(inst); !r) errors += r.error().message + '\n';
-      }
+      Instance inst = makeStandIn(pi, errors);
+      if (!inst.component) continue;  // runs in another component process
       inst.serving_slot->store(inst.component.get(), std::memory_order_release);
       instances_.push_back(std::move(inst));
       continue;
@@ -131,6 +119,26 @@ Result<std::string> Engine::findLibrary(const profile::ComponentProfile& cp) con
   Result<std::string> lib = loader_.resolve(cp.library_name, std::filesystem::path(cp.file).parent_path().string());
   if (!lib && runtime::Registry::instance().find(cp.name, "")) return std::string();  // linked into this program
   return lib;
+}
+
+// keel run: the proxy of a component in a process of its own, or of a node; none (no
+// component) for an instance another component process runs. What its ports' rules refuse is
+// added to `errors`.
+Instance Engine::makeStandIn(const plan::PlannedInstance& pi, std::string& errors) {
+  Instance inst;
+  inst.component = side_->standIn(pi);
+  if (!inst.component) return inst;
+  inst.plan = &pi;
+  detail::ComponentCore& core = runtime::coreOf(*inst.component);
+  core.instance_name = pi.name;
+  core.class_name = pi.profile->name;
+  core.fault_sink = &fault_manager_;
+  if (pi.node) {
+    core.hooks = this;  // a node has no engine of its own: keel run logs its states
+    // Its output ports, filled from its topics: their <validity> is checked on each value.
+    if (auto r = configurePorts(inst); !r) errors += r.error().message + '\n';
+  }
+  return inst;
 }
 
 Result<Instance> Engine::makeInstance(const plan::PlannedInstance& pi) {
@@ -404,11 +412,20 @@ Result<void> Engine::connect() {
     }
     if (auto reading = dds_->readNodeOutputs(planned_.plan.rosDomain(), outputs); !reading)
       errors += reading.error().message + '\n';
-    // Their safe commands, written while an emergency stop holds (RunSide).
+    // Their safe commands, written while an emergency stop holds (RunSide); a role with an
+    // alternative node has both nodes' (the actuators behind them are the same), each topic once.
     std::vector<dds::NodeSafeCommand> safe;
-    for (const plan::PlannedInstance& pi : planned_.plan.instances)
-      if (pi.node && pi.node->emergency)
-        for (const profile::SafeCommand& c : pi.node->emergency->publish) safe.push_back({pi.name, c});
+    for (const plan::PlannedInstance& pi : planned_.plan.instances) {
+      if (!pi.node) continue;
+      for (const profile::NodeProfile* p : {pi.node, alternativeNode(pi)}) {
+        if (p == nullptr || !p->emergency) continue;
+        for (const profile::SafeCommand& c : p->emergency->publish)
+          if (std::none_of(safe.begin(), safe.end(), [&](const dds::NodeSafeCommand& s) {
+                return s.instance == pi.name && s.command.topic == c.topic;
+              }))
+            safe.push_back({pi.name, c});
+      }
+    }
     if (auto opened = dds_->openSafeCommands(planned_.plan.rosDomain(), safe); !opened)
       errors += opened.error().message + '\n';
   }

@@ -37,6 +37,7 @@ Result<void> Engine::preloadAlternatives() {
   for (auto& inst : instances_) {
     if (!inst.handling || !inst.handling->rules.alternative) continue;
     if (!inst.handling->rules.preload) {
+      if (inst.plan->node) continue;  // a node: its profile is read, its command found, at load
       // Loaded at a fault: its file is searched for now, off the fault's path (the loader
       // keeps the answer), and a missing one is said at start rather than at the fault.
       const profile::ComponentProfile& cp = *inst.handling->rules.alternative;
@@ -56,13 +57,23 @@ Result<void> Engine::preloadAlternatives() {
   return {};
 }
 
+const profile::NodeProfile* Engine::alternativeNode(const plan::PlannedInstance& pi) const {
+  if (pi.node == nullptr || !pi.policy || !pi.policy->alternative) return nullptr;
+  const auto found = set().nodes.find(pi.policy->alternative->reference);
+  return found == set().nodes.end() ? nullptr : &found->second;
+}
+
 Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Component& failed) {
   std::lock_guard creating(create_mutex_);  // executors may load alternatives concurrently
   auto it = std::find_if(instances_.begin(), instances_.end(),
                          [&](const Instance& i) { return i.plan->name == h.name; });
   if (it == instances_.end() || h.rules.alternative == nullptr) return fail("no alternative for '" + h.name + "'");
   const profile::ComponentProfile& cp = *h.rules.alternative;
-  if (auto lib = findLibrary(cp); !lib) {
+  // A node's alternative is another node, started in its place by the stand-in's onStart.
+  const profile::NodeProfile* node = alternativeNode(*it->plan);
+  if (it->plan->node) {
+    if (node == nullptr) return fail(fmt::format("{}: not a ROS 2 node's profile", cp.name));
+  } else if (auto lib = findLibrary(cp); !lib) {
     // The fault's record keeps one short line; the warning at start said where keel looked.
     const std::string& why = lib.error().message;
     return fail(fmt::format("{}: {}", cp.name, why.substr(0, why.find(';'))));
@@ -79,9 +90,13 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     p.policy = it->plan->policy;
     p.application = it->plan->application;
     p.where = it->plan->where;
+    p.node = node;
     plan = &p;
   }
-  auto made = makeInstance(*plan);
+  std::string refused;
+  auto made = node ? Result<Instance>(makeStandIn(*plan, refused)) : makeInstance(*plan);
+  if (made && node && !made->component) refused = "keel run runs no ROS 2 node here";
+  if (made && !refused.empty()) made = fail(refused);
   if (!made) {
     std::string why = made.error().message;
     if (!why.empty() && why.back() == '\n') why.pop_back();
@@ -132,8 +147,14 @@ void Engine::switchTo(Component& failed, Component& alternative) {
   if (runtime::Executor* ex = runtime::coreOf(failed).executor.load(std::memory_order_acquire))
     ex->replaceMember(failed, alternative);
   redirectInputs(failed, alternative);
-  for (auto& inst : instances_)
-    if (inst.serving() == &failed) inst.serving_slot->store(&alternative, std::memory_order_release);
+  for (auto& inst : instances_) {
+    if (inst.serving() != &failed) continue;
+    inst.serving_slot->store(&alternative, std::memory_order_release);
+    // A node's topics go into its alternative's stand-in from now on.
+    if (inst.plan->node && dds_)
+      dds_->nodeServedBy(inst.plan->name,
+                         [&](const std::string& port) { return runtime::coreOf(alternative).findPort(port); });
+  }
 }
 
 Result<std::string> Engine::abandonExecutor(Component& hung, Component* alternative) {

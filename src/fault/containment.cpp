@@ -8,6 +8,7 @@
 #include "plan/fault_manager_profile.hpp"
 #include "runtime/component_core.hpp"
 #include "runtime/executor.hpp"
+#include "runtime/injection.hpp"
 #include "runtime/invoke.hpp"
 
 namespace keel::fault {
@@ -56,7 +57,10 @@ Outcome Containment::stopScope(FaultReport& r, ComponentHandling& h) {
       std::lock_guard lock(hc->mutex);
       hc->stopped = true;
     }
-    if (c == faulty) continue;  // in Error: its executor no longer runs it
+    if (c == faulty) {  // in Error: its executor no longer runs it, but a node of its runs on
+      if (auto* process = dynamic_cast<runtime::ProcessTarget*>(c)) process->endProcess();
+      continue;
+    }
     auto stop = [c] { runtime::transition(*c, Transition::Stop); };
     if (runtime::Executor* ex = coreOf(*c).executor.load(std::memory_order_acquire)) ex->post(stop);
     else onItsThread(*c, 1s, stop);

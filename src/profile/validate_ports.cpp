@@ -155,6 +155,34 @@ void checkExports(const ProfileSet& set, const CompositeProfile& composite, Diag
   }
 }
 
+namespace {
+
+/// A node's alternative takes the role's place in the ROS 2 graph, where keel watches the role
+/// by its name, its output topics and its diagnostics status: they must be the role's.
+void checkNodeAlternative(const NodeProfile& mine, const NodeProfile& theirs, const Alternative& alt,
+                          const std::string& who, Diagnostics& diags) {
+  if (theirs.fullName() != mine.fullName())
+    error(diags, alt.where,
+          fmt::format("{} is node '{}', not '{}': it takes the node's place in the ROS 2 graph, under its name", who,
+                      theirs.fullName(), mine.fullName()));
+  if (theirs.diagnostics_name != mine.diagnostics_name) {
+    auto named = [](const std::string& n) { return n.empty() ? std::string("none") : fmt::format("\"{}\"", n); };
+    error(diags, alt.where,
+          fmt::format("{}: its <diagnostics name> is {}, the node's {}: keel reads one status for the role", who,
+                      named(theirs.diagnostics_name), named(mine.diagnostics_name)));
+  }
+  for (const NodeTopic& t : mine.topics) {
+    const auto q = std::find_if(theirs.topics.begin(), theirs.topics.end(),
+                                [&](const NodeTopic& x) { return x.port == t.port; });
+    if (q != theirs.topics.end() && q->topic != t.topic)
+      error(diags, alt.where,
+            fmt::format("{}: port '{}' is on topic '{}', the node's on '{}': it takes the node's place on its topics",
+                        who, t.port, q->topic, t.topic));
+  }
+}
+
+}  // namespace
+
 void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& subs, Diagnostics& diags) {
   for (const Subcomponent& s : subs) {
     if (!s.fault_policy || !s.fault_policy->alternative) continue;
@@ -176,6 +204,7 @@ void checkAlternatives(const ProfileSet& set, const std::vector<Subcomponent>& s
                                who, original));
       continue;
     }
+    if (node) checkNodeAlternative(set.nodes.at(s.reference), set.nodes.at(alt.reference), alt, who, diags);
     for (const PortSig& p : *mine) {
       const auto q = std::find_if(theirs->begin(), theirs->end(), [&](const PortSig& x) { return x.name == p.name; });
       if (q == theirs->end()) {

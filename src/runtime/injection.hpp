@@ -27,13 +27,17 @@ enum class InjectKind : std::uint8_t {
   Kill,            // SIGKILL to the component's process (components in a <process> only)
 };
 
-/// What a component standing for a whole component process offers (keel run's proxy of an
-/// instance in a <process>): `kill` injections reach its process through it.
+/// What a component standing for a whole process offers (keel run's proxy of an instance in a
+/// <process>, or of a ROS 2 node): `kill` injections reach its process through it.
 class ProcessTarget {
  public:
   virtual ~ProcessTarget() = default;
   /// Sends `signal` to the process now active for this component; false when there is none.
   virtual bool signalProcess(int signal) = 0;
+  /// A fault stop took this component, which is in Error, so no onStop runs for it: a process
+  /// that would run on by itself is ended here (a ROS 2 node's). The default ends nothing (a
+  /// component process's component is in Error there too, and does nothing more).
+  virtual void endProcess() {}
 };
 
 std::optional<InjectKind> parseInjectKind(std::string_view name);

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <condition_variable>
 #include <cstdlib>
@@ -63,7 +64,11 @@ std::vector<std::string> lastLines(const std::string& path, std::size_t n) {
 // notified on every exit.
 struct NodeSupervisor::Node {
   const plan::PlannedInstance* plan = nullptr;
-  const profile::NodeProfile* profile = nullptr;
+  const profile::NodeProfile* profile = nullptr;  // the role's: its name, topics and diagnostics
+  /// The node that serves the role: `profile`'s, or its alternative's once that took its place
+  /// (the same name and output topics: the loader checked). Its command, environment,
+  /// parameters, times and emergency are the ones keel uses.
+  std::atomic<const profile::NodeProfile*> serving{nullptr};
   std::string output;  // its output file
 
   mutable std::mutex mutex;
@@ -89,10 +94,13 @@ struct NodeSupervisor::Node {
   std::string params_file;  // where its restart's params file is written
 };
 
+// The stand-in of a node's role: of the node its profile names, or (`serves` set) of its
+// alternative, which takes the role's place when its onStart runs (the fault manager's switch).
 struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
-  Proxy(NodeSupervisor& s, std::shared_ptr<Node> n, const PortMaker& make) : sup(s), held(std::move(n)), node(*held) {
+  Proxy(NodeSupervisor& s, std::shared_ptr<Node> n, const PortMaker& make, const profile::NodeProfile* alternative)
+      : sup(s), held(std::move(n)), node(*held), serves(alternative) {
     if (!make) return;
-    const profile::NodeProfile& p = *node.profile;
+    const profile::NodeProfile& p = serves ? *serves : *node.profile;
     for (const profile::DataPort& d : p.component.data_ports) {
       if (d.usage != PortDirection::Output) continue;
       const bool has_topic = std::any_of(p.topics.begin(), p.topics.end(),
@@ -103,12 +111,20 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
   }
   ~Proxy() override {  // may come after the supervisor's end: the engine closes its side first
     std::lock_guard lock(node.mutex);
-    node.proxy = nullptr;
+    if (node.proxy == this) node.proxy = nullptr;
   }
   Proxy(const Proxy&) = delete;
   Proxy& operator=(const Proxy&) = delete;
   Proxy(Proxy&&) = delete;
   Proxy& operator=(Proxy&&) = delete;
+  ReturnCode onStart() override {
+    if (serves == nullptr) return ReturnCode::Ok;  // the role's own node: launch() started it
+    if (auto r = sup.replace(node, *serves, *this); !r) {
+      sup.warn_(fmt::format("node '{}': {}", node.plan->name, r.error().message));
+      return ReturnCode::InternalFault;
+    }
+    return ReturnCode::Ok;
+  }
   ReturnCode onReset() override {
     if (auto r = sup.restart(node); !r) {
       sup.warn_(fmt::format("node '{}': {}", node.plan->name, r.error().message));
@@ -120,22 +136,27 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
     sup.stopNode(node, graceOf(node));
     return ReturnCode::Ok;
   }
+  // The role's <emergency> holds whichever node serves it, and so does its alternative's: keel
+  // run registered the safe commands of both under the role; stopped if the one serving asks.
   ReturnCode onEmergencyStop() override {
-    if (!node.profile->emergency) return ReturnCode::Ok;
     if (sup.emergency_) sup.emergency_(node.plan->name);  // its safe commands first: what listens stands still
-    if (node.profile->emergency->stop) sup.stopNode(node, graceOf(node));
+    const auto stops = [](const profile::NodeProfile* p) { return p->emergency && p->emergency->stop; };
+    if (stops(node.profile) || stops(node.serving.load(std::memory_order_acquire))) sup.stopNode(node, graceOf(node));
     return ReturnCode::Ok;
   }
+  void endProcess() override { sup.stopNode(node, graceOf(node)); }
   bool signalProcess(int signal) override {
     std::lock_guard lock(node.mutex);
     return node.pid > 0 && ::kill(node.pid, signal) == 0;
   }
   static std::chrono::milliseconds graceOf(const Node& n) {
-    return std::chrono::milliseconds(static_cast<std::int64_t>(n.profile->stop_grace_ms));
+    return std::chrono::milliseconds(
+        static_cast<std::int64_t>(n.serving.load(std::memory_order_acquire)->stop_grace_ms));
   }
   NodeSupervisor& sup;  // not used once the engine shut down: only the destructor runs then
   std::shared_ptr<Node> held;
   Node& node;
+  const profile::NodeProfile* serves;  // the alternative this proxy starts in the role's place; null: the role's own
   std::vector<std::unique_ptr<detail::PortBase>> ports;  // its output topics' values, from DDS
 };
 
@@ -147,6 +168,7 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     auto n = std::make_shared<Node>();
     n->plan = &pi;
     n->profile = pi.node;
+    n->serving.store(pi.node, std::memory_order_release);
     for (const auto& t : pi.node->topics)
       for (const auto& d : pi.node->component.data_ports)
         n->has_outputs |= d.name == t.port && d.usage == PortDirection::Output;
@@ -174,8 +196,6 @@ void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
   for (const auto& n : nodes_) {
     const plan::PlannedInstance& pi = *n->plan;
     const profile::NodeProfile& p = *n->profile;
-    if (pi.policy && pi.policy->alternative)
-      note(pi.policy->alternative->where, fmt::format("the <alternative> of node '{}'", pi.name));
     for (const auto& t : p.topics)
       for (const auto& d : p.component.data_ports)
         if (d.name == t.port && d.usage == PortDirection::Input && (t.deadline_ms || t.liveliness_ms))
@@ -243,16 +263,20 @@ void NodeSupervisor::endGuard() {
 std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance& instance, const PortMaker& make) {
   for (auto& n : nodes_) {
     if (n->plan != &instance) continue;
-    auto proxy = std::make_unique<Proxy>(*this, n, make);
+    auto proxy = std::make_unique<Proxy>(*this, n, make, nullptr);
     std::lock_guard lock(n->mutex);
     n->proxy = proxy.get();
     return proxy;
   }
+  // The alternative of a node's role: an instance of the role's name planned with another node.
+  for (auto& n : nodes_)
+    if (instance.node != nullptr && n->plan->name == instance.name && !n->plan->attached)
+      return std::make_unique<Proxy>(*this, n, make, instance.node);
   return nullptr;
 }
 
 ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file) const {
-  const profile::NodeProfile& p = *n.profile;
+  const profile::NodeProfile& p = *n.serving.load(std::memory_order_acquire);
   ChildSpec child{p.executable, {}, {}};
   child.args.assign(p.command.begin() + (p.command.empty() ? 0 : 1), p.command.end());
   // ROS 2's own section last, as launch_ros writes it: rcl reads what follows --ros-args.
@@ -341,6 +365,21 @@ Result<void> NodeSupervisor::restart(Node& n) {
   if (!pid) return pid.error();
   std::lock_guard lock(n.mutex);
   if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
+  return {};
+}
+
+Result<void> NodeSupervisor::replace(Node& n, const profile::NodeProfile& alternative, Proxy& by) {
+  std::lock_guard one(n.restart_mutex);
+  stopNode(n, Proxy::graceOf(n));  // alive when its fault came from its topics: never two writers
+  n.serving.store(&alternative, std::memory_order_release);
+  {
+    std::lock_guard lock(n.mutex);
+    n.proxy = &by;                                           // its faults from now on
+    n.parameters = typedParameters(alternative.parameters);  // another node: its own values
+  }
+  auto pid = start(n, "replaced");
+  if (!pid) return pid.error();
+  runtime::coreOf(by).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
   return {};
 }
 
@@ -590,12 +629,13 @@ std::int64_t NodeSupervisor::checkTimes(Node& n, std::int64_t now) {
     const bool running = n.plan->attached || (n.pid != 0 && !n.stopping);
     const std::string name = n.profile->fullName();
     if (n.watched && running && !n.up && !n.late) {
-      const auto timeout_ns = static_cast<std::int64_t>(n.profile->start_timeout_ms * 1e6);
+      const double timeout_ms = n.serving.load(std::memory_order_acquire)->start_timeout_ms;
+      const auto timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
       if (now - n.started_ns < timeout_ns) {
         next = n.started_ns + timeout_ns;
       } else {
         n.late = true;
-        const std::string within = fmt::format("within {:g} ms", n.profile->start_timeout_ms);
+        const std::string within = fmt::format("within {:g} ms", timeout_ms);
         const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
         const auto other = std::find_if(n.seen.begin(), n.seen.end(), [](const auto& g) { return g.listed; });
         if (own != nullptr)

@@ -76,6 +76,10 @@ class NodeSupervisor {
   using PortMaker = std::function<std::unique_ptr<detail::PortBase>(Component* owner, const profile::DataPort& port)>;
   /// keel run's stand-in for node `instance`, with an output port (made by `make`) for each
   /// output topic its profile declares, which keel fills from DDS; null when it is not a node.
+  /// An instance planned for a role's alternative (the role's name, `node` the alternative's
+  /// profile) gives the alternative's stand-in: its onStart stops the role's node (SIGINT, its
+  /// grace, SIGKILL) and starts the alternative in its place (a `node` record `replaced`), with
+  /// the alternative's own parameters; its resets restart the alternative from then on.
   std::unique_ptr<Component> makeProxy(const plan::PlannedInstance& instance, const PortMaker& make = {});
   /// Where the proxies' faults go (the fault manager), before launch().
   using Report = std::function<void(Component& proxy, const FaultEvent& fault)>;
@@ -137,6 +141,7 @@ class NodeSupervisor {
   Result<pid_t> start(Node& n, std::string_view phase, const std::string& params_file = {});
   void exited(Node& n, pid_t pid, const Exit& exit);
   Result<void> restart(Node& n);
+  Result<void> replace(Node& n, const profile::NodeProfile& alternative, Proxy& by);
   void stopNode(Node& n, std::chrono::milliseconds grace);
   ChildSpec childOf(const Node& n, const std::string& params_file) const;
   std::string writeParameters(Node& n);

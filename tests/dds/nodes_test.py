@@ -378,6 +378,24 @@ def records_of(run, **fields):
     return [r for r in run.records() if all(r.get(k) == v for k, v in fields.items())]
 
 
+def talker_and_recorder(rec, talker_policy=""):
+    """A package of the talker (its <fault_policy> body: `talker_policy`) whose chatter port is
+    connected to a keel component, Recorder, appending each string it hears to `rec`."""
+    policy = f"<fault_policy>{talker_policy}</fault_policy>" if talker_policy else ""
+    return ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>'
+            f"<subcomponent><name>talker</name><reference>talker.xml</reference>{policy}</subcomponent>"
+            "<subcomponent><name>recorder</name><reference>Recorder.xml</reference>"
+            f'<properties><property name="path">{rec}</property></properties></subcomponent>'
+            '</subcomponents><port_connections><port_connection port_type="data">'
+            '<source component_name="talker" port_name="chatter"/>'
+            '<target component_name="recorder" port_name="heard"/></port_connection></port_connections>'
+            "</package_profile>\n")
+
+
+RECORDER = peers.component_profile("Recorder", [("heard", "input", "std_msgs/msg/String")],
+                                   properties='<property name="path" type="string">?</property>')
+
+
 class Topics(unittest.TestCase):
     def test_a_nodes_values_reach_a_keel_component_and_another_writers_do_not(self):
         """The talker's /demo/chatter is its stand-in's output port, connected to a keel
@@ -385,18 +403,8 @@ class Topics(unittest.TestCase):
         the same topic from another process is not the node, and is not heard."""
         d = domain()
         rec = Path(tempfile.mkdtemp(prefix="keel_rec_")) / "heard.txt"
-        app = ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>'
-               "<subcomponent><name>talker</name><reference>talker.xml</reference></subcomponent>"
-               "<subcomponent><name>recorder</name><reference>Recorder.xml</reference>"
-               f'<properties><property name="path">{rec}</property></properties></subcomponent>'
-               '</subcomponents><port_connections><port_connection port_type="data">'
-               '<source component_name="talker" port_name="chatter"/>'
-               '<target component_name="recorder" port_name="heard"/></port_connection></port_connections>'
-               "</package_profile>\n")
-        files = {"talker.xml": TALKER, "talker.py": (HERE / "nodes" / "talker.py").read_text(),
-                 "Recorder.xml": peers.component_profile("Recorder", [("heard", "input", "std_msgs/msg/String")],
-                                                         properties='<property name="path" type="string">?</property>')}
-        run = peers.KeelRun(self, d, app, files)
+        files = {"talker.xml": TALKER, "talker.py": (HERE / "nodes" / "talker.py").read_text(), "Recorder.xml": RECORDER}
+        run = peers.KeelRun(self, d, talker_and_recorder(rec), files)
         peer = peers.Ros2Peer(self, d)
         impostor = peer.node.create_publisher(String, "/demo/chatter", 10)
         self.assertTrue(wait_until(lambda: rec.exists() and rec.read_text().count(" hi ") >= 1, 30),
@@ -460,8 +468,7 @@ class Topics(unittest.TestCase):
         talker = node_profile("Talker", "python3 talker.py", "/demo/talker", [("greeting", "hi"), ("deadline_ms", "5000")],
                               string_port("chatter", "/demo/chatter"))
         files = {"talker.xml": talker, "talker.py": (HERE / "nodes" / "talker.py").read_text(),
-                 "Recorder.xml": peers.component_profile("Recorder", [("heard", "input", "std_msgs/msg/String")],
-                                                         properties='<property name="path" type="string">?</property>')}
+                 "Recorder.xml": RECORDER}
         run = peers.KeelRun(self, d, app, files)
         [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the talker up")
         self.assertTrue(wait_until(lambda: rec.exists() and rec.read_text().count(" hi ") >= 3, 30),
@@ -498,6 +505,20 @@ class Topics(unittest.TestCase):
                                "its restart")
         self.assertNotEqual(again["pid"], started["pid"])
 
+    def test_a_lying_node_whose_handling_is_stop_is_ended_and_heard_no_more(self):
+        """The same lie with severity stop: the node is ended (a `stopped` record of its pid: it
+        would have published on) and its faulty values after the first are not taken: one fault."""
+        d = domain()
+        validity = '<validity field="range"><min>0.02</min><max>4.0</max></validity>'
+        run = peers.KeelRun(self, d, package(ref="sonar.xml", policy="<severity>stop</severity>"),
+                            sonar_files(sonar_profile([("lie_at", "20")], validity=validity)))
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "stopped" and r["pid"] == started["pid"],
+                     30, "the liar stopped")
+        time.sleep(0.5)
+        faults = records_of(run, event="detected", component="talker")
+        self.assertEqual([f["kind"] for f in faults], ["range"], faults)
+
     def test_a_node_reporting_error_on_diagnostics_is_one_reported_fault_per_episode(self):
         """The sonar's own status on /diagnostics goes to ERROR from its 20th message on (it
         repeats it with every message): one `reported` fault, not one per message; and the same
@@ -526,6 +547,91 @@ class Topics(unittest.TestCase):
             peer.executor.spin_once(timeout_sec=0.025)
         time.sleep(0.5)
         self.assertEqual(records_of(run, event="detected", component="talker"), [])
+
+
+
+class Alternative(unittest.TestCase):
+    """`<alternative>` of a node: another node profile takes the role (its name, topics and
+    stand-in) when the policy calls for a replacement."""
+
+    def test_a_killed_node_is_replaced_by_its_alternative_whose_values_reach_keel(self):
+        """kill -9 of the talker, severity stop with an alternative: the backup talker (the same
+        script, the same ROS 2 name and topic, its own greeting) is started in its place, a
+        `node` record `replaced` with its own pid; the keel component listening to the role's
+        topic hears the backup from then on, and never the old node again."""
+        d = domain()
+        rec = Path(tempfile.mkdtemp(prefix="keel_rec_")) / "heard.txt"
+        app = talker_and_recorder(rec, '<severity>stop</severity><alternative reference="backup.xml"/>')
+        backup = node_profile("TalkerBackup", "python3 talker.py", "/demo/talker", [("greeting", "backup")],
+                              string_port("chatter", "/demo/chatter"))
+        files = {"talker.xml": TALKER, "backup.xml": backup, "talker.py": (HERE / "nodes" / "talker.py").read_text(),
+                 "Recorder.xml": RECORDER}
+        run = peers.KeelRun(self, d, app, files)
+        self.assertEqual(records_of(run, event="warning"), [])
+        [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 30, "the talker up")
+        self.assertTrue(wait_until(lambda: rec.exists() and rec.read_text().count(" hi ") >= 3, 30),
+                        "the talker's values did not reach the component")
+        os.kill(up["pid"], signal.SIGKILL)
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 10,
+                               "the talker's death")
+        self.assertEqual(fault["kind"], "process")
+        [replace] = run.wait_for(lambda r: r.get("event") == "action" and r.get("component") == "talker", 20,
+                                 "the handling")
+        self.assertEqual(replace["action"], "replace", replace)
+        [replaced] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "replaced", 20,
+                                  "the alternative's start")
+        self.assertNotEqual(replaced["pid"], up["pid"])
+        self.assertTrue(wait_until(lambda: rec.read_text().count(" backup ") >= 3, 30),
+                        "the alternative's values did not reach the component: " + rec.read_text()[-300:])
+        words = [line.split(" ")[1] for line in rec.read_text().splitlines()]
+        first = words.index("backup")
+        self.assertEqual([w for w in words[first:] if w != "backup"], [], "the old node heard after the new one")
+        self.assertTrue(gone(up["pid"]))
+
+    def liar_with_backup(self, max_m, preload):
+        """keel run of the sonar lying (-1 m) from its 20th reading, severity stop, its
+        alternative the backup sonar reading 2.5 m; both profiles allow [0.02, max_m]."""
+        validity = f'<validity field="range"><min>0.02</min><max>{max_m}</max></validity>'
+        files = sonar_files(sonar_profile([("lie_at", "20")], validity=validity))
+        files["backup.xml"] = sonar_profile([("distance", "2.5")], validity=validity).replace("<name>Sonar<",
+                                                                                            "<name>SonarBackup<")
+        alternative = f'<alternative reference="backup.xml" preload="{str(preload).lower()}"/>'
+        return peers.KeelRun(self, domain(), package(ref="sonar.xml", policy="<severity>stop</severity>" + alternative),
+                             files)
+
+    def test_a_live_node_faulty_by_its_values_is_stopped_before_its_alternative_starts(self):
+        """The sonar lies (-1 m) while running: its `range` fault, severity stop, replaces it by
+        the backup sonar (another distance): keel ends the liar first (never two writers of the
+        role's topic), then starts the backup, whose values are in range: no further fault. The
+        backup is preloaded: its stand-in is made at start, its process only at the fault."""
+        run = self.liar_with_backup(max_m=4.0, preload=True)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the lie")
+        self.assertEqual(fault["kind"], "range")
+        self.assertEqual(len(records_of(run, event="node", phase="started")), 1, "a second node before the fault")
+        [replaced] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "replaced", 20,
+                                  "the alternative's start")
+        self.assertNotEqual(replaced["pid"], started["pid"])
+        self.assertTrue(gone(started["pid"]), "the liar outlived its replacement's start")
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up" and r["pid"] == replaced["pid"], 30,
+                     "the alternative up")
+        time.sleep(1.5)  # thirty of its readings
+        faults = records_of(run, event="detected", component="talker")
+        self.assertEqual([f["kind"] for f in faults], ["range"], faults)
+
+    def test_the_alternatives_values_are_checked_by_its_own_profile_and_a_second_fault_stops_it(self):
+        """The backup sonar's profile allows at most 2 m, and it reads 2.5: its values, checked
+        by its own port, are a second `range` fault of the role; a role is replaced once, so its
+        handling escalates to a fault stop, which ends the backup."""
+        run = self.liar_with_backup(max_m=2.0, preload=False)
+        [replaced] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "replaced", 30,
+                                  "the alternative's start")
+        faults = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker"
+                              and "2.5" in r.get("detail", ""), 30, "the alternative's own range fault")
+        self.assertEqual(faults[0]["kind"], "range")
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "stopped" and r["pid"] == replaced["pid"],
+                     20, "the alternative stopped")
 
 
 if __name__ == "__main__":

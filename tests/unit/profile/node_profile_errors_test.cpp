@@ -175,5 +175,19 @@ TEST(NodeProfileErrors, RejectsNodeSubcomponentsUsedAsComponentsAndTheReverse) {
               "member: it runs in a process of its own"));
 }
 
+TEST(NodeProfileErrors, ANodesAlternativeMustBeTheSameNodeToTheGraph) {
+  // It takes the role's name, topics and status: each difference is an error at <alternative>.
+  const std::string f = "errors/node/alternative.xml:8: subcomponent 'wander': alternative 'WanderElsewhere'";
+  EXPECT_THAT(problems("errors/node/alternative.xml"),
+              ElementsAre(f + " is node '/robot/wander_backup', not '/robot/wander': it takes the node's place in the "
+                              "ROS 2 graph, under its name",
+                          f + ": its <diagnostics name> is none, the node's \"wander: status\": keel reads one status "
+                              "for the role",
+                          f + ": port 'cmd' is on topic '/backup/cmd_vel', the node's on '/cmd_vel': it takes the "
+                              "node's place on its topics",
+                          f + ": port 'range' is on topic '/sonar/b', the node's on '/sonar/a': it takes the node's "
+                              "place on its topics"));
+}
+
 }  // namespace
 }  // namespace keel::profile::test
