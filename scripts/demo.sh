@@ -6,7 +6,8 @@
 # lying sonar, the left wheel's driver losing power (Fig. 6), an obstacle avoider that keeps
 # crashing. Last, `ros2`: a ROS 2 node (rclpy, from PyPI), started and supervised by keel, drives
 # the robot over DDS from the sonar ranges keel publishes, is killed with `kill -9` and restarted
-# by keel (robot/ros2/). For each
+# by keel, then sends one corrupted command (a `range` fault of the node) and is restarted again
+# (robot/ros2/). For each
 # run keel prints what it detected, how it handled it and the mission's outcome, and for a killed
 # process how soon its standby took over; the fault logs, MCAP recordings and plots (trajectory
 # with the faults marked, Fig. 6's rpm and detection) go to demo/. While each runs, its live
@@ -64,7 +65,7 @@ for e in "${experiments[@]}"; do
     # A ROS 2 node drives the robot (robot/ros2.xml, robot/ros2/): rclpy from PyPI, in the test
     # peers' venv; without it (no network, no python3-venv) this experiment alone is skipped.
     echo
-    echo "=== ros2: a ROS 2 node keel supervises drives the robot, is killed with kill -9, keel restarts it ==="
+    echo "=== ros2: a ROS 2 node keel supervises drives the robot; killed with kill -9, then sending garbage, it is restarted ==="
     if ! scripts/peers.sh python; then
       echo "demo.sh: skipping ros2: rclpy could not be installed (scripts/peers.sh python, above)" >&2
       continue

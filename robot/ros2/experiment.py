@@ -8,15 +8,17 @@ supervises drives keel's simulated robot, is killed with kill -9 mid-run, and ke
 keel runs robot/ros2.xml, which starts robot/ros2/wander.py, an rclpy node (the --python's
 folder first on its PATH, as sourcing ROS 2 would put it): it plans from the sonar ranges keel
 publishes and sends /cmd_vel. Once the robot has driven `--drive` s on the node's commands, this
-script sends the node SIGKILL; keel sees the death, stops the wheels and restarts the node, which
-drives `--after` s more. Both sides are on one ROS domain — ROS_DOMAIN_ID if set, else one held
+script sends the node SIGKILL; keel sees the death, stops the wheels and restarts the node. Once
+the restarted node has driven `--drive`/2 s, it makes the node send one corrupted command
+(SIGUSR1: 5 m/s where its profile allows 0.5): a `range` fault of the node from its value alone;
+keel restarts it too, and the robot drives `--after` s more. Both sides are on one ROS domain — ROS_DOMAIN_ID if set, else one held
 from the DDS tests' pool (tests/dds/domains.py) — and on the loopback unless CYCLONEDDS_URI /
 FASTDDS_DEFAULT_PROFILES_FILE say otherwise (tests/dds/*-lo.xml). It watches keel's fault log and
 the referee's trace as they are written (every 10 ms) and prints the story; keel's own times
 (the log's t_ns, lined up with this script's clock by the log's epoch_ns) say how soon keel saw
 the kill. OUT.summary.json holds it for tests/robot/ros2_demo_test.py. Files: OUT.jsonl (the fault
 log), OUT.csv (the trace), OUT.mcap, OUT.out (keel run's output), OUT.wander.out (the node's
-output, both lives, as keel keeps it), OUT.wander-PID.json (each life's stats: the node's view).
+output, all its lives, as keel keeps it), OUT.wander-PID.json (each life's stats: the node's view).
 Exit 1 when a step did not happen."""
 import argparse
 import json
@@ -230,6 +232,8 @@ class Experiment:
         self.note(f"keel hears /cmd_vel again: the robot drives, {again - killed:.1f} s after the kill", again)
         self.summary.update(restarted=self.log_time(restarted["t_ns"]) - self.t0, pid_again=up2["pid"],
                             up_again=self.log_time(up2["t_ns"]) - self.t0, moving_again=again - self.t0)
+        self.idle(self.args.drive / 2)
+        self.corrupt(up2["pid"])
         self.idle(self.args.after)
 
         self.keel.send_signal(signal.SIGINT)
@@ -247,6 +251,31 @@ class Experiment:
                             collisions=max((r["collisions"] for _, r in w.rows()), default=0))
         return 0
 
+    def corrupt(self, pid):
+        """The node's next command is garbage (SIGUSR1: 5 m/s, its profile allows 0.5): a `range`
+        fault of the node, from its value alone; its policy restarts it and the robot drives on."""
+        w = self.watch
+        sent = time.monotonic()
+        os.kill(pid, signal.SIGUSR1)
+        self.note(f"the ROS 2 node (pid {pid}) sends a corrupted command: /cmd_vel 5 m/s ahead", sent)
+        _, fault = self.wait("the node's range fault", 10, lambda: w.first(
+            lambda r: r.get("event") == "detected" and r.get("component") == "wander" and r.get("kind") == "range",
+            w.records()))
+        self.note(f"keel: {fault['detail']} — a `range` fault of wander, from the value the node published "
+                  "(its profile: linear.x within [-0.5, 0.5])", self.log_time(fault["t_ns"]))
+        _, restarted = self.wait("the node's restart after its range fault", 10, lambda: w.first(
+            lambda r: r.get("event") == "node" and r.get("phase") == "restarted" and r.get("pid") != pid
+            and r["t_ns"] > fault["t_ns"], w.records()))
+        self.note(f"keel: stopped the node (alive, but its values are wrong) and restarted it, pid {restarted['pid']}",
+                  self.log_time(restarted["t_ns"]))
+        _, up = self.wait("the node up after its range fault", 40, lambda: w.first(
+            lambda r: r.get("event") == "node" and r.get("phase") == "up" and r.get("pid") == restarted["pid"],
+            w.records()))
+        again, _ = self.wait("motion after the range fault", 30,
+                             lambda: w.first(moving, w.rows(), after=self.log_time(up["t_ns"])))
+        self.note(f"the robot drives again, {again - sent:.1f} s after the corrupted command", again)
+        self.summary.update(range_fault=fault, pid_third=restarted["pid"], moving_after_range=again - self.t0)
+
     def close(self):
         if self.keel and self.keel.poll() is None:
             self.keel.kill()
@@ -259,7 +288,7 @@ def show(out):
     """The node's view and keel's, as the demo prints them after the run."""
     path = Path(f"{out}.wander.out")
     if path.exists():
-        print(f"--- the ROS 2 node's view, both its lives ({path}, kept by keel):")
+        print(f"--- the ROS 2 node's view, all its lives ({path}, kept by keel):")
         lines = path.read_text().splitlines()
         for line in lines if len(lines) <= 20 else lines[:8] + ["  ..."] + lines[-10:]:
             print(f"  {line}")

@@ -11,6 +11,8 @@ room, planning from the robot's sonar ranges that keel publishes, and reads keel
   moves until ranges come. The publisher offers a 300 ms deadline and a 600 ms automatic
   liveliness lease: keel's subscription requests them (DDS matches a reader only with writers
   that offer what it requests) and makes a lost node a fault;
+- on SIGUSR1 (the experiment's stand-in for a bug), its next command is corrupted: 5 m/s ahead,
+  ten times what it ever commands, once;
 - prints what it sees: the first range, once a second what came, each change of a keel
   component's diagnostic level; with --stats (default: $WANDER_STATS), the same as JSON in
   FILE, rewritten each second (what a kill -9 leaves is the last second's); `{pid}` in FILE is
@@ -58,6 +60,7 @@ class Wander:
         self.level_counts = {}  # level -> statuses seen at it
         self.arrays = 0
         self.sent = 0
+        self.corrupt = False  # SIGUSR1: the next command is garbage
         self.turning = False
         self.said = {}
         for s in SONARS:
@@ -117,6 +120,11 @@ class Wander:
                 t.angular.z = self.args.turn
             else:
                 t.linear.x = self.args.speed
+        if self.corrupt:
+            self.corrupt = False
+            t = Twist()
+            t.linear.x = 5.0
+            self.say("a corrupted command: 5.00 m/s ahead (SIGUSR1)")
         self.cmd_vel.publish(t)
         self.sent += 1
         self.last = t
@@ -157,6 +165,7 @@ def main():
     stop = []
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, lambda *_: stop.append(1))
+    signal.signal(signal.SIGUSR1, lambda *_: setattr(wander, "corrupt", True))
     while not stop:
         rclpy.spin_once(node, timeout_sec=0.1)
     wander.cmd_vel.publish(Twist())  # a polite node stops what it drives

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """The demo's `ros2` experiment (docs/robot.md), run as scripts/demo.sh runs it
 (robot/ros2/experiment.py): an rclpy node from PyPI, started and supervised by keel from the
-robot's profile, drives keel's simulated robot, is killed with kill -9 and restarted by keel. One
+robot's profile, drives keel's simulated robot, is killed with kill -9 and restarted by keel,
+then sends one corrupted command, a `range` fault of it, and is restarted again. One
 run; each test checks one thing it must show, from the files the run leaves — keel's fault log,
 the referee's trace, the node's own stats — and the moments the experiment saw things happen
 (OUT.summary.json, one clock).
@@ -79,7 +80,9 @@ class Ros2Demo(unittest.TestCase):
                         death["detail"])
         self.assertGreater(self.summary["death_seen_ms"], 0)
         self.assertLess(self.summary["death_seen_ms"], SOON_MS, self.context())
-        self.assertEqual([f["fault_id"] for f in self.summary["node_faults"]], [death["fault_id"]])
+        faults = self.summary["node_faults"]
+        self.assertEqual([(f["fault_id"], f["kind"]) for f in faults],
+                         [(death["fault_id"], "process"), (self.summary["range_fault"]["fault_id"], "range")], faults)
 
     def test_the_teleop_loses_its_writer_with_the_node_not_at_its_deadline(self):
         fault = self.summary["fault"]
@@ -101,7 +104,8 @@ class Ros2Demo(unittest.TestCase):
 
     def test_keel_restarts_the_node_and_the_robot_drives_again(self):
         phases = [r["phase"] for r in self.summary["node_records"]]
-        self.assertEqual(phases, ["started", "up", "exited", "restarted", "up", "stopped"], self.summary["node_records"])
+        self.assertEqual(phases, ["started", "up", "exited", "restarted", "up", "stopped", "restarted", "up", "stopped"],
+                         self.summary["node_records"])
         self.assertNotEqual(self.summary["pid_again"], self.summary["pid"])
         self.assertGreater(self.summary["moving_again"], self.summary["up_again"], self.context())
         moving = [r for r in self.rows if max(abs(r["rpm_left"]), abs(r["rpm_right"])) > 20]
@@ -113,11 +117,30 @@ class Ros2Demo(unittest.TestCase):
         back within that, sees its own stand-in's and the teleop's."""
         self.assertGreater(self.lives[1]["level_counts"].get("WARN", 0), 0, self.lives[1])
 
-    def test_the_outage_is_one_remote_fault_handled_by_a_reset(self):
+    def test_a_corrupted_command_is_a_range_fault_of_the_node_which_is_restarted(self):
+        """The node's one command of 5 m/s (its profile allows 0.5) is a `range` fault of the
+        node, from the value it published on /cmd_vel and nothing else (it was alive and well);
+        its reset stops the live node and starts it again, and the robot drives on."""
+        fault = self.summary["range_fault"]
+        self.assertEqual((fault["component"], fault["kind"]), ("wander", "range"), fault)
+        self.assertEqual(fault["detail"], "value 5 pushed on port 'cmd' field 'linear.x' outside [-0.5, 0.5]")
+        stopped = [r for r in self.summary["node_records"] if r["phase"] == "stopped"]
+        self.assertEqual(stopped[0]["pid"], self.summary["pid_again"], "the live node was not stopped")
+        self.assertGreater(stopped[0]["t_ns"], fault["t_ns"])
+        self.assertNotIn(self.summary["pid_third"], (self.summary["pid"], self.summary["pid_again"]))
+        self.assertIsNotNone(self.summary.get("moving_after_range"), self.context())
+        resets = {r["fault_id"] for r in self.records if r.get("event") == "action" and r.get("action") == "reset"}
+        self.assertIn(fault["fault_id"], resets)
+
+    def test_each_outage_is_one_remote_fault_handled_by_a_reset(self):
         """One outage, one fault: the new node's writer is alive before its first sample comes,
-        and the deadline firing meanwhile belongs to the same outage (docs/dds.md)."""
-        remote = [r["fault_id"] for r in self.records if r.get("event") == "detected" and r.get("kind") == "remote"]
-        self.assertEqual(len(remote), 1, self.records)
+        and the deadline firing meanwhile belongs to the same outage (docs/dds.md). Two outages:
+        the kill's (its writer died) and the restart's after the range fault (its deadline)."""
+        remote = [r for r in self.records if r.get("event") == "detected" and r.get("kind") == "remote"]
+        self.assertEqual([r["component"] for r in remote], ["teleop", "teleop"], remote)
+        self.assertEqual(remote[0]["fault_id"], self.summary["fault"]["fault_id"])
+        self.assertGreater(remote[1]["t_ns"], self.summary["range_fault"]["t_ns"])
+        remote = [r["fault_id"] for r in remote]
         resets = {r["fault_id"] for r in self.records if r.get("event") == "action" and r.get("action") == "reset"}
         self.assertEqual(set(remote) - resets, set(), self.records)
 
@@ -125,9 +148,9 @@ class Ros2Demo(unittest.TestCase):
         """keel stopped the node it started when it ended (its last `node` record), and the
         process is gone."""
         last = self.summary["node_records"][-1]
-        self.assertEqual((last["phase"], last["pid"]), ("stopped", self.summary["pid_again"]))
-        self.assertFalse(Path(f"/proc/{self.summary['pid_again']}").exists()
-                         and "Z" not in Path(f"/proc/{self.summary['pid_again']}/stat").read_text().split()[2])
+        pid = self.summary["pid_third"]
+        self.assertEqual((last["phase"], last["pid"]), ("stopped", pid))
+        self.assertFalse(Path(f"/proc/{pid}").exists() and "Z" not in Path(f"/proc/{pid}/stat").read_text().split()[2])
 
 
 if __name__ == "__main__":
