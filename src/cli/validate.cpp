@@ -7,11 +7,14 @@
 // every port of code checked against its profile, and each connection between processes as the component processes
 // check it when they connect (nothing is initialized or run); what loading warns of (an OPRoS component's code that
 // disagrees with its profile) is printed as `keel run` prints it, and is a problem with --strict.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <iostream>
 
 #include "cli/commands.hpp"
 #include "dds/field_validity.hpp"
+#include "dds/type_registry.hpp"
 #include "engine/engine.hpp"
 #include "injection/scenario.hpp"
 #include "profile/loader.hpp"
@@ -20,8 +23,9 @@ namespace keel::cli {
 namespace {
 
 /// Without --load: each <validity field=".."> whose port's type is a message keel has without
-/// loading anything (the shipped ones) names a numeric field of it; the others are checked by
-/// --load, which loads the libraries that have them. Each problem printed; how many.
+/// loading anything (the shipped ones) names a numeric field of it, and so does each field a
+/// connection carries; the others are checked by --load, which loads the libraries that have
+/// them. Each problem printed; how many.
 int fieldRuleProblems(const profile::ProfileSet& set) {
   int problems = 0;
   for (const auto& [path, component] : set.components)
@@ -30,6 +34,27 @@ int fieldRuleProblems(const profile::ProfileSet& set) {
         std::cerr << r.error().message;
         problems += static_cast<int>(std::count(r.error().message.begin(), r.error().message.end(), '\n'));
       }
+  // A connection carrying a field (<source field="..">) of a port whose message keel has.
+  for (const auto& [path, package] : set.packages)
+    for (const profile::Connection& c : package.connections) {
+      if (c.source.field.empty()) continue;
+      const auto sub = std::find_if(package.subcomponents.begin(), package.subcomponents.end(),
+                                    [&](const profile::Subcomponent& s) { return s.name == c.source.component; });
+      const auto component = sub == package.subcomponents.end() ? set.components.end()
+                                                                : set.components.find(sub->reference);
+      if (component == set.components.end()) continue;  // a composite's exported port: checked when keel runs
+      const auto& ports = component->second.data_ports;
+      const auto port = std::find_if(ports.begin(), ports.end(),
+                                     [&](const auto& d) { return d.name == c.source.port; });
+      const detail::DdsType* type = port == ports.end() ? nullptr : dds::findType(port->data_type);
+      if (type == nullptr) continue;  // a user's message: checked by --load
+      if (auto steps = runtime::resolveFieldTap(type->fields, type->ros_name, c.source.field); !steps) {
+        std::cerr << fmt::format("{}: port_connection {}.{} field '{}' -> {}.{}: {}\n", c.where.str(),
+                                 c.source.component, c.source.port, c.source.field, c.target.component, c.target.port,
+                                 steps.error().message);
+        ++problems;
+      }
+    }
   return problems;
 }
 

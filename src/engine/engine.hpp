@@ -179,6 +179,12 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   Result<void> configureFieldRules(const Instance& inst, const profile::DataPort& d, detail::PortBase& port);
   /// Each node's <validity field=".."> names a numeric field of its port's message type.
   Result<void> checkNodeFieldRules() const;
+  /// Connects field `field` of output port `src`'s messages to `connection` (a double input's):
+  /// a port of src's owner sends each message's number on it (any thread before src's owner
+  /// starts: at connect, or for an alternative before its switch).
+  /// Returns that port.
+  Result<detail::PortBase*> tapField(detail::PortBase& src, const std::string& field,
+                                     detail::ConnectionBase& connection);
   /// An input data port's queue: the profile's, or the one an OPRoS component's code fixed.
   void configureQueue(const Instance& inst, const profile::DataPort& d, detail::InputPortBase& port);
   Result<void> connect();
@@ -205,6 +211,16 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   const profile::ProfileSet& set() const { return *planned_.profiles; }
   runtime::Loader loader_;
   log::FaultLog log_;
+  /// A connection carrying one numeric field of a message port (a <source field="..">): the
+  /// port of `owner` that sends the field's numbers (destroyed after the components).
+  struct FieldTapPort {
+    Component* owner;
+    std::string port;  // the message port
+    std::string field;
+    std::unique_ptr<detail::PortBase> out;
+    detail::ConnectionBase* connection;
+  };
+  std::vector<FieldTapPort> taps_;
   std::vector<Instance> instances_;
   // Instance by name, built once instantiate() has made them all (read-only afterwards, from
   // any thread): find() is on the fault manager's path, once per stopped component.

@@ -6,11 +6,13 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iterator>
 
 #include "dds/field_validity.hpp"
 #include "dds/type_registry.hpp"
 #include "engine/engine.hpp"
 #include "fault/fault_manager_component.hpp"
+#include "runtime/field_rules.hpp"
 #include "runtime/port_access.hpp"
 #include "runtime/registry.hpp"
 
@@ -234,6 +236,32 @@ Result<void> Engine::checkNodeFieldRules() const {
   return fail(errors);
 }
 
+Result<detail::PortBase*> Engine::tapField(detail::PortBase& src, const std::string& field,
+                                           detail::ConnectionBase& connection) {
+  const detail::DdsType* type = dds::findType(src.typeName());
+  if (type == nullptr || type->type != src.type())
+    return fail(
+        fmt::format("its type '{}' is not a ROS 2 message keel has (a keel::msg type: docs/messages.md), so "
+                    "it has no fields",
+                    src.typeName()));
+  auto steps = runtime::resolveFieldTap(type->fields, type->ros_name, field);
+  if (!steps) return steps.error();
+  const detail::FieldRules* current = detail::PortAccess::fieldRules(src);
+  auto rules = std::find_if(field_rules_.begin(), field_rules_.end(),
+                            [&](const auto& r) { return r.get() == current; });
+  if (current == nullptr || rules == field_rules_.end()) {
+    field_rules_.push_back(std::make_unique<detail::FieldRules>());
+    rules = std::prev(field_rules_.end());
+  }
+  auto out = std::make_unique<OutputDataPort<double>>(&src.owner(), src.name() + "." + field);
+  if (!static_cast<detail::OutputPortBase&>(*out).attach(connection)) return fail("the target is not a 'double' input");
+  (*rules)->taps.push_back({std::move(*steps), out.get()});
+  detail::PortAccess::setFieldRules(src, rules->get());
+  detail::PortBase* sends = out.get();
+  taps_.push_back({&src.owner(), src.name(), field, std::move(out), &connection});
+  return sends;
+}
+
 void Engine::configureQueue(const Instance& inst, const profile::DataPort& d, detail::InputPortBase& port) {
   const detail::ComponentCore& core = runtime::coreOf(*inst.component);
   const auto code = core.code_queues.find(d.name);
@@ -307,7 +335,14 @@ Result<void> Engine::connect() {
   const std::vector<std::size_t> crossing = supervision::crossingConnections(planned_.plan);
   for (std::size_t i = 0; i < planned_.plan.connections.size(); ++i) {
     const plan::PlannedConnection& pc = planned_.plan.connections[i];
-    if (std::find(crossing.begin(), crossing.end(), i) != crossing.end()) continue;  // below
+    if (std::find(crossing.begin(), crossing.end(), i) != crossing.end()) {  // below
+      if (!pc.source.field.empty())
+        errors += fmt::format(
+            "{}: port_connection {}.{} field '{}' -> {}.{}: a connection carrying a field joins "
+            "ports of one process (one of these components runs in a <process> of its own)\n",
+            pc.where.str(), pc.source.component, pc.source.port, pc.source.field, pc.target.component, pc.target.port);
+      continue;
+    }
     const plan::PlannedInstance* a = planned_.plan.find(pc.source.component);
     const plan::PlannedInstance* b = planned_.plan.find(pc.target.component);
     if (b && b->node) continue;  // a node's input: keel writes no node topic (warned at start)
@@ -319,6 +354,22 @@ Result<void> Engine::connect() {
     if (!src || !dst) {
       errors += fmt::format("{}: port_connection {}.{} -> {}.{}: no such port\n", pc.where.str(), pc.source.component,
                             pc.source.port, pc.target.component, pc.target.port);
+      continue;
+    }
+    if (!pc.source.field.empty()) {  // one number of each message: a port of the source's sends it
+      std::unique_ptr<detail::ConnectionBase> conn;
+      if (dst->kind() == PortKind::Data && dst->direction() == PortDirection::Input)
+        conn = static_cast<detail::InputPortBase*>(dst)->makeConnection();
+      Result<detail::PortBase*> tapped = conn ? tapField(*src, pc.source.field, *conn)
+                                              : Result<detail::PortBase*>(fail("the target is not a data input"));
+      if (tapped) {
+        wires_.push_back({conn.get(), *tapped, dst});  // a replaced target is re-pointed as any
+        connections_.push_back(std::move(conn));
+      } else {
+        errors += fmt::format("{}: port_connection {}.{} field '{}' -> {}.{}: {}\n", pc.where.str(),
+                              pc.source.component, pc.source.port, pc.source.field, pc.target.component, pc.target.port,
+                              tapped.error().message);
+      }
       continue;
     }
     bool ok = false;

@@ -126,6 +126,16 @@ Result<Component*> Engine::createAlternative(fault::ComponentHandling& h, Compon
     if (w.connection) static_cast<detail::OutputPortBase*>(port)->attach(*w.connection);
     else static_cast<detail::ServicePortBase*>(port)->bind(*static_cast<detail::ServicePortBase*>(w.target));
   }
+  // The fields of its messages that connections carry (taps_ grows here: by index, copied).
+  for (std::size_t i = 0, n = taps_.size(); i < n; ++i) {
+    if (taps_[i].owner != &failed) continue;
+    const std::string field = taps_[i].field;
+    detail::ConnectionBase& connection = *taps_[i].connection;
+    detail::PortBase* port = runtime::coreOf(*alt).findPort(taps_[i].port);
+    if (port == nullptr) continue;  // the loader checked that the ports are the same
+    if (auto tapped = tapField(*port, field, connection); !tapped)
+      warn(fmt::format("{}: field '{}' of port '{}': {}", cp.name, field, port->name(), tapped.error().message));
+  }
   std::lock_guard lock(alternatives_mutex_);
   alternatives_.push_back(std::move(made->component));
   return alt;

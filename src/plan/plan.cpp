@@ -264,6 +264,7 @@ class Planner {
     for (auto it = exports_.find({out.component, out.port}); it != exports_.end();
          it = exports_.find({out.component, out.port}))
       out = it->second;
+    out.field = e.field;  // the connection's, whichever port it reaches
     return out;
   }
 

@@ -200,6 +200,9 @@ struct FaultPolicy {
 struct Endpoint {
   std::string component;  // subcomponent instance name
   std::string port;
+  /// A connection's source only: the numeric field of its messages the connection carries, a
+  /// dotted path ("range", "linear.x") to a `double` input; "": the whole value.
+  std::string field{};
 };
 
 struct Connection {

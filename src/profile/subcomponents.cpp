@@ -161,12 +161,24 @@ void readSubcomponent(Ctx& ctx, pugi::xml_node node, std::vector<Subcomponent>& 
   out.push_back(std::move(s));
 }
 
-std::optional<Endpoint> readEndpoint(Ctx& ctx, pugi::xml_node node) {
-  readChildren(ctx, node, {}, {"component_name", "port_name"});
+std::optional<Endpoint> readEndpoint(Ctx& ctx, pugi::xml_node node, bool source) {
+  readChildren(ctx, node, {}, {"component_name", "port_name", "field"});
   const auto component = requiredAttribute(ctx, node, "component_name");
   const auto port = requiredAttribute(ctx, node, "port_name");
   if (!component || !port) return std::nullopt;
-  return Endpoint{*component, *port};
+  Endpoint e{*component, *port};
+  if (auto field = attribute(node, "field")) {
+    if (!source) {
+      ctx.error(ctx.where(node), "field of <target>: a connection carries a field of its source's messages");
+      return std::nullopt;
+    }
+    if (field->empty()) {
+      ctx.error(ctx.where(node), "empty field of <source>: a dotted path to a number of the port's messages");
+      return std::nullopt;
+    }
+    e.field = *field;
+  }
+  return e;
 }
 
 void readConnection(Ctx& ctx, pugi::xml_node node, std::vector<Connection>& out) {
@@ -174,8 +186,8 @@ void readConnection(Ctx& ctx, pugi::xml_node node, std::vector<Connection>& out)
   c.where = ctx.where(node);
   std::optional<Endpoint> source, target;
   readChildren(ctx, node,
-               {{"source", [&](pugi::xml_node n) { source = readEndpoint(ctx, n); }},
-                {"target", [&](pugi::xml_node n) { target = readEndpoint(ctx, n); }},
+               {{"source", [&](pugi::xml_node n) { source = readEndpoint(ctx, n, true); }},
+                {"target", [&](pugi::xml_node n) { target = readEndpoint(ctx, n, false); }},
                 {"bend_point", {}, true},
                 {"bend_points", {}, true}},
                {"port_type", {"io_type", "OPRoS connects components of one engine directly"}});

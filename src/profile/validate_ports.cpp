@@ -80,6 +80,18 @@ void checkEnds(Connection& c, const PortSig& src, const PortSig& dst, Diagnostic
           fmt::format("port_connection: target '{}' is {}; a target must be {}", dotted(c.target), describe(dst),
                       service ? "a provided service port" : "an input port"));
   }
+  if (ok && !c.source.field.empty()) {  // its path is resolved against the message's fields when keel runs
+    if (c.port_type != PortKind::Data)
+      error(diags, c.where,
+            fmt::format("port_connection: field '{}' of source '{}': only a data connection carries a field",
+                        c.source.field, dotted(c.source)));
+    else if (!sameCppType(dst.type, "double"))
+      error(diags, c.where,
+            fmt::format("port_connection: field '{}' of source '{}' is a number, but target '{}' is '{}' (a field "
+                        "goes to a 'double' input)",
+                        c.source.field, dotted(c.source), dotted(c.target), dst.type));
+    return;
+  }
   if (ok && !sameCppType(src.type, dst.type)) {
     error(diags, c.where,
           fmt::format("port_connection: {} differ: '{}' is '{}', '{}' is '{}'",

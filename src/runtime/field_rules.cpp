@@ -10,6 +10,7 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <utility>
 
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
@@ -130,6 +131,20 @@ Result<std::vector<const MessageField*>> resolveFieldPath(std::span<const Messag
   }
 }
 
+Result<std::vector<const MessageField*>> resolveFieldTap(std::span<const MessageField> fields, std::string_view type,
+                                                         std::string_view path) {
+  auto steps = resolveFieldPath(fields, type, path);
+  if (!steps) return steps;
+  std::string reached;
+  for (const MessageField* f : *steps) {
+    reached += (reached.empty() ? "" : ".") + std::string(f->name);
+    if (f->array)
+      return fail(
+          fmt::format("'{}' is an array ({}): a connection carries one number of each message", reached, f->type));
+  }
+  return steps;
+}
+
 }  // namespace keel::runtime
 
 namespace keel::detail {
@@ -226,7 +241,32 @@ bool checkFields(const FieldRules& rules, const void* value, Component& owner, c
     report(owner, port, w, wrong_size, on_delivery);
     return false;
   }
+  for (const FieldTap& t : rules.taps) sendField(t, value);
   return true;
+}
+
+void sendField(const FieldTap& tap, const void* message) {
+  // Down the path, no array on the way (resolveFieldTap): one message per level, one number.
+  const void* at = message;
+  for (std::size_t i = 0; i + 1 < tap.steps.size(); ++i) {
+    const void* next = nullptr;
+    tap.steps[i]->messages(at, &next, [](void* context, const void* m) {
+      *static_cast<const void**>(context) = m;
+      return false;
+    });
+    if (next == nullptr) return;
+    at = next;
+  }
+  double x = 0;
+  bool found = false;
+  std::pair<double*, bool*> into{&x, &found};
+  tap.steps.back()->numbers(at, &into, [](void* context, double v) {
+    auto& [to, seen] = *static_cast<std::pair<double*, bool*>*>(context);
+    *to = v;
+    *seen = true;
+    return false;
+  });
+  if (found) tap.out->push(x);
 }
 
 }  // namespace keel::detail

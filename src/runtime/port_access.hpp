@@ -16,6 +16,7 @@ struct PortAccess {
   /// Sets the rules per field of `port`, whose type must be the message the rules were
   /// resolved in; null removes them.
   static void setFieldRules(PortBase& port, const FieldRules* rules) { port.field_rules_ = rules; }
+  static const FieldRules* fieldRules(const PortBase& port) { return port.field_rules_; }
   /// Arms `out_of_range` injection on `port`: its next value is replaced by `value`. False if
   /// the port cannot carry it (not a numeric data port).
   static bool corruptNext(OutputPortBase& port, double value) { return port.corruptNext(value); }

@@ -8,6 +8,7 @@ profiles (docs/ros2-nodes.md), watched, restarted and stopped by it.
 Each test runs on a ROS_DOMAIN_ID of its own, pinned to the loopback (tests/dds/*-lo.xml), with
 the test peers' venv (scripts/peers.sh): its python3 is the nodes' (put first on their PATH by
 their profiles' <environment>)."""
+import json
 import os
 import signal
 import subprocess
@@ -27,6 +28,7 @@ from rclpy.parameter import Parameter  # noqa: E402
 from rclpy.parameter_client import AsyncParameterClient  # noqa: E402
 
 HERE = Path(__file__).resolve().parent
+ROOT = HERE.parents[1]
 VENV_BIN = str(Path(sys.executable).parent)
 
 
@@ -632,6 +634,91 @@ class Alternative(unittest.TestCase):
         self.assertEqual(faults[0]["kind"], "range")
         run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "stopped" and r["pid"] == replaced["pid"],
                      20, "the alternative stopped")
+
+
+
+class Vote(unittest.TestCase):
+    @staticmethod
+    def voted_sonars(field="range", backup=None):
+        """Three sonar nodes, each in a namespace of its own (where it publishes its relative
+        `range`); the third lies (2.5 m) from its 40th reading; each one's `field` goes to the
+        stock median voter (tolerance 0.2 m), whose sources are the three. With `backup` (metres)
+        the third's policy is stop, its alternative a sonar node that reads that from its 40th
+        reading on."""
+        validity = '<validity field="range"><min>0.02</min><max>4.0</max></validity>'
+        files = {"sonar.py": (HERE / "nodes" / "sonar.py").read_text()}
+        subs, connections = "", ""
+        for i in (1, 2, 3):
+            params = [("lie_at", "40"), ("lie", "2.5")] if i == 3 else []
+            profile = sonar_profile(params, validity=validity).replace("/demo/", f"/s{i}/")
+            files[f"sonar{i}.xml"] = profile.replace("<name>Sonar<", f"<name>Sonar{i}<")
+            policy = "<severity>reset</severity>"
+            if i == 3 and backup is not None:
+                files["backup.xml"] = (sonar_profile([("lie_at", "40"), ("lie", str(backup))], validity=validity)
+                                       .replace("/demo/", "/s3/").replace("<name>Sonar<", "<name>SonarBackup<"))
+                policy = '<severity>stop</severity><alternative reference="backup.xml"/>'
+            subs += (f"<subcomponent><name>sonar{i}</name><reference>sonar{i}.xml</reference>"
+                     f"<fault_policy>{policy}</fault_policy></subcomponent>")
+            connections += ('<port_connection port_type="data">\n'
+                            f'<source component_name="sonar{i}" port_name="range" field="{field}"/>'
+                            f'<target component_name="voter" port_name="in{i - 1}"/></port_connection>')
+        voter = ROOT / "components" / "voters" / "MedianVoter.xml"
+        app = ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>' + subs +
+               f"<subcomponent><name>voter</name><reference>{voter}</reference><properties>"
+               '<property name="tolerance">0.2</property><property name="sources">sonar1 sonar2 sonar3</property>'
+               "</properties></subcomponent></subcomponents><port_connections>" + connections +
+               "</port_connections></package_profile>\n")
+        return app, files
+
+    def test_the_alternative_of_a_voted_node_is_voted_in_its_place(self):
+        """The third sonar's vote fault replaces it by its alternative, which agrees with the
+        others for two seconds (the voter's episode ends) and then reads 3 m: the field of the
+        alternative's messages reaches the voter as the replaced node's did, so it is accused
+        in turn, and a role replaced once is then stopped."""
+        app, files = self.voted_sonars(backup=3.0)
+        run = peers.KeelRun(self, domain(), app, files)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "replaced", 30, "the replacement")
+        faults = run.wait_for(lambda r: r.get("event") == "detected" and r.get("kind") == "vote"
+                              and r.get("fault_id", 0) > 1 and "3" in r.get("detail", ""), 30,
+                              "the alternative's vote fault")
+        self.assertEqual(faults[0]["component"], "sonar3", faults)
+        run.wait_for(lambda r: r.get("event") == "action" and r.get("action") == "stop", 20, "the role stopped")
+
+    def test_a_field_the_message_does_not_have_is_an_error_at_its_line_and_no_node_is_left(self):
+        app, files = self.voted_sonars(field="rnge")
+        d = Path(tempfile.mkdtemp(prefix="keel_field_"))
+        for name, text in {**files, "app.xml": app}.items():
+            (d / name).write_text(text)
+        ran = subprocess.run([peers.KEEL, "run", str(d / "app.xml"), "--duration", "5", "--log", str(d / "log.jsonl")],
+                             env=peers.peer_env(domain()), capture_output=True, text=True, timeout=60)
+        self.assertNotEqual(ran.returncode, 0)
+        self.assertIn(f"{d / 'app.xml'}:2: port_connection sonar1.range field 'rnge' -> voter.in0: sensor_msgs/msg/Range "
+                      "has no field 'rnge'", ran.stderr)
+        # keel starts the nodes first, to overlap their start-up with its own: each is stopped.
+        records = [json.loads(line) for line in (d / "log.jsonl").read_text().splitlines() if line.strip()]
+        started = {r["pid"] for r in records if r.get("event") == "node" and r.get("phase") == "started"}
+        stopped = {r["pid"] for r in records if r.get("event") == "node" and r.get("phase") == "stopped"}
+        self.assertEqual(started, stopped)
+        self.assertTrue(all(gone(pid) for pid in started))
+
+    def test_a_voter_over_three_sonar_nodes_accuses_the_one_that_disagrees_and_it_is_restarted(self):
+        """Three sonar nodes read the same wall (1 m); from its 40th reading the third reads 2.5 m,
+        in its range but not what the others say. Each one's `range` field goes to the stock
+        median voter (a connection carrying a field: <source field="range">): the outlier is a
+        `vote` fault of the third node, named by the voter's `sources`; its policy restarts it.
+        The other two are never accused."""
+        app, files = self.voted_sonars()
+        run = peers.KeelRun(self, domain(), app, files)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("component") == "sonar3"
+                                 and r.get("phase") == "started", 20, "the third sonar's start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("kind") == "vote", 30, "the vote fault")
+        self.assertEqual((fault["component"], fault["detector"]), ("sonar3", "voter"), fault)
+        self.assertIn("2.5", fault["detail"])
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("component") == "sonar3"
+                               and r.get("phase") == "restarted", 20, "its restart")
+        self.assertNotEqual(again["pid"], started["pid"])
+        accused = {r["component"] for r in records_of(run, event="detected")}
+        self.assertEqual(accused, {"sonar3"}, records_of(run, event="detected"))
 
 
 if __name__ == "__main__":

@@ -265,6 +265,13 @@ TEST_F(Cli, ValidateAcceptsGoodProfilesAndNamesEveryProblemInBadOnes) {
   auto missing = test::runProcess({KEEL_CLI, "validate", profile("no_such_file.xml")});
   EXPECT_EQ(missing.status, 2);
   EXPECT_NE(missing.err.find("no_such_file.xml"), std::string::npos) << missing.err;
+  // A field a connection carries, looked up in the message's fields without loading anything.
+  const std::string fields = std::string(KEEL_PROFILE_TEST_DATA) + "/errors/node/field_path.xml";
+  auto field = test::runProcess({KEEL_CLI, "validate", fields});
+  EXPECT_EQ(field.status, 2);
+  EXPECT_EQ(field.err, fields +
+                           ":10: port_connection wander.cmd field 'linear.q' -> nav.range: geometry_msgs/msg/Vector3 "
+                           "(the type of 'linear') has no field 'q': its fields are x, y, z\n");
 }
 
 // A fault scenario is checked as keel run --inject reads it, before anything runs.

@@ -189,5 +189,15 @@ TEST(NodeProfileErrors, ANodesAlternativeMustBeTheSameNodeToTheGraph) {
                               "place on its topics"));
 }
 
+TEST(NodeProfileErrors, AConnectionCarriesAFieldOfItsSourceToADoubleInput) {
+  // The first connection is right: wander.cmd's linear.x to nav's double input.
+  const std::string f = "errors/node/field.xml:";
+  EXPECT_THAT(problems("errors/node/field.xml"),
+              ElementsAre(f + "14: field of <target>: a connection carries a field of its source's messages",
+                          f + "16: port_connection: field 'linear.x' of source 'wander.cmd' is a number, but target "
+                              "'planner.cmd' is 'geometry_msgs/msg/Twist' (a field goes to a 'double' input)",
+                          f + "20: empty field of <source>: a dotted path to a number of the port's messages"));
+}
+
 }  // namespace
 }  // namespace keel::profile::test

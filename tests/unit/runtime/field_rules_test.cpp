@@ -151,5 +151,50 @@ TEST_F(FieldRules, AnInputPortChecksWhatItReceivesAsAFaultOfItsOwner) {
   EXPECT_TRUE(receiver.in.empty());
 }
 
+// A connection carrying one field (<source field="..">): the field's number of each value sent
+// goes to a double port of the sender's, after the rules, and not for a value they stopped.
+class Numbers : public Component {
+ public:
+  InputDataPort<double> in{this, "in"};
+};
+
+TEST_F(FieldRules, ATapSendsTheFieldsNumberOfEachValueThatPassedTheRules) {
+  auto steps = runtime::resolveFieldTap(detail::MessageFieldsOf<Everything>::fields(), "keel_test_msgs/msg/Everything",
+                                        "twist.linear.x");
+  ASSERT_TRUE(steps) << steps.error().message;
+  OutputDataPort<double> field{&sender, "out.twist.linear.x"};
+  Numbers numbers;
+  test::wire(field, numbers.in, keep);
+  test::configureQueue(numbers.in, QueuePolicy::Fifo, 8);
+  rules.taps.push_back({std::move(*steps), &field});
+  onSend({rule("i32", {}, {100})});
+  Everything m;
+  m.twist.linear.x = 0.25;
+  sender.out.push(m);
+  m.twist.linear.x = -3;
+  m.i32 = 101;  // against the rule: neither the value nor its field goes anywhere
+  sender.out.push(m);
+  m.i32 = 0;
+  sender.out.push(m);
+  EXPECT_EQ(numbers.in.pop(), 0.25);
+  EXPECT_EQ(numbers.in.pop(), -3.0);
+  EXPECT_TRUE(numbers.in.empty());
+  EXPECT_EQ(faults.details.size(), 1u);
+}
+
+TEST(FieldTap, NamesOneNumberOfEachMessageNoArrayOnTheWay) {
+  const auto fields = detail::MessageFieldsOf<Everything>::fields();
+  const std::string type = "keel_test_msgs/msg/Everything";
+  EXPECT_TRUE(runtime::resolveFieldTap(fields, type, "i32"));
+  auto array = runtime::resolveFieldTap(fields, type, "quad");
+  ASSERT_FALSE(array);
+  EXPECT_EQ(array.error().message, "'quad' is an array (float32[4]): a connection carries one number of each message");
+  auto through = runtime::resolveFieldTap(fields, type, "parts.xyz");
+  ASSERT_FALSE(through);
+  EXPECT_EQ(through.error().message.substr(0, 30), "'parts' is an array (keel_test");
+  EXPECT_FALSE(runtime::resolveFieldTap(fields, type, "twist"));  // a message, not a number
+  EXPECT_FALSE(runtime::resolveFieldTap(fields, type, "nothing"));
+}
+
 }  // namespace
 }  // namespace keel
