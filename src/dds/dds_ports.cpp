@@ -467,7 +467,13 @@ void DdsPorts::timeNodeOutputs() {
         r->armed.store(false, std::memory_order_relaxed);
         continue;
       }
-      if (!r->armed.load(std::memory_order_acquire)) continue;
+      if (!r->armed.load(std::memory_order_acquire)) {
+        // No sample of this life yet: due within the time the node has to come up. A node that
+        // is up but never publishes would otherwise never miss a deadline.
+        if (const std::int64_t due = watch_.firstSampleDue(r->instance); due != 0 && now > due)
+          r->lost(fmt::format("no sample on {} since the node started, within its start timeout", r->binding.topic));
+        continue;
+      }
       const auto deadline_ns = static_cast<std::int64_t>(*r->binding.deadline_ms * 1e6);
       if (now - r->last_ns.load(std::memory_order_relaxed) > deadline_ns)
         r->lost(

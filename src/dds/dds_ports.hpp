@@ -55,6 +55,9 @@ class PeerWatch {
   /// Whether `instance`'s silence is its own doing (a ROS 2 node not up: dead, restarting,
   /// stopped, not come up yet): its output topics' deadlines then count from its next sample.
   virtual bool quiet(const std::string& instance) = 0;
+  /// When (steady ns) the first sample of `instance`'s current life is due on each of its timed
+  /// topics (a ROS 2 node's start plus its start timeout); 0: none is (not a node, or quiet).
+  virtual std::int64_t firstSampleDue(const std::string& instance) = 0;
 };
 
 /// The DDS name of ROS 2 topic `topic` ("/a/b" → "rt/a/b").

@@ -154,6 +154,7 @@ class Engine final : public runtime::RunHooks, public fault::RecoveryActions, pu
   std::uint64_t peerLost(const std::string& instance, const FaultEvent& fault) override;
   void peerBack(const std::string& instance, std::uint64_t id, std::int64_t t_ns) override;
   bool quiet(const std::string& instance) override { return side_->quiet(instance); }
+  std::int64_t firstSampleDue(const std::string& instance) override { return side_->firstSampleDue(instance); }
   /// Each component's health as /diagnostics reports it (engine_recovery.cpp).
   std::vector<dds::Health> health() const;
   /// How long a handled fault keeps a running component's /diagnostics level at WARN.

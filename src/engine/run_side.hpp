@@ -42,6 +42,9 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
   bool joinsRosGraph() const override;
   dds::GraphWatch* graphWatch() override { return nodes_ ? this : nullptr; }
   bool quiet(std::string_view instance) const override { return nodes_ && nodes_->quiet(instance); }
+  std::int64_t firstSampleDue(std::string_view instance) const override {
+    return nodes_ ? nodes_->firstSampleDue(instance) : 0;
+  }
   dds::ParameterWatch* parameterWatch() override { return nodes_ ? this : nullptr; }
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;

@@ -54,6 +54,9 @@ class Side {
   /// Whether instance `instance`'s topics are quiet by its own start, death or stop (a ROS 2
   /// node that is not up): a missed deadline on them is then no fault. Any thread.
   virtual bool quiet(std::string_view instance) const = 0;
+  /// When (steady ns) node `instance`'s current life owes its first sample on its timed topics;
+  /// 0: it owes none (not a node, or quiet). Any thread.
+  virtual std::int64_t firstSampleDue(std::string_view) const { return 0; }
   /// Where the parameter changes of the nodes keel runs go (keel run's node supervisor, which
   /// restarts a node with them); null: this side restarts no node.
   virtual dds::ParameterWatch* parameterWatch() { return nullptr; }

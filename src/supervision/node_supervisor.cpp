@@ -603,6 +603,18 @@ bool NodeSupervisor::quiet(std::string_view instance) const {
   return false;
 }
 
+std::int64_t NodeSupervisor::firstSampleDue(std::string_view instance) const {
+  for (const auto& n : nodes_) {
+    if (n->plan->name != instance) continue;
+    std::lock_guard lock(n->mutex);
+    // Not up: its start fault speaks for it (at the same timeout).
+    if (!n->up || (!n->plan->attached && (n->pid == 0 || n->stopping))) return 0;
+    const double timeout_ms = n->serving.load(std::memory_order_acquire)->start_timeout_ms;
+    return n->started_ns + static_cast<std::int64_t>(timeout_ms * 1e6);
+  }
+  return 0;
+}
+
 void NodeSupervisor::timerLoop() {
   std::unique_lock lock(timer_mutex_);
   while (!timer_ending_) {

@@ -122,6 +122,11 @@ class NodeSupervisor {
   /// (dead, being restarted) or keel is stopping it; an attached node: it is not up. A deadline
   /// missed then is no fault of its own: its death or its stop speaks for it (any thread).
   bool quiet(std::string_view instance) const;
+  /// When (steady ns) node `instance`'s current life is to have sent its first sample on each
+  /// output topic with a deadline: its start (an attached node: the run's) plus its start
+  /// timeout, the time it has to come up. 0 while it is quiet or not up (its start fault
+  /// speaks then), or for no such node (any thread).
+  std::int64_t firstSampleDue(std::string_view instance) const;
   /// Node `instance` announced `update` on /parameter_events (any thread): its values for its
   /// next restart, which starts it with them all in a params file (node_parameters.hpp).
   void parametersChanged(std::string_view instance, const profile::ParameterUpdate& update);

@@ -362,11 +362,11 @@ class Graph(unittest.TestCase):
         self.assertEqual(fault["detail"], "node '/demo/talker' not in the ROS 2 graph within 1500 ms")
 
 
-def sonar_profile(parameters=(), validity="", deadline_ms=None, diagnostics=False):
+def sonar_profile(parameters=(), validity="", deadline_ms=None, diagnostics=False, start_ms=None):
     deadline = f"<deadline>{deadline_ms}</deadline>" if deadline_ms else ""
     port = ("<data_port><name>range</name><usage>output</usage><data_type>sensor_msgs/msg/Range</data_type>"
             f"<topic>/demo/range</topic>{deadline}{validity}</data_port>")
-    profile = node_profile("Sonar", "python3 sonar.py", "/demo/sonar", parameters, port)
+    profile = node_profile("Sonar", "python3 sonar.py", "/demo/sonar", parameters, port, start_ms)
     if diagnostics:  # its own status, named as sonar.py publishes it
         profile = profile.replace("<stop ", '<diagnostics name="sonar: driver"/><stop ')
     return profile
@@ -435,6 +435,24 @@ class Topics(unittest.TestCase):
         [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
                                "its restart")
         self.assertNotEqual(again["pid"], started["pid"])
+
+    def test_a_node_up_that_never_publishes_misses_its_first_sample_by_its_start_timeout(self):
+        """The sonar creates its publisher (it is up: its topic is in the graph) but never
+        publishes (a driver waiting on a device that never answers). Its topic's deadline counts
+        from its first sample, so its first sample is due by its start timeout (2 s): a `remote`
+        fault of the node then, not before, and its reset restarts it."""
+        d = domain()
+        run = peers.KeelRun(self, d, package(ref="sonar.xml"),
+                            sonar_files(sonar_profile([("stall_at", "0")], deadline_ms=300, start_ms=2000)))
+        [up] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "up", 20, "the node up")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                               "the missing first sample")
+        self.assertEqual(fault["kind"], "remote")
+        self.assertEqual(fault["detail"], "no sample on /demo/range since the node started, within its start timeout")
+        [started] = records_of(run, event="node", phase="started")
+        self.assertGreater(fault["t_ns"] - started["t_ns"], 2_000_000_000)
+        again = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20, "its restart")
+        self.assertNotEqual(again[0]["pid"], up["pid"])
 
     def test_a_killed_node_is_one_fault_not_also_its_topics_deadline(self):
         """kill -9 of the sonar: its `process` fault; its topic's deadline, missed while it is
