@@ -157,7 +157,9 @@ std::string dot(const plan::Plan& plan, const profile::ProfileSet& set, const Ma
   for (const auto& c : plan.connections) {
     const char* style = c.type == PortKind::Data ? "solid" : c.type == PortKind::Event ? "dashed" : "bold";
     out += fmt::format("  {} -> {} [label={}, style={}];\n", quote(c.source.component), quote(c.target.component),
-                       quote(c.source.port + " → " + c.target.port), style);
+                       quote(c.source.port + (c.source.field.empty() ? "" : "." + c.source.field) + " → " +
+                             c.target.port),
+                       style);
   }
   for (const auto& d : plan.depends)
     out += fmt::format("  {} -> {} [label=\"depends\", style=dotted, color=gray40];\n", quote(d.source),

@@ -26,6 +26,12 @@ test::Ran graph(std::vector<std::string> args) {
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
+TEST(GraphCli, AConnectionCarryingAFieldIsLabelledWithIt) {
+  auto r = graph({std::string(KEEL_PROFILE_TEST_DATA) + "/node/field_app.xml"});
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(contains(r.out, "\"wander\" -> \"nav\" [label=\"cmd.linear.x → range\", style=solid];")) << r.out;
+}
+
 TEST(GraphCli, AFaultOfOneOfBsPairStopsBAndCAndKeepsAAndDRunning) {
   auto r = graph({fig7(), "--fail", "B.b1"});
 
