@@ -10,22 +10,6 @@
 
 namespace keel::bench {
 
-namespace {
-
-/// One DDS cell's result in its row: a cell with no sample is skipped, with the reason (not
-/// shown as a cell whose percentiles are 0).
-void ddsRow(DdsCell c, Row& row) {
-  if (c.latencies_ns.empty() && c.error.empty())
-    c.error = fmt::format("no trial ended within its bound ({} failed)", c.failed);
-  row.skipped = c.latencies_ns.empty();
-  row.s = summarise(std::move(c.latencies_ns));
-  row.failed = c.failed;
-  addNote(row.note, c.error);
-  addNote(row.note, c.note);
-}
-
-}  // namespace
-
 int ddsBenchmark(Options o, const Paths& paths) {
   if (o.which.empty()) o.which.assign(kDdsCells.begin(), kDdsCells.end());
   auto wants = [&](const char* w) { return std::find(o.which.begin(), o.which.end(), w) != o.which.end(); };
@@ -77,7 +61,7 @@ int ddsBenchmark(Options o, const Paths& paths) {
       }
       for (std::size_t i = 0; i < pair.size(); ++i) {
         pair[i].load_achieved = meter.busy() * 100;
-        ddsRow(std::move(got[i]), pair[i]);
+        fillRow(std::move(got[i]), pair[i]);
         report(pair[i]);
         rows.push_back(std::move(pair[i]));
       }
@@ -87,10 +71,10 @@ int ddsBenchmark(Options o, const Paths& paths) {
       Row r = row(w);
       const CpuMeter meter;
       const std::string what = w;
-      ddsRow(what == "roundtrip_rclpy" ? measureRclpyRoundTrip(paths, o.n)
-             : what == "remote"        ? measureRemoteDetection(paths, kills_remote)
-                                       : measureFailover(paths, kills_failover),
-             r);
+      fillRow(what == "roundtrip_rclpy" ? measureRclpyRoundTrip(paths, o.n)
+              : what == "remote"        ? measureRemoteDetection(paths, kills_remote)
+                                        : measureFailover(paths, kills_failover),
+              r);
       r.load_achieved = meter.busy() * 100;
       report(r);
       rows.push_back(std::move(r));

@@ -117,4 +117,14 @@ void header(const Options& o, const std::string& what, const char* trials) {
             << std::flush;
 }
 
+void fillRow(DdsCell c, Row& row) {
+  if (c.latencies_ns.empty() && c.error.empty())
+    c.error = fmt::format("no trial ended within its bound ({} failed)", c.failed);
+  row.skipped = c.latencies_ns.empty();
+  row.s = summarise(std::move(c.latencies_ns));
+  row.failed = c.failed;
+  addNote(row.note, c.error);
+  addNote(row.note, c.note);
+}
+
 }  // namespace keel::bench

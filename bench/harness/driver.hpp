@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "dds.hpp"
 #include "load.hpp"
 #include "paths.hpp"
 #include "report.hpp"
@@ -53,6 +54,9 @@ std::string writeJson(const nlohmann::json& rows, const std::string& path);
 void finish(const Options& o, const Paths& paths, const std::string& kind, const nlohmann::json& rows);
 /// The run's first line: what, how many per cell, the loads, the machine.
 void header(const Options& o, const std::string& what, const char* trials = "faults");
+/// A DDS or ROS 2 cell's result in its row: a cell with no sample is skipped, with the reason
+/// (not shown as a cell whose percentiles are 0).
+void fillRow(DdsCell c, Row& row);
 
 // One cell of a benchmark, as its driver runs it (`keel bench guard` runs some of them too).
 /// A recovery mechanism, a peer or a floor; `log` is the fault log keel's cells write.

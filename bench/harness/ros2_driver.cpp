@@ -13,16 +13,6 @@ namespace keel::bench {
 
 namespace {
 
-void ros2Row(DdsCell c, Row& row) {
-  if (c.latencies_ns.empty() && c.error.empty())
-    c.error = fmt::format("no trial ended within its bound ({} failed)", c.failed);
-  row.skipped = c.latencies_ns.empty();
-  row.s = summarise(std::move(c.latencies_ns));
-  row.failed = c.failed;
-  addNote(row.note, c.error);
-  addNote(row.note, c.note);
-}
-
 const Row* find(const std::vector<Row>& rows, int load, const char* what) {
   for (const auto& r : rows)
     if (r.load == load && r.what == what && !r.skipped) return &r;
@@ -128,7 +118,7 @@ int ros2Benchmark(Options o, const Paths& paths) {
         if (!wants(what)) continue;
         Row r = row(what);
         r.load_achieved = busy;
-        ros2Row(std::move(*c), r);
+        fillRow(std::move(*c), r);
         report(r);
         rows.push_back(std::move(r));
       }
@@ -136,7 +126,7 @@ int ros2Benchmark(Options o, const Paths& paths) {
     if (wants("deadline_only")) {
       Row r = row("deadline_only");
       const CpuMeter meter;
-      ros2Row(measureDeadlineOnly(paths, python, deadline_kills), r);
+      fillRow(measureDeadlineOnly(paths, python, deadline_kills), r);
       r.load_achieved = meter.busy() * 100;
       report(r);
       rows.push_back(std::move(r));
