@@ -739,6 +739,43 @@ class Vote(unittest.TestCase):
         self.assertEqual(accused, {"sonar3"}, records_of(run, event="detected"))
 
 
+
+class Model(unittest.TestCase):
+    def test_the_stock_monitor_compares_a_nodes_field_with_a_reference_and_accuses_the_node(self):
+        """The stock sliding-window monitor (mode absolute, 0.5 m) takes the range of one sonar
+        node as its target and of another as its reference (connections carrying the `range`
+        field); from its 40th reading the target sonar reads 2.5 m, the reference 1 m: a `model`
+        fault of the target node (the monitor's `monitored`), which its policy restarts."""
+        files = {"sonar.py": (HERE / "nodes" / "sonar.py").read_text()}
+        subs, connections = "", ""
+        for name, port, params in (("measured", "target", [("lie_at", "40"), ("lie", "2.5")]),
+                                   ("reference", "reference", [])):
+            files[f"{name}.xml"] = (sonar_profile(params).replace("/demo/", f"/{name}/")
+                                    .replace("<name>Sonar<", f"<name>Sonar_{name}<"))
+            subs += (f"<subcomponent><name>{name}</name><reference>{name}.xml</reference>"
+                     "<fault_policy><severity>reset</severity></fault_policy></subcomponent>")
+            connections += (f'<port_connection port_type="data"><source component_name="{name}" port_name="range" '
+                            f'field="range"/><target component_name="monitor" port_name="{port}"/></port_connection>')
+        monitor = ROOT / "components" / "monitors" / "SlidingWindowMonitor.xml"
+        props = {"window": 3, "threshold": 0.5, "mode": "absolute", "min_consecutive": 2, "min_reference": 0,
+                 "monitored": "measured"}
+        app = ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>' + subs +
+               f"<subcomponent><name>monitor</name><reference>{monitor}</reference><properties>" +
+               "".join(f'<property name="{k}">{v}</property>' for k, v in props.items()) +
+               "</properties></subcomponent></subcomponents><port_connections>" + connections +
+               "</port_connections></package_profile>\n")
+        run = peers.KeelRun(self, domain(), app, files)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("component") == "measured"
+                                 and r.get("phase") == "started", 20, "the measured sonar's start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("kind") == "model", 30,
+                               "the model fault")
+        self.assertEqual((fault["component"], fault["detector"]), ("measured", "monitor"), fault)
+        again = run.wait_for(lambda r: r.get("event") == "node" and r.get("component") == "measured"
+                             and r.get("phase") == "restarted", 20, "its restart")
+        self.assertNotEqual(again[0]["pid"], started["pid"])
+        self.assertEqual({r["component"] for r in records_of(run, event="detected")}, {"measured"})
+
+
 if __name__ == "__main__":
     peers.KEEL, peers.COMPONENTS = sys.argv[1], sys.argv[2]  # keel, tests/dds/components.cpp's library
     os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = str(HERE / "fastdds-lo.xml")
