@@ -345,7 +345,7 @@ Result<void> Engine::connect() {
     }
     const plan::PlannedInstance* a = planned_.plan.find(pc.source.component);
     const plan::PlannedInstance* b = planned_.plan.find(pc.target.component);
-    if (b && b->node) continue;  // a node's input: keel writes no node topic (warned at start)
+    if (b && b->node) continue;  // a node's input: its topic, a <publish> of the source's (the plan's)
     // Both ends in another process (the plan keeps services in one); a node's output is its
     // stand-in's port, here.
     if (a && !isLocal(*a) && !a->node) continue;

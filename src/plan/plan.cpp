@@ -54,6 +54,32 @@ class Planner {
     }
   }
 
+  /// A connection to a ROS 2 node's input port is a DDS topic between them: the source's values
+  /// are published on the node's <topic> for that port, with its QoS, in the ROS 2 domain, by
+  /// the process that runs the source (as a <publish> of it would be).
+  void writeNodeInputs() {
+    const int domain = plan_.rosDomain();
+    for (const PlannedConnection& c : plan_.connections) {
+      const PlannedInstance* node = plan_.find(c.target.component);
+      if (node == nullptr || node->node == nullptr || c.type != PortKind::Data) continue;
+      const profile::NodeProfile& np = *node->node;
+      const auto t = std::find_if(np.topics.begin(), np.topics.end(),
+                                  [&](const profile::NodeTopic& x) { return x.port == c.target.port; });
+      const auto d = std::find_if(np.component.data_ports.begin(), np.component.data_ports.end(),
+                                  [&](const profile::DataPort& x) { return x.name == c.target.port; });
+      if (t == np.topics.end() || d == np.component.data_ports.end() || d->usage != PortDirection::Input) continue;
+      profile::DdsBinding b;
+      b.publish = true;
+      b.endpoint = c.source;
+      b.topic = t->topic;
+      b.type = d->data_type;
+      b.qos = t->qos;
+      b.depth = t->depth;
+      b.where = c.where;
+      plan_.dds.push_back({std::move(b), domain, std::nullopt});
+    }
+  }
+
   void addDiagnostics(const std::optional<profile::DdsSpec>& dds) {
     if (dds && dds->diagnostics) plan_.diagnostics_domain = dds->domain.value_or(0);
   }
@@ -89,6 +115,7 @@ class Planner {
 
   Result<Plan> finish(std::string name) {
     addFaultManagerIfConnected();
+    writeNodeInputs();
     std::map<std::tuple<double, int, std::string>, std::size_t> shared;  // (period, priority, process) -> executor
     for (const auto& inst : plan_.instances) {
       const auto& e = inst.profile->execution;

@@ -182,28 +182,6 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     }
     nodes_.push_back(std::move(n));
   }
-  warnNotYet(plan);
-}
-
-// What a node profile or its subcomponent may say that this keel reads but does not act on yet,
-// each a warning at its line: the run goes on without it, and the integrator knows.
-void NodeSupervisor::warnNotYet(const plan::Plan& plan) const {
-  auto note = [this](const profile::Where& where, const std::string& what) {
-    warn_(
-        fmt::format("{}: {} is accepted, not acted on yet: {}", where.str(), what,
-                    "this keel starts, watches and restarts nodes and reads their output topics (docs/ros2-nodes.md)"));
-  };
-  for (const auto& n : nodes_) {
-    const plan::PlannedInstance& pi = *n->plan;
-    const profile::NodeProfile& p = *n->profile;
-    for (const auto& t : p.topics)
-      for (const auto& d : p.component.data_ports)
-        if (d.name == t.port && d.usage == PortDirection::Input && (t.deadline_ms || t.liveliness_ms))
-          note(t.where, fmt::format("the deadline or liveliness of input {}", t.topic));
-    for (const auto& c : plan.connections)
-      if (c.target.component == pi.name)
-        note(c.where, fmt::format("a connection to node '{}'s input port (keel writes no node topic yet)", pi.name));
-  }
 }
 
 NodeSupervisor::~NodeSupervisor() {

@@ -150,7 +150,6 @@ class NodeSupervisor {
   void stopNode(Node& n, std::chrono::milliseconds grace);
   ChildSpec childOf(const Node& n, const std::string& params_file) const;
   std::string writeParameters(Node& n);
-  void warnNotYet(const plan::Plan& plan) const;
   Result<void> startGuard();
   void tellGuard(char op, pid_t pgid) const;
   void endGuard();

@@ -419,6 +419,35 @@ class Topics(unittest.TestCase):
         self.assertEqual([l for l in lines if "impostor" in l], [])
         self.assertEqual([l for l in lines if l.split(" ", 1)[1].split(" ")[0] != "hi"], [])
 
+    def test_a_keel_components_values_reach_a_nodes_input_topic(self):
+        """A keel component (Announcer: "keel <n>" every 50 ms) connected to the echo node's input
+        port: keel publishes its values on the node's input topic, /e/in; the node answers each on
+        /e/out, its output port, which a Recorder in keel hears: "echo: keel <n>"."""
+        d = domain()
+        rec = Path(tempfile.mkdtemp(prefix="keel_rec_")) / "heard.txt"
+        ports = string_port("in", "/e/in", "input") + string_port("out", "/e/out")
+        echo = node_profile("Echo", "python3 echo.py", "/e/echo", (), ports)
+        app = ('<?xml version="1.0"?>\n<package_profile><name>nodes_test</name><subcomponents>'
+               "<subcomponent><name>announcer</name><reference>Announcer.xml</reference>"
+               '<properties><property name="who">keel</property></properties></subcomponent>'
+               "<subcomponent><name>echo</name><reference>echo.xml</reference></subcomponent>"
+               "<subcomponent><name>recorder</name><reference>Recorder.xml</reference>"
+               f'<properties><property name="path">{rec}</property></properties></subcomponent></subcomponents>'
+               '<port_connections><port_connection port_type="data">'
+               '<source component_name="announcer" port_name="said"/><target component_name="echo" port_name="in"/>'
+               '</port_connection><port_connection port_type="data">'
+               '<source component_name="echo" port_name="out"/><target component_name="recorder" port_name="heard"/>'
+               "</port_connection></port_connections></package_profile>\n")
+        files = {"echo.xml": echo, "echo.py": (HERE / "nodes" / "echo.py").read_text(), "Recorder.xml": RECORDER,
+                 "Announcer.xml": peers.component_profile("Announcer", [("said", "output", "std_msgs/msg/String")], 50,
+                                                          '<property name="who" type="string">?</property>')}
+        run = peers.KeelRun(self, d, app, files)
+        self.assertEqual(records_of(run, event="warning"), [])
+        self.assertTrue(wait_until(lambda: rec.exists() and rec.read_text().count("echo: keel ") >= 5, 30),
+                        "the node's answers did not come back: " + (rec.read_text() if rec.exists() else "nothing"))
+        numbers = [int(line.rsplit(" ", 1)[1]) for line in rec.read_text().splitlines()]
+        self.assertEqual(numbers, sorted(numbers), "in the order keel sent them")
+
     def test_a_node_that_stalls_alive_misses_its_deadline_and_is_restarted(self):
         """The sonar stops publishing after its 100th message (5 s) but stays alive: its topic's
         deadline (300 ms) is a `remote` fault of the node; reset restarts it, a new process. (Its

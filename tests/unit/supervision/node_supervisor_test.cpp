@@ -248,33 +248,6 @@ TEST(NodeSupervisor, ANodeThatCannotBeStartedIsALaunchErrorAndOneThatCannotExecI
       << rig.faults[0].detailText();
 }
 
-TEST(NodeSupervisor, WhatANodeProfileSaysThatIsNotActedOnYetIsAWarningAtItsLine) {
-  Rig rig("exit 0");
-  profile::NodeProfile node = rig.node;
-  node.topics = {
-      {"chatter", "/demo/chatter", profile::DdsQos::Default, std::nullopt, 300.0, std::nullopt, {"talker.xml", 12}}};
-  profile::DataPort in;  // an input: keel writes it not yet, so its deadline means nothing yet
-  in.name = "chatter";
-  in.usage = PortDirection::Input;
-  node.component.data_ports = {in};
-  plan::Plan plan;
-  plan::PlannedInstance pi = rig.plan.instances.front();
-  pi.node = &node;
-  pi.attached = true;
-  pi.where = {"app.xml", 4};
-  plan.instances.push_back(pi);
-  std::vector<std::string> warnings;
-  NodeSupervisor sup(
-      plan, {KEEL_NODE_EXEC, rig.dir.string(), "run", 7}, [&](const std::string& m) { warnings.push_back(m); },
-      rig.log.log, rig.spawner);
-  const std::string why =
-      " is accepted, not acted on yet: this keel starts, watches and restarts nodes and reads their output "
-      "topics (docs/ros2-nodes.md)";
-  EXPECT_EQ(warnings,
-            (std::vector<std::string>{"talker.xml:12: the deadline or liveliness of input /demo/chatter" + why}));
-  EXPECT_TRUE(rig.warnings.empty()) << "a plain node was warned of: " << rig.warnings.front();
-}
-
 // A node whose profile declares output topic /demo/chatter, started late unless seen in time.
 void chatterNode(profile::NodeProfile& node) {
   node.topics = {{"chatter", "/demo/chatter", profile::DdsQos::Default, std::nullopt, std::nullopt, std::nullopt, {}}};
