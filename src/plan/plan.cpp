@@ -56,7 +56,8 @@ class Planner {
 
   /// A connection to a ROS 2 node's input port is a DDS topic between them: the source's values
   /// are published on the node's <topic> for that port, with its QoS, in the ROS 2 domain, by
-  /// the process that runs the source (as a <publish> of it would be).
+  /// the process that runs the source (as a <publish> of it would be); from another node's output
+  /// on another topic, keel carries it over.
   void writeNodeInputs() {
     const int domain = plan_.rosDomain();
     for (const PlannedConnection& c : plan_.connections) {
@@ -68,6 +69,13 @@ class Planner {
       const auto d = std::find_if(np.component.data_ports.begin(), np.component.data_ports.end(),
                                   [&](const profile::DataPort& x) { return x.name == c.target.port; });
       if (t == np.topics.end() || d == np.component.data_ports.end() || d->usage != PortDirection::Input) continue;
+      // From another node's output on the same topic: the two nodes talk directly already.
+      if (const PlannedInstance* from = plan_.find(c.source.component); from != nullptr && from->node != nullptr) {
+        const auto& ft = from->node->topics;
+        if (std::any_of(ft.begin(), ft.end(),
+                        [&](const auto& x) { return x.port == c.source.port && x.topic == t->topic; }))
+          continue;
+      }
       profile::DdsBinding b;
       b.publish = true;
       b.endpoint = c.source;

@@ -38,6 +38,25 @@ TEST(NodePlan, ANodeIsPlannedWithItsProfileAndAnAttachedOneSaysSo) {
   EXPECT_TRUE(watcher->attached);
   EXPECT_EQ(planner->node, nullptr);
   EXPECT_TRUE(plan->hasNodes());
+  // The sonar's connection to the node's input port is the node's topic, written by keel.
+  ASSERT_EQ(plan->dds.size(), 1u);
+  const profile::DdsBinding& b = plan->dds[0].binding;
+  EXPECT_TRUE(b.publish);
+  EXPECT_EQ(b.endpoint.component + "." + b.endpoint.port, "sonar.range");
+  EXPECT_EQ(b.topic, "/sonar/a");
+  EXPECT_EQ(b.type, "sensor_msgs/msg/Range");
+  EXPECT_EQ(b.qos, profile::DdsQos::SensorData);
+}
+
+TEST(NodePlan, BetweenTwoNodesKeelWritesOnlyWhatTheyDoNotSayToEachOtherAlready) {
+  auto set = profile::load(dataPath("node/two_nodes.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  // ranger.range is on wander's input topic already; ranger.far, on /sonar/far, is carried over.
+  ASSERT_EQ(plan->dds.size(), 1u);
+  EXPECT_EQ(plan->dds[0].binding.endpoint.port, "far");
+  EXPECT_EQ(plan->dds[0].binding.topic, "/sonar/a");
 }
 
 }  // namespace
