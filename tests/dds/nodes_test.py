@@ -192,6 +192,32 @@ class Supervised(unittest.TestCase):
                       "  | opening /dev/ttyUSB0\n  | no sonar on /dev/ttyUSB0\n", run.output)
 
 
+class Deaths(unittest.TestCase):
+    def test_an_uncaught_exception_and_an_exit_3_are_process_faults_restarted_with_the_parameters(self):
+        """The talker dies at its 10th message, once of an uncaught exception out of its callback
+        (Python's status 1, its traceback the last lines), once by sys.exit(3): each a `process`
+        fault with its status and its last lines, and its reset restarts it with its parameters
+        (the greeting "hi" in the params file of the `restarted` record)."""
+        for how, status, last in (("exception", 1, "ZeroDivisionError: division by zero"), ("exit", 3, "talker up")):
+            with self.subTest(how=how):
+                talker = node_profile("Talker", "python3 talker.py", "/demo/talker",
+                                      [("greeting", "hi"), ("fail_at", "10"), ("fail_how", how)],
+                                      string_port("chatter", "/demo/chatter"))
+                run = peers.KeelRun(self, domain(), package(),
+                                    {"talker.xml": talker, "talker.py": (HERE / "nodes" / "talker.py").read_text()})
+                [fault] = run.wait_for(lambda r: r.get("event") == "detected" and r.get("component") == "talker", 30,
+                                       "its death")
+                self.assertEqual(fault["kind"], "process")
+                self.assertIn(f"exited with status {status}", fault["detail"])
+                [exited] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "exited", 10,
+                                        "its exit record")
+                self.assertEqual(exited["last_lines"][-1], last, exited["last_lines"])
+                [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                                       "its restart")
+                self.assertIn('greeting: "hi"', Path(again["params"]).read_text())
+                run.stop()
+
+
 class Emergency(unittest.TestCase):
     def test_an_emergency_stops_the_node_and_publishes_its_safe_command_while_it_holds(self):
         """The talker's <emergency>: <stop/> and a Twist on /demo/cmd_vel at 20 Hz. Its kill -9 is

@@ -2,7 +2,10 @@
 """An ordinary ROS 2 node, written as any rclpy node is and knowing nothing of keel: it publishes
 std_msgs/String "<greeting> <n>" on `chatter` (relative: in its namespace) every 100 ms, its
 `greeting` a parameter (default "hello"). With `deadline_ms` (default 0: none) its publisher
-offers that deadline and a lease of twice it, as a driver whose readers watch it would. It says "talker up" on stdout once it publishes, and
+offers that deadline and a lease of twice it, as a driver whose readers watch it would. With
+`fail_at` (default -1: never) it dies at its `fail_at`th message as buggy nodes do, `fail_how`
+saying how: `exception` (an uncaught ZeroDivisionError out of its callback, exit status 1) or
+`exit` (sys.exit(3)). It says "talker up" on stdout once it publishes, and
 ends cleanly on SIGINT or SIGTERM (rclpy's handlers)."""
 import sys
 
@@ -26,6 +29,8 @@ class Talker(Node):
             qos.liveliness_lease_duration = Duration(nanoseconds=2 * deadline_ms * 1_000_000)
         self.publisher = self.create_publisher(String, "chatter", qos)
         self.count = 0
+        self.fail_at = self.declare_parameter("fail_at", -1).value
+        self.fail_how = self.declare_parameter("fail_how", "exception").value
         self.create_timer(0.1, self.tick)
 
     def tick(self):
@@ -34,6 +39,10 @@ class Talker(Node):
         self.publisher.publish(String(data=f"{greeting} {self.count}"))
         if self.count == 1:
             print("talker up", flush=True)
+        if self.count == self.fail_at:
+            if self.fail_how == "exit":
+                sys.exit(3)
+            print(1 / (self.count - self.fail_at))
 
 
 def main():
