@@ -9,6 +9,7 @@
 #include <charconv>
 #include <chrono>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <optional>
 #include <string_view>
@@ -204,7 +205,9 @@ std::string binding(const char* kind, const char* component, const char* port_na
 }
 
 std::string rclpyPython() {
-  if (const char* p = std::getenv("KEEL_RCLPY_PYTHON"); p && *p) return p;
+  // A path is made absolute: the nodes' profiles, which name it, are in folders of their own.
+  if (const char* p = std::getenv("KEEL_RCLPY_PYTHON"); p && *p)
+    return std::string_view(p).find('/') == std::string_view::npos ? p : std::filesystem::absolute(p).string();
   const std::string python = findInPath("python3");
   if (python.empty()) return {};
   const Captured ran = runCaptured({python, "-c", "import rclpy"}, false, Clock::now() + 20s);
