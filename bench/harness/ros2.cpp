@@ -32,6 +32,10 @@ constexpr auto kUpBound = 30s;       // a node's start → its first message
 constexpr auto kTrialBound = 5s;     // a kill → its detection
 constexpr auto kPublishing = 200ms;  // a node's first message → its kill
 constexpr char kNamespace[] = "/keel_bench";
+// How often the harness looks at a file (the node's output, keel's log) for what it waits for.
+// Every time it reads there was taken by the process that wrote it, so looking often buys no
+// precision, and at 80 % load the CPU a looking harness takes is the restarting node's.
+constexpr auto kLook = 5ms;
 
 std::string script(const Paths& paths) { return paths.peers + "/ros2_bench_node.py"; }
 
@@ -146,7 +150,7 @@ std::optional<std::pair<std::int64_t, pid_t>> nextLife(FileLines& lines, pid_t g
           if (auto f = parseFirst(l); f && f->second != gone) first = f;
         return first.has_value();
       },
-      kUpBound);
+      kUpBound, kLook);
   return first;
 }
 
@@ -228,7 +232,7 @@ Ros2Kills measureSupervised(const Paths& paths, const std::string& python, int n
               detected = r.value("t_ns", std::int64_t{0}) + epoch - killed;
           return detected.has_value();
         },
-        kTrialBound);
+        kTrialBound, kLook);
     if (!seen) ++out.death.failed;
     else if (i > 0) out.death.latencies_ns.push_back(*detected);
   }
@@ -318,7 +322,7 @@ DdsCell measureDeadlineOnly(const Paths& paths, const std::string& python, int n
               scan();
               return recovered >= detected;
             },
-            kTrialBound)) {
+            kTrialBound, kLook)) {
       cell.error = fmt::format("kill {}: the node's return was not a recovery", i);
       break;
     }
@@ -332,7 +336,7 @@ DdsCell measureDeadlineOnly(const Paths& paths, const std::string& python, int n
               scan();
               return detected > before;
             },
-            kTrialBound + std::chrono::milliseconds(kNodeDeadlineMs))) {
+            kTrialBound + std::chrono::milliseconds(kNodeDeadlineMs), kLook)) {
       ++cell.failed;
       continue;
     }
@@ -364,7 +368,7 @@ IdleCpu measureIdleCpu(const Paths& paths, const std::string& python) {
               if (r.value("event", "") == "node" && r.value("phase", "") == "up") up.insert(r.value("pid", 0));
             return up.size() >= static_cast<std::size_t>(kIdleNodes);
           },
-          60s)) {
+          60s, kLook)) {
     out.error = fmt::format("{} of {} nodes up within 60 s", up.size(), kIdleNodes);
     engine->shutdown();
     return out;
