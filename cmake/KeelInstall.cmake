@@ -11,7 +11,7 @@
 #   P/include/keel/**             the public headers, the shipped messages' generated ones among
 #                                 them (include/keel/msg/<pkg>/msg/, msgs/CMakeLists.txt)
 #   P/include/keel/idlc/          idlc's C headers of the shipped messages (<pkg>/msg/<Name>_.h)
-#   P/share/keel/msgs/            the shipped .msg files, their LICENSE and SOURCES.md
+#   P/share/keel/msgs/            the shipped .msg and .srv files, their LICENSE and SOURCES.md
 #   P/share/keel/idl/             the shipped messages' IDL, which a user's IDL includes
 #   P/lib/cmake/keel/             the CMake package: find_package(keel CONFIG) gives keel::keel,
 #                                 keel::opros, keel::cli, keel::msgs_headers, keel_add_component(),
@@ -61,7 +61,7 @@ install(DIRECTORY "${PROJECT_BINARY_DIR}/msgs/idl/"
   DESTINATION "${KEEL_INSTALL_IDLDIR}" COMPONENT keel_development FILES_MATCHING PATTERN "*.idl")
 install(DIRECTORY "${PROJECT_SOURCE_DIR}/msgs/"
   DESTINATION "${KEEL_INSTALL_MSGDIR}" COMPONENT keel_development
-  FILES_MATCHING PATTERN "*.msg" PATTERN "LICENSE" PATTERN "SOURCES.md")
+  FILES_MATCHING PATTERN "*.msg" PATTERN "*.srv" PATTERN "LICENSE" PATTERN "SOURCES.md")
 
 # keel's own component libraries (keel_add_component outside tests/examples; see
 # cmake/KeelComponent.cmake). libkeel looks for them in <dir of libkeel.so>/keel.

@@ -1,8 +1,11 @@
-# keel_add_messages(<target> FILES <file.msg>... [PACKAGE <pkg>] [SHARED]
+# keel_add_messages(<target> FILES <file.msg|file.srv>... [PACKAGE <pkg>] [SHARED]
 #                   [OUTPUT_DIRECTORY <dir>])
 #
-# Builds C++ types for ROS 2 messages (.msg files) and their DDS conversions into the library
-# <target> (docs/messages.md). For each message pkg/Name, at build time:
+# Builds C++ types for ROS 2 messages (.msg files) and services (.srv files) and their DDS
+# conversions into the library <target> (docs/messages.md). A service pkg/srv/Name is two
+# messages, pkg/srv/Name_Request and pkg/srv/Name_Response (keel::msg::<pkg>::Name_Request, ...,
+# under <keel/msg/<pkg>/srv/>, and <keel/msg/<pkg>/srv/<name>.hpp> with both), as DDS carries a
+# ROS 2 service. For each message pkg/Name, at build time:
 #   keel_msggen.py (next to this file) writes the IDL, the C++ header
 #     <keel/msg/<pkg>/msg/<name>.hpp> (keel::msg::<pkg>::<Name>), its conversions to the C sample
 #     (<keel/msg/<pkg>/msg/detail/<name>__dds.hpp>), the table of its fields by name
@@ -11,8 +14,9 @@
 #   CycloneDDS's idlc -t -x final turns the IDL into the C sample type and its descriptor.
 # Editing a .msg file regenerates its code on the next build.
 #
-#   FILES             the .msg files. Each file's package is the name of the directory above its
-#                     `msg/` directory (.../my_msgs/msg/Foo.msg: my_msgs), as in a ROS 2 package.
+#   FILES             the .msg and .srv files. Each file's package is the name of the directory
+#                     above its `msg/` (`srv/`) directory (.../my_msgs/msg/Foo.msg: my_msgs), as
+#                     in a ROS 2 package.
 #   PACKAGE           the package of every file instead (for files not laid out that way).
 #   SHARED            a shared library instead of an OBJECT library (below).
 #   OUTPUT_DIRECTORY  where the generated files go; default ${CMAKE_CURRENT_BINARY_DIR}/<target>.
@@ -70,17 +74,20 @@ function(keel_add_messages target)
     set(out "${CMAKE_CURRENT_BINARY_DIR}/${target}")
   endif()
 
-  # The messages: package and name of each, and the whole set (for the generator's checks).
+  # The files: package, name and interface (msg or srv) of each, and the set of messages (for
+  # the generator's checks).
   set(messages)
   set(known)
+  set(files)
   foreach(file IN LISTS ARG_FILES)
     get_filename_component(path "${file}" ABSOLUTE)
     get_filename_component(name "${path}" NAME_WLE)
     get_filename_component(ext "${path}" LAST_EXT)
-    if(NOT ext STREQUAL ".msg")
-      message(FATAL_ERROR "keel_add_messages(${target}): ${file} is not a .msg file "
-                          "(services and actions are not supported)")
+    if(NOT ext STREQUAL ".msg" AND NOT ext STREQUAL ".srv")
+      message(FATAL_ERROR "keel_add_messages(${target}): ${file} is not a .msg or .srv file "
+                          "(actions are not supported)")
     endif()
+    string(SUBSTRING "${ext}" 1 -1 iface)
     if(NOT EXISTS "${path}")
       message(FATAL_ERROR "keel_add_messages(${target}): ${path} does not exist")
     endif()
@@ -91,16 +98,19 @@ function(keel_add_messages target)
       get_filename_component(dir_name "${dir}" NAME)
       get_filename_component(pkg_dir "${dir}" DIRECTORY)
       get_filename_component(pkg "${pkg_dir}" NAME)
-      if(NOT dir_name STREQUAL "msg" OR pkg STREQUAL "")
-        message(FATAL_ERROR "keel_add_messages(${target}): ${file} is not in a <package>/msg/ "
+      if(NOT dir_name STREQUAL iface OR pkg STREQUAL "")
+        message(FATAL_ERROR "keel_add_messages(${target}): ${file} is not in a <package>/${iface}/ "
                             "directory: give its package with PACKAGE <name>")
       endif()
     endif()
-    if("${pkg}/${name}" IN_LIST known)
-      message(FATAL_ERROR "keel_add_messages(${target}): ${pkg}/msg/${name} is given twice")
+    if("${pkg}/${iface}/${name}" IN_LIST files)
+      message(FATAL_ERROR "keel_add_messages(${target}): ${pkg}/${iface}/${name} is given twice")
     endif()
-    list(APPEND known "${pkg}/${name}")
-    list(APPEND messages "${pkg}|${name}|${path}")
+    list(APPEND files "${pkg}/${iface}/${name}")
+    if(iface STREQUAL "msg")
+      list(APPEND known "${pkg}/${name}")
+    endif()
+    list(APPEND messages "${pkg}|${name}|${path}|${iface}")
   endforeach()
 
   set(gen_args --out "${out}")
@@ -116,45 +126,60 @@ function(keel_add_messages target)
   set(idls)
   set(generated)
   set(sources)
+  set(types)  # "pkg|iface|Name" of each message type, a service's two halves each
   foreach(m IN LISTS messages)
     string(REPLACE "|" ";" m "${m}")
     list(GET m 0 pkg)
     list(GET m 1 name)
     list(GET m 2 path)
+    list(GET m 3 iface)
+    set(include "${out}/include/keel/msg/${pkg}/${iface}")
     _keel_snake_case(snake "${name}")
-    set(idl "${out}/idl/${pkg}/msg/${name}_.idl")
-    set(include "${out}/include/keel/msg/${pkg}/msg")
-    set(cpp "${out}/src/${pkg}/msg/${snake}__dds.cpp")
+    set(outputs)
+    if(iface STREQUAL "srv")
+      set(halves "${name}_Request|${snake}_request" "${name}_Response|${snake}_response")
+      list(APPEND outputs "${include}/${snake}.hpp")
+    else()
+      set(halves "${name}|${snake}")
+    endif()
+    foreach(half IN LISTS halves)
+      string(REPLACE "|" ";" half "${half}")
+      list(GET half 0 type)
+      list(GET half 1 type_snake)
+      list(APPEND outputs "${out}/idl/${pkg}/${iface}/${type}_.idl" "${include}/${type_snake}.hpp"
+                          "${include}/detail/${type_snake}__dds.hpp" "${include}/detail/${type_snake}__fields.hpp")
+      list(APPEND idls "${out}/idl/${pkg}/${iface}/${type}_.idl")
+      list(APPEND outputs "${out}/src/${pkg}/${iface}/${type_snake}__dds.cpp")
+      list(APPEND sources "${out}/src/${pkg}/${iface}/${type_snake}__dds.cpp")
+      list(APPEND types "${pkg}|${iface}|${type}")
+    endforeach()
     add_custom_command(
-      OUTPUT "${idl}" "${include}/${snake}.hpp" "${include}/detail/${snake}__dds.hpp"
-             "${include}/detail/${snake}__fields.hpp" "${cpp}"
+      OUTPUT ${outputs}
       COMMAND "${Python3_EXECUTABLE}" "${_KEEL_MSGGEN}" ${gen_args} --package "${pkg}" "${path}"
       DEPENDS "${path}" "${_KEEL_MSGGEN}"
-      COMMENT "keel_msggen ${pkg}/msg/${name}"
+      COMMENT "keel_msggen ${pkg}/${iface}/${name}"
       VERBATIM)
-    list(APPEND idls "${idl}")
-    list(APPEND generated "${idl}" "${include}/${snake}.hpp" "${include}/detail/${snake}__dds.hpp"
-                          "${include}/detail/${snake}__fields.hpp")
-    list(APPEND sources "${cpp}")
+    list(APPEND generated ${outputs})
   endforeach()
 
   # idlc, run in ${out} on relative paths, so that its output names no absolute path (the header
   # guards come from the output path; the IDL's path in the header comment is made relative
   # after). Each C file also holds the ops of the types it nests, so it is remade when any IDL of
   # the set changes.
-  foreach(m IN LISTS messages)
-    string(REPLACE "|" ";" m "${m}")
-    list(GET m 0 pkg)
-    list(GET m 1 name)
-    set(c_out "${out}/idlc/${pkg}/msg/${name}_")
+  foreach(t IN LISTS types)
+    string(REPLACE "|" ";" t "${t}")
+    list(GET t 0 pkg)
+    list(GET t 1 iface)
+    list(GET t 2 type)
+    set(c_out "${out}/idlc/${pkg}/${iface}/${type}_")
     add_custom_command(
       OUTPUT "${c_out}.c" "${c_out}.h"
       COMMAND "${KEEL_IDLC_EXECUTABLE}" -t -x final ${idlc_includes} -b idl -o idlc
-              "idl/${pkg}/msg/${name}_.idl"
+              "idl/${pkg}/${iface}/${type}_.idl"
       COMMAND "${Python3_EXECUTABLE}" "${_KEEL_MSGGEN}" --idlc-output "${c_out}.c" "${c_out}.h"
       WORKING_DIRECTORY "${out}"
       DEPENDS ${idls} "${KEEL_IDLC_EXECUTABLE}" "${_KEEL_MSGGEN}"
-      COMMENT "idlc ${pkg}/msg/${name}_.idl"
+      COMMENT "idlc ${pkg}/${iface}/${type}_.idl"
       VERBATIM)
     list(APPEND generated "${c_out}.c" "${c_out}.h")
   endforeach()

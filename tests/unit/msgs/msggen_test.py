@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""cmake/keel_msggen.py as a message author meets it: every bad .msg is refused with
+"""cmake/keel_msggen.py as a message author meets it: every bad .msg or .srv is refused with
 `file:line: error: what and why` (exit 1, nothing written for it), and good ones give rosidl's
 file names, IDL that idlc compiles, C++ headers that include only the standard library and
 keel, and each message's table of fields by name. ctest: Msggen.RefusesBadMessagesWithFileAndLine (label unit).
@@ -86,9 +86,31 @@ def check_whole_file_errors(tmp, failures):
     r = run(tmp / "o1", loose)
     check(r.returncode == 1 and f"{loose}: error: the package is not known" in r.stderr,
           f"no package: {r.stderr!r}", failures)
-    srv = write(tmp / "p" / "my_msgs" / "msg", "Add.srv", "int32 a\n---\nint32 b\n")
-    r = run(tmp / "o2", srv)
-    check(r.returncode == 1 and "not a .msg file" in r.stderr, f"a .srv: {r.stderr!r}", failures)
+    misplaced = write(tmp / "p" / "my_msgs" / "msg", "Add.srv", "int32 a\n---\nint32 b\n")
+    r = run(tmp / "o2", misplaced)
+    check(r.returncode == 1 and "the package is not known: put the file in <package>/srv/" in r.stderr,
+          f"a .srv in msg/: {r.stderr!r}", failures)
+    action = write(tmp / "p" / "my_msgs" / "action", "Go.action", "int32 a\n---\n---\n")
+    r = run(tmp / "o2a", action)
+    check(r.returncode == 1 and "not a .msg or .srv file (actions are not supported)" in r.stderr,
+          f"an action: {r.stderr!r}", failures)
+    # A service: one '---' line, errors at the file's own line numbers in either half.
+    for name, text, line, words in (
+            ("NoSeparator", "int32 a\nint32 b\n", 2, "this file 0"),
+            ("TwoSeparators", "int32 a\n---\nint32 b\n---\nint32 c\n", 4, "this file 2"),
+            ("BadResponse", "# asks\nint32 a\n---\n# answers\nbool ok\nwstring why\n", 6, "wstring is not supported"),
+            ("BadRequest", "int33 a\n---\n", 1, "unknown type 'int33'")):
+        path = write(tmp / "p" / "srv_msgs" / "srv", f"{name}.srv", text)
+        out = tmp / "o_srv" / name
+        r = run(out, "--search", SHIPPED, path)
+        check(r.returncode == 1 and r.stderr.startswith(f"{path}:{line}: error: ") and words in r.stderr,
+              f"{name}.srv: want '{path}:{line}: error: ...{words}', got {r.stderr.strip()!r}", failures)
+        check(not out.exists() or not any(p.is_file() for p in out.rglob("*")),
+              f"{name}.srv: files were written for a refused service", failures)
+    shipped_srv = write(tmp / "p" / "lifecycle_msgs" / "srv", "GetState.srv", "---\nuint8 id\n")
+    r = run(tmp / "o_srv2", "--search", SHIPPED, shipped_srv)
+    check(r.returncode == 1 and "lifecycle_msgs/srv/GetState ships with keel" in r.stderr,
+          f"redefining a shipped service: {r.stderr!r}", failures)
     lower = write(tmp / "p" / "my_msgs" / "msg", "speed.msg", "float64 v\n")
     r = run(tmp / "o3", lower)
     check(r.returncode == 1 and "'speed' is not a message name" in r.stderr, f"lower-case name: {r.stderr!r}", failures)
@@ -120,7 +142,7 @@ def check_whole_file_errors(tmp, failures):
 def rosidl_names():
     """The shipped messages' names and rosidl's header names for them (the ROS 2 headers'
     `geometry_msgs/msg/pose_stamped.hpp`), plus some harder ones."""
-    names = {p.stem for p in SHIPPED.glob("*/msg/*.msg")}
+    names = {p.stem for p in SHIPPED.glob("*/msg/*.msg")} | {p.stem for p in SHIPPED.glob("*/srv/*.srv")}
     names |= {"MultiDOFJointState", "Pose2D", "ColorRGBA", "HTTPRequest", "A", "ABc", "Vector3Stamped"}
     return sorted(names)
 
@@ -153,7 +175,7 @@ def check_names(tmp, failures):
 
 def check_shipped(tmp, failures):
     out = tmp / "shipped"
-    files = sorted(SHIPPED.glob("*/msg/*.msg"))
+    files = sorted(SHIPPED.glob("*/msg/*.msg")) + sorted(SHIPPED.glob("*/srv/*.srv"))
     r = run(out, *files)
     check(r.returncode == 0, f"keel's shipped messages: exit {r.returncode}: {r.stderr}", failures)
     allowed = re.compile(r'#include (<[a-z_]+>|"keel/[a-z0-9_/]+\.hpp")$')
@@ -176,6 +198,30 @@ def check_shipped(tmp, failures):
     check("module diagnostic_msgs { module msg { module dds_ {" in status and "@final struct DiagnosticStatus_ {" in status
           and "octet level;" in status and "sequence<::diagnostic_msgs::msg::dds_::KeyValue_ > values;" in status
           and "OK" not in status, "DiagnosticStatus_.idl is not rosidl's DDS form (or has constants)", failures)
+    # A service is two messages, as rmw puts it on DDS: pkg::srv::dds_::Name_Request_ and _Response_.
+    request = (out / "idl" / "lifecycle_msgs" / "srv" / "ChangeState_Request_.idl").read_text()
+    check("module lifecycle_msgs { module srv { module dds_ {" in request
+          and "@final struct ChangeState_Request_ {" in request
+          and "::lifecycle_msgs::msg::dds_::Transition_ transition;" in request
+          and '#include "lifecycle_msgs/msg/Transition_.idl"' in request,
+          "ChangeState_Request_.idl is not rmw's DDS form of the service's request", failures)
+    get_request = (out / "idl" / "lifecycle_msgs" / "srv" / "GetState_Request_.idl").read_text()
+    check("uint8 structure_needs_at_least_one_member;" in get_request, "GetState_Request_.idl: an empty request",
+          failures)
+    srv = out / "include" / "keel" / "msg" / "lifecycle_msgs" / "srv"
+    response = (srv / "change_state_response.hpp").read_text()
+    check("struct ChangeState_Response {" in response and "bool success{};" in response
+          and 'KEEL_TYPE_NAME(keel::msg::lifecycle_msgs::ChangeState_Response, '
+              '"lifecycle_msgs/srv/ChangeState_Response");' in response,
+          "change_state_response.hpp lacks the struct, its field or its type name", failures)
+    service = (srv / "change_state.hpp").read_text()
+    check('#include "keel/msg/lifecycle_msgs/srv/change_state_request.hpp"' in service
+          and "using Request = ChangeState_Request;" in service and "using Response = ChangeState_Response;" in service,
+          "change_state.hpp does not name the service's two halves", failures)
+    source = (out / "src" / "lifecycle_msgs" / "srv" / "change_state_request__dds.cpp").read_text()
+    check('#include "lifecycle_msgs/srv/ChangeState_Request_.c"' in source
+          and "::lifecycle_msgs_srv_dds__ChangeState_Request_" in source,
+          "change_state_request__dds.cpp: idlc's C file or C type of a service's request", failures)
     imu = (out / "idl" / "sensor_msgs" / "msg" / "Imu_.idl").read_text()
     check("double orientation_covariance[9];" in imu and '#include "std_msgs/msg/Header_.idl"' in imu,
           "Imu_.idl: fixed array or include", failures)
@@ -193,9 +239,17 @@ def check_user_messages(tmp, shipped_out, failures):
     write(pkg, "Wheel.msg", "string name\nfloat64 speed\n")
     drive = write(pkg, "Drive.msg", "Header header  # std_msgs/Header\ngeometry_msgs/Twist cmd\nWheel[4] wheels\n"
                                     "int32 class\nuint8 module\n")
+    set_speed = write(tmp / "user" / "robot_msgs" / "srv", "SetSpeed.srv",
+                      "# Sets a wheel's speed\nWheel wheel\n---\nbool accepted\nstd_msgs/Header header\n")
     out = tmp / "user_out"
-    r = run(out, "--search", SHIPPED, pkg / "Wheel.msg", drive)
+    r = run(out, "--search", SHIPPED, pkg / "Wheel.msg", drive, set_speed)
     check(r.returncode == 0, f"a user's messages: {r.stderr}", failures)
+    request = (out / "include" / "keel" / "msg" / "robot_msgs" / "srv" / "set_speed_request.hpp").read_text()
+    check("::keel::msg::robot_msgs::Wheel wheel{};" in request and "/// Sets a wheel's speed" in request
+          and '#include "keel/msg/robot_msgs/msg/wheel.hpp"' in request,
+          "set_speed_request.hpp: a field of the package's own message, or its comment", failures)
+    answer = (out / "idl" / "robot_msgs" / "srv" / "SetSpeed_Response_.idl").read_text()
+    check("::std_msgs::msg::dds_::Header_ header;" in answer, "SetSpeed_Response_.idl: a shipped type", failures)
     hpp = (out / "include" / "keel" / "msg" / "robot_msgs" / "msg" / "drive.hpp").read_text()
     check('#include "keel/msg/std_msgs/msg/header.hpp"' in hpp and "std::int32_t class_{};" in hpp
           and "std::uint8_t module{};" in hpp and "std::array<::keel::msg::robot_msgs::Wheel, 4> wheels{};" in hpp,

@@ -36,7 +36,26 @@ TEST(MessageRegistration, EveryShippedMessageIsRegisteredUnderItsRos2Name) {
     EXPECT_NE(type->deliver, nullptr);
     ++count;
   }
-  EXPECT_EQ(count, 78) << "msgs/ holds 78 .msg files (msgs/SOURCES.md)";
+  EXPECT_EQ(count, 81) << "msgs/ holds 81 .msg files (msgs/SOURCES.md)";
+}
+
+TEST(MessageRegistration, EachShippedServiceIsItsRequestAndItsResponseUnderRmwsNames) {
+  int count = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(kShipped)) {
+    if (entry.path().extension() != ".srv") continue;
+    const std::string pkg = entry.path().parent_path().parent_path().filename();
+    const std::string name = entry.path().stem();
+    for (const char* half : {"Request", "Response"}) {
+      const std::string ros_name = fmt::format("{}/srv/{}_{}", pkg, name, half);
+      const keel::detail::DdsType* type = keel::dds::findType(ros_name);
+      ASSERT_NE(type, nullptr) << ros_name << " is not registered";
+      const auto* descriptor = static_cast<const dds_topic_descriptor_t*>(type->descriptor);
+      // What rmw_fastrtps and rmw_cyclonedds name a service's halves on DDS.
+      EXPECT_EQ(std::string(descriptor->m_typename), fmt::format("{}::srv::dds_::{}_{}_", pkg, name, half));
+    }
+    ++count;
+  }
+  EXPECT_EQ(count, 2) << "msgs/ holds 2 .srv files (msgs/SOURCES.md)";
 }
 
 TEST(MessageRegistration, TheRegisteredTypeIsTheCppTypeAndItsDescriptorIdlcs) {
