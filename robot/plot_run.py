@@ -69,7 +69,7 @@ TIMELINE_LABELLED = 40  # faults whose latencies are written on the timeline; mo
 # One marker per detected kind (fault.hpp's kinds); others cycle through MORE_MARKERS.
 KIND_MARKERS = {"model": "D", "signal": "o", "range": "s", "vote": "^", "heartbeat": "v",
                 "exception": "P", "user": "*", "deadline": "<", "remote": ">", "error_code": "p",
-                "process": "X", "start": "h", "reported": "8"}
+                "process": "X", "start": "h", "reported": "8", "lifecycle": "x"}
 MORE_MARKERS = ["d", "H", "1", "2"]
 
 

@@ -26,6 +26,7 @@ enum class FaultKind : std::uint8_t {
   Process,    // the component's OS process died (<process>): any signal, kill -9, exit
   Start,      // a ROS 2 node did not come up (its topics in the graph) within its start timeout
   Reported,   // a ROS 2 node said so itself: its status on /diagnostics at ERROR
+  Lifecycle,  // a managed ROS 2 node's transition failed or timed out, or it fell into an error by itself
 };
 
 constexpr std::string_view toString(FaultKind k) {
@@ -43,6 +44,7 @@ constexpr std::string_view toString(FaultKind k) {
     case FaultKind::Process: return "process";
     case FaultKind::Start: return "start";
     case FaultKind::Reported: return "reported";
+    case FaultKind::Lifecycle: return "lifecycle";
   }
   return "?";
 }

@@ -312,6 +312,7 @@ void DdsPorts::close() {
   }
   if (diagnostics_) diagnostics_->stop();             // before its writer goes
   if (node_diagnostics_) node_diagnostics_->close();  // before the graph it asks
+  if (lifecycles_) lifecycles_->close();              // so do these
   if (graph_) graph_->close();                        // its watch hears nothing more
   if (parameters_) parameters_->close();              // nor this one
   if (safe_commands_) safe_commands_->stop();         // before its writers go
@@ -489,6 +490,17 @@ Result<void> DdsPorts::watchParameters(int domain, std::vector<WatchedNode> node
   auto reader = parameters_->open(*pp, std::move(nodes));
   if (!reader) return reader.error();
   endpoints_.push_back({*pp, *reader, false});  // keel's node subscribes to it, as ROS 2 tools show
+  return {};
+}
+
+Result<void> DdsPorts::watchLifecycles(int domain, const std::vector<LifecycleNode>& nodes, LifecycleWatch& watch) {
+  if (!graph_) return fail("lifecycle nodes: the ROS 2 graph is not watched");
+  auto pp = participant(domain);
+  if (!pp) return fail("lifecycle nodes: " + pp.error().message);
+  lifecycles_ = std::make_unique<LifecycleClients>(watch, *graph_);
+  if (auto r = lifecycles_->open(*pp, nodes); !r) return r;
+  for (const auto& [e, writer] : lifecycles_->entities())  // keel's node lists its clients' writers and readers
+    endpoints_.push_back({*pp, e, writer});
   return {};
 }
 

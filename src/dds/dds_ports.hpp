@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "dds/diagnostics.hpp"
+#include "dds/lifecycle.hpp"
 #include "dds/node_diagnostics.hpp"
 #include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
@@ -129,6 +130,18 @@ class DdsPorts {
   /// Reads /parameter_events in `domain` (ROS_DOMAIN_ID overrides it) for `nodes`, the nodes keel
   /// runs: each change one of them announces goes to `watch` (parameter_events.hpp), until close().
   Result<void> watchParameters(int domain, std::vector<WatchedNode> nodes, ParameterWatch& watch);
+  /// Reaches the lifecycle services and transition events of `nodes` (the managed nodes keel
+  /// runs) in `domain` (ROS_DOMAIN_ID overrides it): what they say goes to `watch`
+  /// (lifecycle.hpp), until close(). Call watchNodes first: its graph judges whose they are.
+  Result<void> watchLifecycles(int domain, const std::vector<LifecycleNode>& nodes, LifecycleWatch& watch);
+  /// Asks managed node `instance` for transition `transition` (any thread): what became of it.
+  LifecycleClients::Sent requestTransition(const std::string& instance, std::uint8_t transition) {
+    return lifecycles_ ? lifecycles_->request(instance, transition) : LifecycleClients::Sent::NoSuchNode;
+  }
+  /// Asks managed node `instance` its state (any thread): what became of it.
+  LifecycleClients::Sent askLifecycleState(const std::string& instance) {
+    return lifecycles_ ? lifecycles_->askState(instance) : LifecycleClients::Sent::NoSuchNode;
+  }
   /// Writes each node's safe command of `commands` (its <emergency>'s <publish>) in `domain` while
   /// keel's emergency stop holds: from safeCommandsOn(its node) until safeCommandsOff().
   Result<void> openSafeCommands(int domain, const std::vector<NodeSafeCommand>& commands);
@@ -182,6 +195,7 @@ class DdsPorts {
   bool node_timer_ending_ = false;
   std::thread node_timer_;
   std::unique_ptr<ParameterEvents> parameters_;
+  std::unique_ptr<LifecycleClients> lifecycles_;
   std::unique_ptr<SafeCommands> safe_commands_;
   struct Endpoint {
     std::int32_t participant;

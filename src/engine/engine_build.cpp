@@ -480,6 +480,14 @@ Result<void> Engine::connect() {
     if (auto opened = dds_->openSafeCommands(planned_.plan.rosDomain(), safe); !opened)
       errors += opened.error().message + '\n';
   }
+  if (dds::LifecycleWatch* lifecycles = graph ? side_->lifecycleWatch() : nullptr) {  // the managed nodes keel drives
+    std::vector<dds::LifecycleNode> nodes;
+    for (const plan::PlannedInstance& pi : planned_.plan.instances)
+      if (pi.node && !pi.attached && pi.node->lifecycle) nodes.push_back({pi.name, pi.node->fullName()});
+    if (!nodes.empty())
+      if (auto watching = dds_->watchLifecycles(planned_.plan.rosDomain(), nodes, *lifecycles); !watching)
+        errors += watching.error().message + '\n';
+  }
   if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
     std::vector<dds::WatchedNode> nodes;
     for (const plan::PlannedInstance& pi : planned_.plan.instances)

@@ -154,6 +154,20 @@ Result<void> RunSide::launch() {
     nodes_->setEmergency([this](const std::string& instance) {
       if (e_.dds_) e_.dds_->safeCommandsOn(instance);
     });
+    using Asked = supervision::LifecycleLink::Asked;
+    auto asked = [](dds::LifecycleClients::Sent sent) {
+      switch (sent) {
+        case dds::LifecycleClients::Sent::Written: return Asked::Written;
+        case dds::LifecycleClients::Sent::Cyclone: return Asked::Cyclone;
+        default: return Asked::NotYet;
+      }
+    };
+    nodes_->setLifecycle({[this, asked](const std::string& instance, std::uint8_t transition) {
+                            return e_.dds_ ? asked(e_.dds_->requestTransition(instance, transition)) : Asked::NotYet;
+                          },
+                          [this, asked](const std::string& instance) {
+                            return e_.dds_ ? asked(e_.dds_->askLifecycleState(instance)) : Asked::NotYet;
+                          }});
     if (auto r = nodes_->launch(); !r) return r;
   }
   if (!supervisor_) return {};
@@ -218,6 +232,10 @@ void RunSide::stateLogged(std::string_view instance) {
 void RunSide::emergencyCleared() {
   if (supervisor_) supervisor_->clearEmergency();
   if (e_.dds_) e_.dds_->safeCommandsOff();
+}
+
+void RunSide::windDownNodes() {
+  if (nodes_) nodes_->windDownManaged(e_.options_.stop_timeout);
 }
 
 void RunSide::stopProcesses() {

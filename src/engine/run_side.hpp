@@ -24,7 +24,7 @@ namespace keel::engine {
 
 class Engine;
 
-class RunSide final : public Side, private dds::GraphWatch, private dds::ParameterWatch {
+class RunSide final : public Side, private dds::GraphWatch, private dds::ParameterWatch, private dds::LifecycleWatch {
  public:
   explicit RunSide(Engine& engine);
   ~RunSide() override;
@@ -46,6 +46,7 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
     return nodes_ ? nodes_->firstSampleDue(instance) : 0;
   }
   dds::ParameterWatch* parameterWatch() override { return nodes_ ? this : nullptr; }
+  dds::LifecycleWatch* lifecycleWatch() override { return nodes_ ? this : nullptr; }
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;
@@ -54,6 +55,7 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
   bool holdsState(const Component&, State, State) override { return false; }
   void stateLogged(std::string_view instance) override;
   void emergencyCleared() override;
+  void windDownNodes() override;
   void stopProcesses() override;
   void stopped() override;
   void close() override;
@@ -71,6 +73,11 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
   void parametersChanged(const std::string& instance, const profile::ParameterUpdate& update) override {
     nodes_->parametersChanged(instance, update);
   }
+  // What the managed nodes say of their lifecycle: to the node supervisor, which drives them.
+  void transitioned(const std::string& instance, std::uint8_t start, std::uint8_t goal) override {
+    nodes_->lifecycleTransition(instance, start, goal);
+  }
+  void stateIs(const std::string& instance, std::uint8_t state) override { nodes_->lifecycleState(instance, state); }
   Result<void> setUpNodes();
 
   Engine& e_;

@@ -13,6 +13,7 @@
 #include <string>
 #include <string_view>
 
+#include "dds/lifecycle.hpp"
 #include "dds/parameter_events.hpp"
 #include "dds/ros2_graph.hpp"
 #include "injection/scenario.hpp"
@@ -60,6 +61,12 @@ class Side {
   /// Where the parameter changes of the nodes keel runs go (keel run's node supervisor, which
   /// restarts a node with them); null: this side restarts no node.
   virtual dds::ParameterWatch* parameterWatch() { return nullptr; }
+  /// Where what the managed (lifecycle) nodes keel runs say goes (keel run's node supervisor,
+  /// which drives them through their transitions); null: this side drives no node.
+  virtual dds::LifecycleWatch* lifecycleWatch() { return nullptr; }
+  /// At the engine's shutdown, before its DDS side closes: the managed nodes it runs are
+  /// deactivated and shut down while they can still be asked (keel run's).
+  virtual void windDownNodes() {}
   /// Whether this process stands by: its DDS readers wait until it takes over.
   virtual bool standingBy() const = 0;
   /// Whether fault `f` of the scenario is injected by this process; `pi`: the instance it

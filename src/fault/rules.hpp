@@ -16,7 +16,7 @@
 
 namespace keel::fault {
 
-inline constexpr std::size_t kFaultKinds = static_cast<std::size_t>(FaultKind::Reported) + 1;
+inline constexpr std::size_t kFaultKinds = static_cast<std::size_t>(FaultKind::Lifecycle) + 1;
 
 /// The steps of handling, in escalation order (docs/fault-handling.md): reset → replace → stop →
 /// emergency.

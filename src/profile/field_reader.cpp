@@ -126,10 +126,10 @@ const std::vector<std::pair<std::string_view, DdsQos>>& ddsQosNames() {
 
 const std::vector<std::pair<std::string_view, std::string_view>>& faultKinds() {
   static const std::vector<std::pair<std::string_view, std::string_view>> t = {
-      {"signal", "signal"},    {"exception", "exception"}, {"error_code", "error_code"}, {"range", "range"},
-      {"model", "model"},      {"heartbeat", "heartbeat"}, {"deadline", "deadline"},     {"vote", "vote"},
-      {"user", "user"},        {"remote", "remote"},       {"process", "process"},       {"start", "start"},
-      {"reported", "reported"}};
+      {"signal", "signal"},     {"exception", "exception"}, {"error_code", "error_code"}, {"range", "range"},
+      {"model", "model"},       {"heartbeat", "heartbeat"}, {"deadline", "deadline"},     {"vote", "vote"},
+      {"user", "user"},         {"remote", "remote"},       {"process", "process"},       {"start", "start"},
+      {"reported", "reported"}, {"lifecycle", "lifecycle"}};
   return t;
 }
 

@@ -378,6 +378,13 @@ struct NodeEmergency {
 
 /// root <ros2_node_profile>: a ROS 2 node keel starts (or, <attach/>, watches) and handles by
 /// the fault policy of the subcomponent that references it (docs/ros2-nodes.md).
+/// <lifecycle transition_timeout=".."/> of a node profile: a managed (lifecycle) node, which keel
+/// configures and activates at start and deactivates and shuts down at stop (docs/ros2-nodes.md).
+struct NodeLifecycle {
+  double transition_timeout_ms = 5000.0;  // from a request to the transition event that ends it
+  Where where;
+};
+
 struct NodeProfile {
   std::string file;  // absolute path of the profile
   std::string name;  // <name>: the profile's, as a component profile's
@@ -397,7 +404,8 @@ struct NodeProfile {
   double stop_grace_ms = 2000.0;      // <stop grace="..">: from SIGINT to SIGKILL
   std::vector<NodeTopic> topics;      // one per data port, in the ports' order
   std::optional<NodeEmergency> emergency;
-  std::string diagnostics_name;  // <diagnostics name=".."/>: its own /diagnostics status; "": none
+  std::string diagnostics_name;            // <diagnostics name=".."/>: its own /diagnostics status; "": none
+  std::optional<NodeLifecycle> lifecycle;  // <lifecycle/>: a managed node
   /// The node as keel's engine sees it: a passive component whose data ports are the node's
   /// (types, usage, validity); `name` and `file` as the node profile's, no library.
   ComponentProfile component;

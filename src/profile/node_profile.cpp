@@ -74,6 +74,17 @@ struct NodeReader {
     if (out.diagnostics_name.empty()) ctx.error(n, fmt::format("<diagnostics> of {}: empty name", owner));
   }
 
+  /// <lifecycle transition_timeout=".."/>: a managed node, its transitions' time (ms, optional).
+  void lifecycle(pugi::xml_node n) {
+    readChildren(ctx, n, {}, {"transition_timeout"});
+    NodeLifecycle l;
+    l.where = ctx.where(n);
+    if (const auto text = attribute(n, "transition_timeout"))
+      if (auto v = readPositive(ctx, n, trim(*text), fmt::format("transition_timeout of <lifecycle> of {}", owner)))
+        l.transition_timeout_ms = *v;
+    out.lifecycle = l;
+  }
+
   /// <node>: "/ns/name", split; what is wrong with it named in rmw's words.
   void nodeName() {
     out.node_where = ctx.where(node);
@@ -154,6 +165,7 @@ void parseNodeProfile(Ctx& ctx, pugi::xml_node root, NodeProfile& out) {
                 {"start", [&](pugi::xml_node n) { r.duration(n, "timeout", out.start_timeout_ms); }},
                 {"stop", [&](pugi::xml_node n) { r.duration(n, "grace", out.stop_grace_ms); }},
                 {"diagnostics", [&](pugi::xml_node n) { r.diagnostics(n); }},
+                {"lifecycle", [&](pugi::xml_node n) { r.lifecycle(n); }},
                 {"ports", [&](pugi::xml_node n) { ports = n; }},
                 {"emergency", [&](pugi::xml_node n) { emergency = n; }}});
   if (out.name.empty()) reportMissing(ctx, root, "name");

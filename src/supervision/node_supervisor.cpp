@@ -11,13 +11,19 @@
 #include <condition_variable>
 #include <cstdlib>
 #include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <system_error>
+#include <thread>
 
+#include "keel/msg/lifecycle_msgs/msg/state.hpp"
+#include "keel/msg/lifecycle_msgs/msg/transition.hpp"
 #include "log/schema.hpp"
 #include "runtime/clock.hpp"
 #include "runtime/component_core.hpp"
@@ -92,6 +98,19 @@ struct NodeSupervisor::Node {
   // Its parameter values for a restart: the profile's, overlaid by /parameter_events.
   ParameterMap parameters;
   std::string params_file;  // where its restart's params file is written
+  // A managed node (<lifecycle/>): its state as keel last knew it, and the transitions keel has
+  // yet to make it go through (requested one at a time, each confirmed before the next).
+  bool managed = false;
+  std::uint8_t state = 0;          // lifecycle_msgs/msg/State id; 0: unknown
+  std::deque<std::uint8_t> steps;  // transitions to request, in order
+  int asked = -1;                  // the transition requested and not confirmed yet; -1: none
+  std::uint8_t asked_from = 0;     // its state when it was requested
+  std::int64_t asked_ns = 0;       // when it was first requested: its timeout counts from then
+  std::int64_t sent_ns = 0;        // when it was last written, or the node's state last asked
+  bool unresponsive = false;       // a transition of this life timed out: a reset restarts it
+  bool resetting = false;          // the steps are a reset's: recovered once Active
+  std::int64_t active_ns = 0;      // when it became Active in this life; 0: not Active
+  std::vector<const Node*> needs;  // the managed nodes it needs (<needs>, through any component)
 };
 
 // The stand-in of a node's role: of the node its profile names, or (`serves` set) of its
@@ -169,6 +188,7 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     n->plan = &pi;
     n->profile = pi.node;
     n->serving.store(pi.node, std::memory_order_release);
+    n->managed = pi.node->lifecycle.has_value() && !pi.attached;
     for (const auto& t : pi.node->topics)
       for (const auto& d : pi.node->component.data_ports)
         n->has_outputs |= d.name == t.port && d.usage == PortDirection::Output;
@@ -182,6 +202,53 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     }
     nodes_.push_back(std::move(n));
   }
+  orderManaged(plan);
+}
+
+// Each managed node's prerequisites: the managed nodes it reaches through <needs>, any component
+// on the way; two that need each other (a cycle) wait for neither. And the order they wind down
+// in: a node before those it needs.
+void NodeSupervisor::orderManaged(const plan::Plan& plan) {
+  std::map<std::string, std::vector<std::string>, std::less<>> needs;
+  for (const profile::Depends& d : plan.depends) needs[d.source].push_back(d.target);
+  auto managed = [&](std::string_view name) -> Node* {
+    for (auto& n : nodes_)
+      if (n->managed && n->plan->name == name) return n.get();
+    return nullptr;
+  };
+  std::map<Node*, std::set<Node*>> reach;
+  for (auto& n : nodes_) {
+    if (!n->managed) continue;
+    std::set<std::string> seen{n->plan->name};
+    std::vector<std::string> todo{n->plan->name};
+    while (!todo.empty()) {
+      const std::string at = todo.back();
+      todo.pop_back();
+      for (const std::string& next : needs[at]) {
+        if (!seen.insert(next).second) continue;
+        if (Node* m = managed(next)) reach[n.get()].insert(m);
+        todo.push_back(next);
+      }
+    }
+  }
+  for (auto& [n, targets] : reach)
+    for (Node* m : targets)
+      if (!reach[m].contains(n)) n->needs.push_back(m);
+  // Wind-down order: repeatedly the nodes no remaining node needs (a cycle's last, as they come).
+  std::vector<Node*> left;
+  for (auto& n : nodes_)
+    if (n->managed) left.push_back(n.get());
+  while (!left.empty()) {
+    auto needed = [&](const Node* m) {
+      return std::any_of(left.begin(), left.end(), [&](const Node* o) {
+        return std::find(o->needs.begin(), o->needs.end(), m) != o->needs.end();
+      });
+    };
+    auto free = std::find_if(left.begin(), left.end(), [&](const Node* m) { return !needed(m); });
+    if (free == left.end()) free = left.begin();
+    wind_down_order_.push_back(*free);
+    left.erase(free);
+  }
 }
 
 NodeSupervisor::~NodeSupervisor() {
@@ -191,7 +258,10 @@ NodeSupervisor::~NodeSupervisor() {
     timer_changed_.notify_all();
   }
   if (timer_.joinable()) timer_.join();
-  stop(std::chrono::seconds(2));
+  try {
+    stop(std::chrono::seconds(2));  // a managed node's way down writes records: it may throw (memory)
+  } catch (...) {                   // what still runs then dies with the guard, below
+  }
   endGuard();
   watch_.stop();
 }
@@ -287,6 +357,14 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::
     n.late = false;
     n.left_ns = 0;
     n.reported = false;
+    if (n.managed) {  // a new process is Unconfigured: configured and activated once it is in the graph
+      n.state = msg::lifecycle_msgs::State::PRIMARY_STATE_UNCONFIGURED;
+      n.steps = {msg::lifecycle_msgs::Transition::TRANSITION_CONFIGURE,
+                 msg::lifecycle_msgs::Transition::TRANSITION_ACTIVATE};
+      n.asked = -1;
+      n.unresponsive = false;
+      n.active_ns = 0;
+    }
   }
   pokeTimer();
   nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), *pid, phase);
@@ -338,11 +416,14 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
 Result<void> NodeSupervisor::restart(Node& n) {
   if (n.plan->attached) return fail("an attached node is not keel's to restart");
   std::lock_guard one(n.restart_mutex);
+  if (resetByTransitions(n)) return {};
   stopNode(n, Proxy::graceOf(n));  // alive when its fault came from its topics
   auto pid = start(n, "restarted", writeParameters(n));
   if (!pid) return pid.error();
   std::lock_guard lock(n.mutex);
-  if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
+  if (n.managed) n.resetting = true;  // recovered once configured and Active again
+  else if (n.proxy)
+    runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
   return {};
 }
 
@@ -362,6 +443,14 @@ Result<void> NodeSupervisor::replace(Node& n, const profile::NodeProfile& altern
 }
 
 void NodeSupervisor::stopNode(Node& n, std::chrono::milliseconds grace) {
+  if (n.managed) {  // its own way down first, within its grace: deactivated, shut down
+    {
+      std::lock_guard lock(n.mutex);
+      if (n.pid == 0) return;
+      n.stopping = true;
+    }
+    windDown(n, Clock::now() + grace);
+  }
   std::unique_lock lock(n.mutex);
   const pid_t pid = n.pid;
   if (pid == 0) return;
@@ -395,6 +484,18 @@ Result<void> NodeSupervisor::launch() {
     return fail(errors);
   }
   return {};
+}
+
+void NodeSupervisor::windDownManaged(std::chrono::milliseconds within) {
+  const auto until = Clock::now() + within;
+  for (Node* n : wind_down_order_) {
+    {
+      std::lock_guard lock(n->mutex);
+      if (n->pid == 0 || n->stopping) continue;
+      n->stopping = true;  // its silence from here on is keel's doing
+    }
+    windDown(*n, until);
+  }
 }
 
 void NodeSupervisor::stop(std::chrono::milliseconds within) {
@@ -473,14 +574,18 @@ bool owns(bool attached, pid_t pid, const GraphSighting& g) {
   return pid != 0 && (g.pid == pid || ::getpgid(g.pid) == pid);
 }
 
-/// Whether `g` shows the node up: every output topic published (a node with none: listed).
-bool completeWith(const GraphSighting& g, bool has_outputs) { return g.missing.empty() && (g.listed || has_outputs); }
+/// Whether `g` shows the node up: every output topic published (a node with none: listed). A
+/// managed node: listed (its topics come with its configuration, which keel asks for then).
+bool completeWith(const GraphSighting& g, bool has_outputs, bool managed) {
+  return managed ? g.listed : g.missing.empty() && (g.listed || has_outputs);
+}
 
 /// The sighting that speaks for the node: its own that is complete, else any of its own.
-const GraphSighting* ownSighting(bool attached, pid_t pid, const std::vector<GraphSighting>& seen, bool has_outputs) {
+const GraphSighting* ownSighting(bool attached, pid_t pid, const std::vector<GraphSighting>& seen, bool has_outputs,
+                                 bool managed) {
   const GraphSighting* own = nullptr;
   for (const GraphSighting& g : seen)
-    if (owns(attached, pid, g) && (own == nullptr || completeWith(g, has_outputs))) own = &g;
+    if (owns(attached, pid, g) && (own == nullptr || completeWith(g, has_outputs, managed))) own = &g;
   return own;
 }
 
@@ -509,10 +614,10 @@ void NodeSupervisor::nodeSeen(std::string_view instance, std::vector<GraphSighti
     std::lock_guard lock(n.mutex);
     n.seen = std::move(sightings);
     n.watched = true;
-    const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
+    const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs, n.managed);
     if (own != nullptr && own->pid == 0 && !n.plan->attached && !n.warned_unknown_pid)
       unknown_pid = n.warned_unknown_pid = true;
-    const bool complete = own != nullptr && completeWith(*own, n.has_outputs);
+    const bool complete = own != nullptr && completeWith(*own, n.has_outputs, n.managed);
     const bool running = n.plan->attached || (n.pid != 0 && !n.stopping);
     if (!n.up && complete && running) {
       n.up = true;
@@ -576,7 +681,8 @@ bool NodeSupervisor::quiet(std::string_view instance) const {
     // A node keel runs: while it has no process, or keel is stopping it (its samples are its
     // life's only, so a new life's deadline counts from its own first sample). An attached one:
     // while it is not up (its leaving the graph is its fault).
-    return n->plan->attached ? !n->up : n->pid == 0 || n->stopping;
+    // A managed node: also while it is not Active (its lifecycle publishers are silent then).
+    return n->plan->attached ? !n->up : n->pid == 0 || n->stopping || (n->managed && n->active_ns == 0);
   }
   return false;
 }
@@ -588,6 +694,7 @@ std::int64_t NodeSupervisor::firstSampleDue(std::string_view instance) const {
     // Not up: its start fault speaks for it (at the same timeout).
     if (!n->up || (!n->plan->attached && (n->pid == 0 || n->stopping))) return 0;
     const double timeout_ms = n->serving.load(std::memory_order_acquire)->start_timeout_ms;
+    if (n->managed) return n->active_ns == 0 ? 0 : n->active_ns + static_cast<std::int64_t>(timeout_ms * 1e6);
     return n->started_ns + static_cast<std::int64_t>(timeout_ms * 1e6);
   }
   return 0;
@@ -600,7 +707,7 @@ void NodeSupervisor::timerLoop() {
     lock.unlock();
     const std::int64_t now = runtime::steadyNs();
     std::int64_t next = std::numeric_limits<std::int64_t>::max();
-    for (auto& n : nodes_) next = std::min(next, checkTimes(*n, now));
+    for (auto& n : nodes_) next = std::min({next, checkTimes(*n, now), driveLifecycle(*n, now)});
     lock.lock();
     auto poked = [&] { return timer_ending_ || timer_pokes_ != pokes; };
     if (next == std::numeric_limits<std::int64_t>::max()) timer_changed_.wait(lock, poked);
@@ -626,7 +733,7 @@ std::int64_t NodeSupervisor::checkTimes(Node& n, std::int64_t now) {
       } else {
         n.late = true;
         const std::string within = fmt::format("within {:g} ms", timeout_ms);
-        const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
+        const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs, n.managed);
         const auto other = std::find_if(n.seen.begin(), n.seen.end(), [](const auto& g) { return g.listed; });
         if (own != nullptr)
           detail = fmt::format("node '{}' not up {}: it publishes no {}", name, within, topicList(own->missing));
@@ -644,7 +751,7 @@ std::int64_t NodeSupervisor::checkTimes(Node& n, std::int64_t now) {
         n.left_ns = 0;
         if (running && !n.up) {
           kind = FaultKind::Remote;
-          const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs);
+          const GraphSighting* own = ownSighting(n.plan->attached, n.pid, n.seen, n.has_outputs, n.managed);
           detail = own == nullptr ? fmt::format("node '{}' left the ROS 2 graph", name)
                                   : fmt::format("node '{}' stopped publishing {}", name, topicList(own->missing));
         }
@@ -666,6 +773,353 @@ void NodeSupervisor::report(Node& n, FaultKind kind, const std::string& detail, 
   FaultEvent ev(kind, n.plan->name, detail);
   ev.t_ns = t_ns;
   report_(*proxy, ev);
+}
+
+// ---- managed nodes: their lifecycle ----
+
+namespace {
+
+using LState = msg::lifecycle_msgs::State;
+using LTransition = msg::lifecycle_msgs::Transition;
+
+/// How often keel asks a managed node its state while a transition it asked for is unconfirmed
+/// (a transition event lost on the way, or the request), and resends a request the node's state
+/// shows was not received.
+constexpr std::int64_t kProbeNs = 500'000'000;
+constexpr std::int64_t kResendNs = 1'000'000'000;
+/// How soon keel asks again when no reader of the node's process is matched yet.
+constexpr std::int64_t kUnmatchedRetryNs = 20'000'000;
+
+bool primary(std::uint8_t s) { return s >= LState::PRIMARY_STATE_UNCONFIGURED && s <= LState::PRIMARY_STATE_FINALIZED; }
+
+/// The primary state transition `t` ends in when it succeeds.
+std::uint8_t goalOf(std::uint8_t t) {
+  switch (t) {
+    case LTransition::TRANSITION_CONFIGURE: return LState::PRIMARY_STATE_INACTIVE;
+    case LTransition::TRANSITION_CLEANUP: return LState::PRIMARY_STATE_UNCONFIGURED;
+    case LTransition::TRANSITION_ACTIVATE: return LState::PRIMARY_STATE_ACTIVE;
+    case LTransition::TRANSITION_DEACTIVATE: return LState::PRIMARY_STATE_INACTIVE;
+    default: return LState::PRIMARY_STATE_FINALIZED;  // the three shutdowns
+  }
+}
+
+/// The transition state the node is in while it goes through `t`.
+std::uint8_t throughOf(std::uint8_t t) {
+  switch (t) {
+    case LTransition::TRANSITION_CONFIGURE: return LState::TRANSITION_STATE_CONFIGURING;
+    case LTransition::TRANSITION_CLEANUP: return LState::TRANSITION_STATE_CLEANINGUP;
+    case LTransition::TRANSITION_ACTIVATE: return LState::TRANSITION_STATE_ACTIVATING;
+    case LTransition::TRANSITION_DEACTIVATE: return LState::TRANSITION_STATE_DEACTIVATING;
+    default: return LState::TRANSITION_STATE_SHUTTINGDOWN;
+  }
+}
+
+std::string_view transitionName(std::uint8_t t) {
+  switch (t) {
+    case LTransition::TRANSITION_CONFIGURE: return "configure";
+    case LTransition::TRANSITION_CLEANUP: return "cleanup";
+    case LTransition::TRANSITION_ACTIVATE: return "activate";
+    case LTransition::TRANSITION_DEACTIVATE: return "deactivate";
+    default: return "shutdown";
+  }
+}
+
+/// The `node` record's phase once transition `t` is confirmed.
+std::string_view confirmedPhase(std::uint8_t t) {
+  switch (t) {
+    case LTransition::TRANSITION_CONFIGURE: return "configured";
+    case LTransition::TRANSITION_CLEANUP: return "cleaned_up";
+    case LTransition::TRANSITION_ACTIVATE: return "activated";
+    case LTransition::TRANSITION_DEACTIVATE: return "deactivated";
+    default: return "shut_down";
+  }
+}
+
+std::string stateName(std::uint8_t s) {
+  switch (s) {
+    case LState::PRIMARY_STATE_UNCONFIGURED: return "unconfigured";
+    case LState::PRIMARY_STATE_INACTIVE: return "inactive";
+    case LState::PRIMARY_STATE_ACTIVE: return "active";
+    case LState::PRIMARY_STATE_FINALIZED: return "finalized";
+    case LState::TRANSITION_STATE_CONFIGURING: return "configuring";
+    case LState::TRANSITION_STATE_CLEANINGUP: return "cleaningup";
+    case LState::TRANSITION_STATE_SHUTTINGDOWN: return "shuttingdown";
+    case LState::TRANSITION_STATE_ACTIVATING: return "activating";
+    case LState::TRANSITION_STATE_DEACTIVATING: return "deactivating";
+    case LState::TRANSITION_STATE_ERRORPROCESSING: return "errorprocessing";
+    default: return fmt::format("unknown ({})", s);
+  }
+}
+
+std::string stepList(const std::deque<std::uint8_t>& steps) {
+  std::string out;
+  for (std::uint8_t t : steps) out += fmt::format("{}{}", out.empty() ? "" : " → ", transitionName(t));
+  return out;
+}
+
+}  // namespace
+
+// What a managed node's transition event says: its state, and the transition keel asked for
+// confirmed or failed; unasked, a fall into ErrorProcessing or Finalized is its fault.
+void NodeSupervisor::lifecycleTransition(std::string_view instance, std::uint8_t start, std::uint8_t goal) {
+  const auto it = std::find_if(nodes_.begin(), nodes_.end(), [&](const auto& n) { return n->plan->name == instance; });
+  if (it == nodes_.end() || !(*it)->managed) return;
+  Node& n = **it;
+  const std::int64_t now = runtime::steadyNs();
+  std::optional<nlohmann::json> record;
+  std::string fault;
+  {
+    std::lock_guard lock(n.mutex);
+    if (n.pid == 0) return;  // a life that ended: its last words change nothing
+    const std::uint8_t known = n.state;
+    n.state = goal;
+    if (goal != LState::PRIMARY_STATE_ACTIVE) n.active_ns = 0;
+    const std::string name = n.profile->fullName();
+    if (n.asked >= 0) {
+      const auto t = static_cast<std::uint8_t>(n.asked);
+      const bool ends = primary(goal) && (start == throughOf(t) || start == LState::TRANSITION_STATE_ERRORPROCESSING);
+      if (ends && goal == goalOf(t)) {
+        n.asked = -1;
+        if (!n.steps.empty() && n.steps.front() == t) n.steps.pop_front();
+        record = log::schema::node(n.plan->name, name, n.pid, confirmedPhase(t));
+        (*record)[log::schema::field::kAfterMs] = static_cast<double>(now - n.asked_ns) / 1e6;
+        if (goal == LState::PRIMARY_STATE_ACTIVE) n.active_ns = now;
+        if (n.resetting && n.steps.empty() && goal == LState::PRIMARY_STATE_ACTIVE) {
+          n.resetting = false;
+          if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(now, std::memory_order_release);
+        }
+      } else if (ends && !n.stopping) {
+        fault = fmt::format("node '{}': {} failed{}: it is {}", name, transitionName(t),
+                            start == LState::TRANSITION_STATE_ERRORPROCESSING ? " with an error" : "", stateName(goal));
+        n.asked = -1;
+        n.steps.clear();
+        n.resetting = false;
+      }
+    } else if (!n.stopping &&
+               (goal == LState::TRANSITION_STATE_ERRORPROCESSING || goal == LState::PRIMARY_STATE_FINALIZED)) {
+      fault = fmt::format("node '{}' went from {} to {} by itself", name, stateName(start), stateName(goal));
+      n.steps.clear();
+    } else if (!n.stopping && primary(goal) && !primary(start) && goal != known) {
+      // Another client moved it (`ros2 lifecycle set`): said in the log, not a fault. (An event
+      // of keel's own transition that its state confirmed first changes no state it knew.)
+      record = log::schema::node(n.plan->name, name, n.pid, stateName(goal));
+      (*record)[log::schema::field::kDetail] = fmt::format("{} → {}, not asked by keel", stateName(start),
+                                                           stateName(goal));
+    }
+  }
+  n.changed.notify_all();
+  if (record) {
+    (*record)[log::schema::field::kTime] = log_.sinceStart(now);
+    log_.write(std::move(*record));
+  }
+  if (!fault.empty()) report(n, FaultKind::Lifecycle, fault, now);
+  pokeTimer();
+}
+
+// A get_state reply: the confirmation of a transition whose event was lost, or the sign that a
+// request was (its state still the one it had).
+void NodeSupervisor::lifecycleState(std::string_view instance, std::uint8_t state) {
+  const auto it = std::find_if(nodes_.begin(), nodes_.end(), [&](const auto& n) { return n->plan->name == instance; });
+  if (it == nodes_.end() || !(*it)->managed) return;
+  Node& n = **it;
+  const std::int64_t now = runtime::steadyNs();
+  std::optional<nlohmann::json> record;
+  bool resend = false;
+  std::uint8_t t = 0;
+  {
+    std::lock_guard lock(n.mutex);
+    if (n.pid == 0) return;
+    if (n.asked >= 0) {
+      t = static_cast<std::uint8_t>(n.asked);
+      if (state == goalOf(t)) {
+        n.state = state;
+        n.asked = -1;
+        if (!n.steps.empty() && n.steps.front() == t) n.steps.pop_front();
+        record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, confirmedPhase(t));
+        (*record)[log::schema::field::kAfterMs] = static_cast<double>(now - n.asked_ns) / 1e6;
+        (*record)[log::schema::field::kDetail] = "confirmed by its state (its transition event was not seen)";
+        if (state == LState::PRIMARY_STATE_ACTIVE) n.active_ns = now;
+        if (n.resetting && n.steps.empty() && state == LState::PRIMARY_STATE_ACTIVE) {
+          n.resetting = false;
+          if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(now, std::memory_order_release);
+        }
+      } else if (state == n.asked_from && now - n.sent_ns >= kResendNs) {
+        resend = true;  // it never got the request
+        n.sent_ns = now;
+      }
+    } else if (primary(state)) {
+      n.state = state;
+    }
+  }
+  n.changed.notify_all();
+  if (record) {
+    (*record)[log::schema::field::kTime] = log_.sinceStart(now);
+    log_.write(std::move(*record));
+  }
+  if (resend && lifecycle_.request) (void)lifecycle_.request(n.plan->name, t);
+  pokeTimer();
+}
+
+std::uint8_t NodeSupervisor::lifecycleStateOf(std::string_view instance) const {
+  for (const auto& n : nodes_) {
+    if (n->plan->name != instance) continue;
+    std::lock_guard lock(n->mutex);
+    return n->state;
+  }
+  return 0;
+}
+
+// The next of a managed node's steps, once it is in the graph; an unconfirmed one probed, and
+// late, its fault. Returns when next to look.
+std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
+  constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
+  if (!n.managed || !lifecycle_.request) return kNever;
+  std::optional<std::uint8_t> ask;
+  bool probe = false;
+  std::string fault;
+  std::int64_t next = kNever;
+  {
+    std::lock_guard lock(n.mutex);
+    if (n.pid == 0 || n.stopping || !n.up) return kNever;
+    const double timeout_ms = n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms;
+    const auto timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
+    if (n.asked >= 0) {
+      const auto t = static_cast<std::uint8_t>(n.asked);
+      if (now - n.asked_ns >= timeout_ns) {
+        fault = fmt::format("node '{}': {} not done within {:g} ms: it is {}", n.profile->fullName(), transitionName(t),
+                            timeout_ms, stateName(n.state));
+        n.asked = -1;
+        n.steps.clear();
+        n.resetting = false;
+        n.unresponsive = true;
+      } else {
+        if (now - n.sent_ns >= kProbeNs) {
+          probe = true;
+          n.sent_ns = now;
+        }
+        next = std::min(n.asked_ns + timeout_ns, n.sent_ns + kProbeNs);
+      }
+    } else if (!n.steps.empty()) {
+      ask = n.steps.front();
+    }
+  }
+  // Configured and activated once what it needs is Active (their transitions poke the timer).
+  if (ask && (*ask == LTransition::TRANSITION_CONFIGURE || *ask == LTransition::TRANSITION_ACTIVATE))
+    for (const Node* m : n.needs) {
+      std::lock_guard lock(m->mutex);
+      if (m->active_ns == 0) return kNever;
+    }
+  if (!fault.empty()) {
+    report(n, FaultKind::Lifecycle, fault, now);
+    return kNever;
+  }
+  if (probe && lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name);
+  if (!ask) return next;
+  const LifecycleLink::Asked sent = lifecycle_.request(n.plan->name, *ask);
+  if (sent == LifecycleLink::Asked::NotYet) return now + kUnmatchedRetryNs;  // its reader not matched yet
+  if (sent == LifecycleLink::Asked::Cyclone) {
+    {
+      std::lock_guard lock(n.mutex);
+      n.steps.clear();
+      n.unresponsive = true;  // it cannot be asked: a reset restarts it (and it says so again)
+      n.resetting = false;
+    }
+    report(n, FaultKind::Lifecycle,
+           fmt::format("node '{}' runs on rmw_cyclonedds (its participant's vendor id is CycloneDDS's), whose "
+                       "service requests keel does not write: run it on rmw_fastrtps_cpp to have keel drive it",
+                       n.profile->fullName()),
+           now);
+    return kNever;
+  }
+  std::lock_guard lock(n.mutex);
+  if (n.asked < 0 && !n.steps.empty() && n.steps.front() == *ask && !n.stopping) {
+    n.asked = *ask;
+    n.asked_from = n.state;
+    n.asked_ns = n.sent_ns = now;
+  }
+  const double timeout_ms = n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms;
+  return std::min(now + kProbeNs, now + static_cast<std::int64_t>(timeout_ms * 1e6));
+}
+
+// A reset of a live managed node that answers: deactivate → cleanup → configure → activate (from
+// where it is), its process kept. False: it is to be restarted (dead, unresponsive, or in a
+// state no transition leads back from).
+bool NodeSupervisor::resetByTransitions(Node& n) {
+  if (!n.managed || !lifecycle_.request) return false;
+  std::deque<std::uint8_t> steps;
+  nlohmann::json record;
+  {
+    std::lock_guard lock(n.mutex);
+    if (n.pid == 0 || n.stopping || n.unresponsive || !n.up) return false;
+    switch (n.state) {
+      case LState::PRIMARY_STATE_ACTIVE:
+        steps = {LTransition::TRANSITION_DEACTIVATE, LTransition::TRANSITION_CLEANUP, LTransition::TRANSITION_CONFIGURE,
+                 LTransition::TRANSITION_ACTIVATE};
+        break;
+      case LState::PRIMARY_STATE_INACTIVE:
+        steps = {LTransition::TRANSITION_CLEANUP, LTransition::TRANSITION_CONFIGURE, LTransition::TRANSITION_ACTIVATE};
+        break;
+      case LState::PRIMARY_STATE_UNCONFIGURED:
+        steps = {LTransition::TRANSITION_CONFIGURE, LTransition::TRANSITION_ACTIVATE};
+        break;
+      default: return false;  // Finalized, or between states: only a new process comes back
+    }
+    n.steps = steps;
+    n.asked = -1;
+    n.resetting = true;
+    record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, "resetting");
+    record[log::schema::field::kDetail] = fmt::format("{}, in the same process (it is {})", stepList(steps),
+                                                      stateName(n.state));
+  }
+  record[log::schema::field::kTime] = log_.now();
+  log_.write(std::move(record));
+  pokeTimer();
+  return true;
+}
+
+// Before a managed node is signalled to end: deactivated and shut down, each transition
+// confirmed before the next, all by `until`. What is not done by then the signals do.
+void NodeSupervisor::windDown(Node& n, Clock::time_point until) {
+  if (!lifecycle_.request) return;
+  std::deque<std::uint8_t> steps;
+  {
+    std::lock_guard lock(n.mutex);
+    n.steps.clear();
+    n.asked = -1;
+    if (n.unresponsive || !n.up) return;  // it did not answer before: the signals speak to it
+    switch (n.state) {
+      case LState::PRIMARY_STATE_ACTIVE:
+        steps = {LTransition::TRANSITION_DEACTIVATE, LTransition::TRANSITION_INACTIVE_SHUTDOWN};
+        break;
+      case LState::PRIMARY_STATE_INACTIVE: steps = {LTransition::TRANSITION_INACTIVE_SHUTDOWN}; break;
+      case LState::PRIMARY_STATE_UNCONFIGURED: steps = {LTransition::TRANSITION_UNCONFIGURED_SHUTDOWN}; break;
+      default: return;
+    }
+  }
+  for (std::uint8_t t : steps) {
+    const std::int64_t asked_ns = runtime::steadyNs();
+    while (lifecycle_.request(n.plan->name, t) != LifecycleLink::Asked::Written) {
+      if (Clock::now() + std::chrono::nanoseconds(kUnmatchedRetryNs) > until) return;
+      std::this_thread::sleep_for(std::chrono::nanoseconds(kUnmatchedRetryNs));
+    }
+    std::unique_lock lock(n.mutex);
+    const std::uint64_t exits = n.exits;
+    auto done = [&] { return n.state == goalOf(t) || n.exits != exits || n.pid == 0; };
+    while (!done()) {
+      const auto slice = std::min(until, Clock::now() + std::chrono::nanoseconds(kProbeNs));
+      if (n.changed.wait_until(lock, slice, done)) break;
+      if (Clock::now() >= until) return;
+      lock.unlock();  // no answer yet: its state, in case the event went missing
+      if (lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name);
+      lock.lock();
+    }
+    if (n.pid == 0 || n.exits != exits) return;
+    nlohmann::json record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, confirmedPhase(t));
+    record[log::schema::field::kAfterMs] = static_cast<double>(runtime::steadyNs() - asked_ns) / 1e6;
+    lock.unlock();
+    record[log::schema::field::kTime] = log_.now();
+    log_.write(std::move(record));
+  }
 }
 
 }  // namespace keel::supervision

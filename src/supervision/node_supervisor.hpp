@@ -7,6 +7,14 @@
 // last had: node_parameters.hpp), its stop stops it (SIGINT to its group, a grace period, then
 // SIGKILL), its emergency stop stops it when its profile says so and has its safe commands
 // written (setEmergency).
+// A managed node (<lifecycle/>) is driven through ROS 2's lifecycle (LifecycleLink): configured
+// and activated once it is in the graph and the managed nodes it needs (<needs>, through any
+// component) are Active, deactivated and shut down before it is stopped (at keel run's end,
+// before the managed nodes it needs); its
+// reset, while it lives and answers, goes deactivate → cleanup → configure → activate in the
+// same process. Each transition is confirmed by the node's own transition event (or its state,
+// asked), within its transition timeout; a failed or late one, or a node falling into
+// ErrorProcessing or Finalized by itself, is a `lifecycle` fault of it.
 // Every start, exit and stop is a `node` record of the log. A guard process (keel-node-exec
 // --guard) knows every node's process group: when keel run dies, kill -9 included, it kills what
 // is left of them (what a node forked, which dies with keel run no other way).
@@ -55,6 +63,20 @@ std::string defaultNodeExec();
 /// The last `n` lines of the text file `path` (its last 4 KiB at most), without their line ends.
 std::vector<std::string> lastLines(const std::string& path, std::size_t n);
 
+/// How keel reaches the services of the managed nodes it runs (keel run's DDS side).
+struct LifecycleLink {
+  /// What became of a request.
+  enum class Asked {
+    Written,  // on its way to the node's current process
+    NotYet,   // no reader of the node's current process matched yet: ask again later
+    Cyclone,  // the node runs on rmw_cyclonedds, whose requests keel does not write
+  };
+  /// Asks node `instance` for transition `transition` (a lifecycle_msgs/msg/Transition id).
+  std::function<Asked(const std::string& instance, std::uint8_t transition)> request;
+  /// Asks node `instance` its state, answered to lifecycleState().
+  std::function<Asked(const std::string& instance)> ask_state;
+};
+
 /// One participant of the ROS 2 graph that lists a node (what keel run's graph watch saw).
 struct GraphSighting {
   pid_t pid = 0;        // the process it announces; 0: none announced
@@ -93,6 +115,9 @@ class NodeSupervisor {
   /// writer), before launch(): the node's instance, for each node whose profile has <emergency>.
   using Emergency = std::function<void(const std::string& instance)>;
   void setEmergency(Emergency emergency) { emergency_ = std::move(emergency); }
+  /// How the managed nodes' transitions are asked for, before launch() (without it, a managed
+  /// node is started and never configured).
+  void setLifecycle(LifecycleLink link) { lifecycle_ = std::move(link); }
 
   /// Starts every node keel runs (not the attached ones); each one that cannot be started is
   /// an error, all said.
@@ -100,6 +125,10 @@ class NodeSupervisor {
   /// Stops every node still running: SIGINT to its group, then SIGKILL to those still there
   /// after their grace period (at most `within`). Its exit is then no fault.
   void stop(std::chrono::milliseconds within);
+  /// Deactivates and shuts down every managed node still running, each before the managed
+  /// nodes it needs (<needs>), within `within` in all; their processes are left for stop().
+  /// For keel run's end, while its DDS side still reaches them.
+  void windDownManaged(std::chrono::milliseconds within);
 
   /// What the ROS 2 graph shows of node `instance` now (every participant listing its name or
   /// publishing one of its output topics), from the graph's watch (any thread). The first call
@@ -133,6 +162,14 @@ class NodeSupervisor {
   /// The parameter values node `instance` would be restarted with now (empty for no such node).
   ParameterMap parametersOf(std::string_view instance) const;
 
+  /// Managed node `instance` went from state `start` to `goal` (lifecycle_msgs/msg/State ids),
+  /// as its transition event says (any thread).
+  void lifecycleTransition(std::string_view instance, std::uint8_t start, std::uint8_t goal);
+  /// Managed node `instance` said it is in state `state` (a get_state reply; any thread).
+  void lifecycleState(std::string_view instance, std::uint8_t state);
+  /// Managed node `instance`'s state as keel last knew it (0: unknown, or no such node).
+  std::uint8_t lifecycleStateOf(std::string_view instance) const;
+
   /// The output file of node `instance` ("" for no such node).
   std::string outputOf(std::string_view instance) const;
   /// The pid of node `instance` now; 0 when it does not run.
@@ -156,6 +193,10 @@ class NodeSupervisor {
   void timerLoop();
   void pokeTimer();
   std::int64_t checkTimes(Node& n, std::int64_t now_ns);
+  std::int64_t driveLifecycle(Node& n, std::int64_t now_ns);
+  bool resetByTransitions(Node& n);
+  void windDown(Node& n, std::chrono::steady_clock::time_point until);
+  void orderManaged(const plan::Plan& plan);
   void report(Node& n, FaultKind kind, const std::string& detail, std::int64_t t_ns);
 
   NodeLaunch launch_;
@@ -165,7 +206,9 @@ class NodeSupervisor {
   Report report_;
   Exited exited_;
   Emergency emergency_;
+  LifecycleLink lifecycle_;
   std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
+  std::vector<Node*> wind_down_order_;        // the managed nodes, each before those it needs
   int guard_fd_ = -1;                         // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
   pid_t guard_pid_ = 0;
   std::mutex guard_mutex_;

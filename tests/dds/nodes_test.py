@@ -32,13 +32,14 @@ ROOT = HERE.parents[1]
 VENV_BIN = str(Path(sys.executable).parent)
 
 
-def node_profile(name, command, node, parameters=(), ports="", start_ms=None):
+def node_profile(name, command, node, parameters=(), ports="", start_ms=None, extra=""):
+    """`extra`: more of the profile's elements (<lifecycle/>), before its ports."""
     params = "".join(f'<parameter name="{k}">{v}</parameter>' for k, v in parameters)
     start = f'<start timeout="{start_ms}"/>' if start_ms else ""
     return (f'<?xml version="1.0"?>\n<ros2_node_profile><name>{name}</name><command>{command}</command>'
             f"<node>{node}</node>"
             f'<environment><variable name="PATH" value="{VENV_BIN}:{os.environ.get("PATH", "")}"/></environment>'
-            f"<parameters>{params}</parameters>{start}<stop grace=\"2000\"/><ports>{ports}</ports>"
+            f"<parameters>{params}</parameters>{start}<stop grace=\"2000\"/>{extra}<ports>{ports}</ports>"
             "</ros2_node_profile>\n")
 
 

@@ -87,7 +87,7 @@ TEST(FaultPolicyErrors, RejectsAnUnknownFaultKind) {
   EXPECT_THAT(problems("errors/fault/bad_severity_kind.xml"),
               ElementsAre("errors/fault/bad_severity_kind.xml:9: kind of <severity> of fault_policy of subcomponent "
                           "'sonar' must be one of signal, exception, error_code, range, model, heartbeat, deadline, "
-                          "vote, user, remote, process, start or reported, got 'timeout'"));
+                          "vote, user, remote, process, start, reported or lifecycle, got 'timeout'"));
 }
 
 TEST(FaultPolicyErrors, RejectsTwoDefaultSeverities) {

@@ -89,7 +89,8 @@ TEST(NodeProfileErrors, RejectsBadEnvironmentVariablesParametersAndTimes) {
           f + "22: missing attribute 'name' of <parameter>", f + "23: unknown attribute 'type' of <parameter>",
           f + "25: timeout of <start> of node profile 'Env' must be a positive number, got '0'",
           f + "26: missing attribute 'grace' of <stop>", f + "27: <diagnostics> of node profile 'Env': empty name",
-          f + "28: unknown element <colour> in <ros2_node_profile>"));
+          f + "28: unknown element <colour> in <ros2_node_profile>", f + "29: unknown attribute 'state' of <lifecycle>",
+          f + "29: transition_timeout of <lifecycle> of node profile 'Env' must be a positive number, got '0'"));
 }
 
 TEST(NodeProfileErrors, RejectsBadPortsEachWithItsLine) {

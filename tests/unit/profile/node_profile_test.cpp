@@ -54,6 +54,8 @@ TEST(NodeProfile, AFullProfileIsReadIntoEveryField) {
   EXPECT_EQ(n.start_timeout_ms, 5000.0);
   EXPECT_EQ(n.stop_grace_ms, 1500.5);
   EXPECT_EQ(n.diagnostics_name, "wander: status");
+  ASSERT_TRUE(n.lifecycle);
+  EXPECT_EQ(n.lifecycle->transition_timeout_ms, 2500.0);
 
   ASSERT_EQ(n.topics.size(), 2u);
   EXPECT_EQ(n.topics[0].port, "cmd");
@@ -137,6 +139,7 @@ TEST(NodeProfile, AMinimalProfileTakesTheDefaults) {
   EXPECT_EQ(n.start_timeout_ms, 10000.0);
   EXPECT_EQ(n.stop_grace_ms, 2000.0);
   EXPECT_EQ(n.diagnostics_name, "");
+  EXPECT_FALSE(n.lifecycle);
   EXPECT_THAT(n.topics, ElementsAre());
   EXPECT_FALSE(n.emergency);
   EXPECT_THAT(n.component.data_ports, ElementsAre());

@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""Managed (lifecycle) ROS 2 nodes under keel, against a real rclpy.lifecycle node (ROS 2 Kilted
+from PyPI, Fast DDS): tests/dds/nodes/lifecycle_talker.py, which knows nothing of keel, driven by
+`keel run` through its `~/change_state` service and confirmed by its `~/transition_event`
+(docs/ros2-nodes.md#lifecycle-nodes).
+
+  lifecycle_test.py KEEL_CLI COMPONENT_DIR [unittest options]
+
+Each test runs on a ROS_DOMAIN_ID of its own, pinned to the loopback, as nodes_test.py's."""
+import os
+import signal
+import sys
+import unittest
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import ros2_peer_test as peers  # noqa: E402
+from domains import domain  # noqa: E402
+from nodes_test import HERE, gone, node_profile, package, string_port, wait_until  # noqa: E402
+from std_msgs.msg import String  # noqa: E402
+
+SCRIPT = (HERE / "nodes" / "lifecycle_talker.py").read_text()
+
+
+LEVEL = ("<data_port><name>level</name><usage>output</usage><data_type>std_msgs/msg/Float64</data_type>"
+         '<topic>/demo/level</topic><validity field="data"><min>0</min><max>10</max></validity></data_port>')
+
+
+def managed(parameters=(), lifecycle="<lifecycle/>", node="/demo/managed", namespace="/demo"):
+    ports = string_port("chatter", f"{namespace}/chatter") + LEVEL.replace("/demo/", f"{namespace}/")
+    return node_profile("Managed", "python3 lifecycle_talker.py", node, [("greeting", "hi"), *parameters], ports,
+                        extra=lifecycle)
+
+
+def run_managed(test, d, profile=None, policy="<severity>reset</severity>"):
+    files = {"managed.xml": profile or managed(), "lifecycle_talker.py": SCRIPT}
+    return peers.KeelRun(test, d, package(ref="managed.xml", policy=policy), files)
+
+
+def node_records(run, phase=None, component=None):
+    return [r for r in run.records() if r.get("event") == "node" and (phase is None or r.get("phase") == phase)
+            and (component is None or r.get("component") == component)]
+
+
+def faults(run):
+    return [r for r in run.records() if r.get("event") == "detected"]
+
+
+def said(run, what):
+    """The node's own lines `lifecycle <what> <pid>` so far, as pids."""
+    out = run.dir / "log.talker.out"
+    if not out.exists():
+        return []
+    return [int(line.split()[2]) for line in out.read_text().splitlines() if line.startswith(f"lifecycle {what} ")]
+
+
+class StartAndStop(unittest.TestCase):
+    def test_keel_configures_and_activates_the_node_and_deactivates_and_shuts_it_down_at_stop(self):
+        """Started Unconfigured, the node is configured then activated by keel (each a `node`
+        record once its transition event confirms it) and publishes; at keel run's end it is
+        deactivated and shut down before its process is signalled."""
+        d = domain()
+        run = run_managed(self, d)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [configured] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "configured", 30,
+                                    "its configuration")
+        [activated] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30,
+                                   "its activation")
+        self.assertEqual(configured["pid"], started["pid"])
+        self.assertLess(configured["t_ns"], activated["t_ns"])
+        self.assertEqual(said(run, "configure"), [started["pid"]])
+        self.assertEqual(said(run, "activate"), [started["pid"]])
+        peer = peers.Ros2Peer(self, d)
+        heard = []
+        peer.node.create_subscription(String, "/demo/chatter", lambda m: heard.append(m.data), 10)
+        self.assertTrue(peer.spin_until(lambda: any(h.startswith("hi ") for h in heard), 30), f"heard: {heard}")
+        run.stop()
+        phases = [r["phase"] for r in node_records(run)]
+        self.assertEqual(phases[-3:], ["deactivated", "shut_down", "stopped"], phases)
+        self.assertEqual(said(run, "deactivate"), [started["pid"]])
+        self.assertEqual(said(run, "shutdown"), [started["pid"]])
+        self.assertTrue(gone(started["pid"]))
+        self.assertEqual([r for r in run.records() if r.get("event") == "detected"], [])
+
+    def test_a_node_is_configured_only_once_the_managed_node_it_needs_is_active_and_wound_down_before_it(self):
+        """`planner` needs `driver` (<needs>): the planner is configured only after the driver
+        is activated, and at the end deactivated before the driver is."""
+        d = domain()
+        pkg = ('<?xml version="1.0"?>\n<package_profile><name>order</name><subcomponents>'
+               "<subcomponent><name>planner</name><reference>planner.xml</reference></subcomponent>"
+               "<subcomponent><name>driver</name><reference>driver.xml</reference></subcomponent>"
+               '</subcomponents><coordination><needs source="planner" target="driver"/></coordination>'
+               "</package_profile>\n")
+        # The driver slow to configure: without the order, the planner would be active seconds first.
+        files = {"planner.xml": managed(node="/a/planner", namespace="/a"),
+                 "driver.xml": managed([("configure_ms", "3000")], node="/b/driver", namespace="/b"),
+                 "lifecycle_talker.py": SCRIPT}
+        run = peers.KeelRun(self, d, pkg, files)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated"
+                     and r.get("component") == "planner", 40, "the planner active")
+        driver_active = node_records(run, "activated", "driver")
+        [planner_configured] = node_records(run, "configured", "planner")
+        self.assertEqual(len(driver_active), 1, "the planner was active before the driver")
+        self.assertLess(driver_active[0]["t_ns"], planner_configured["t_ns"])
+        run.stop()
+        [planner_down] = node_records(run, "deactivated", "planner")
+        [driver_down] = node_records(run, "deactivated", "driver")
+        self.assertLess(planner_down["t_ns"], driver_down["t_ns"])
+
+
+class Faults(unittest.TestCase):
+    def test_a_failed_on_configure_is_a_lifecycle_fault_saying_where_the_node_is(self):
+        """on_configure returns FAILURE (the node back to Unconfigured), and in another run
+        raises (through ErrorProcessing): each a `lifecycle` fault of the node; stopped by its
+        policy, it is then signalled (nothing to deactivate)."""
+        for parameter, words in (("fail_configure", "configure failed: it is unconfigured"),
+                                 ("error_configure", "configure failed with an error: it is unconfigured")):
+            with self.subTest(parameter=parameter):
+                run = run_managed(self, domain(), managed([(parameter, "true")]),
+                                  policy="<severity>stop</severity>")
+                [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20,
+                                         "its start")
+                [fault] = run.wait_for(lambda r: r.get("event") == "detected", 30, "the failed configure")
+                self.assertEqual((fault["kind"], fault["component"]), ("lifecycle", "talker"), fault)
+                self.assertIn(f"node '/demo/managed': {words}", fault["detail"])
+                run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "stopped", 20, "its stop")
+                self.assertEqual(said(run, "activate"), [])
+                self.assertEqual(said(run, "configure"), [started["pid"]])
+                run.stop()
+
+    def test_a_transition_that_times_out_is_a_lifecycle_fault_and_its_reset_restarts_the_process(self):
+        """on_configure takes 3 s where the profile allows 1 s: a `lifecycle` fault naming the
+        transition and the time; the node did not answer in time, so its reset is a restart (a
+        new process), which is configured and activated in turn."""
+        d = domain()
+        profile = managed([("configure_ms", "3000")], lifecycle='<lifecycle transition_timeout="1000"/>')
+        run = run_managed(self, d, profile)
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected", 30, "the late configure")
+        self.assertEqual(fault["kind"], "lifecycle")
+        self.assertIn("node '/demo/managed': configure not done within 1000 ms: it is configuring", fault["detail"])
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                               "its restart")
+        self.assertNotEqual(again["pid"], started["pid"])
+        run.stop()
+
+    def test_a_node_that_finalizes_itself_is_a_lifecycle_fault_and_is_restarted(self):
+        """The node shuts itself down at its 5th message (Finalized, its process alive): a
+        `lifecycle` fault; no transition leads back from Finalized, so its reset restarts it."""
+        d = domain()
+        run = run_managed(self, d, managed([("finalize_at", "5")]))
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected", 30, "its shutdown by itself")
+        self.assertEqual(fault["kind"], "lifecycle")
+        self.assertIn("node '/demo/managed' went from shuttingdown to finalized by itself", fault["detail"])
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                               "its restart")
+        self.assertNotEqual(again["pid"], started["pid"])
+        run.stop()
+
+
+class Reset(unittest.TestCase):
+    def test_a_live_node_faulty_by_its_values_is_reset_by_transitions_in_the_same_process(self):
+        """The node's 10th level reads 100 where its profile allows [0, 10]: a `range` fault,
+        whose reset goes deactivate → cleanup → configure → activate in the same process (its
+        pid's own lines say so), and the fault is recovered once it is Active again."""
+        d = domain()
+        run = run_managed(self, d, managed([("lie_at", "10")]))
+        [started] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "started", 20, "its start")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected", 30, "the lie")
+        self.assertEqual(fault["kind"], "range")
+        [resetting] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "resetting", 20,
+                                   "its reset")
+        self.assertEqual(resetting["pid"], started["pid"])
+        self.assertIn("deactivate → cleanup → configure → activate, in the same process", resetting["detail"])
+        run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 30,
+                     "its recovery")
+        pid = started["pid"]
+        self.assertEqual((said(run, "deactivate"), said(run, "cleanup")), ([pid], [pid]))
+        self.assertEqual((said(run, "configure"), said(run, "activate")), ([pid, pid], [pid, pid]))
+        self.assertEqual(node_records(run, "restarted"), [])
+        peer = peers.Ros2Peer(self, d)
+        heard = []
+        peer.node.create_subscription(String, "/demo/chatter", lambda m: heard.append(m.data), 10)
+        self.assertTrue(peer.spin_until(lambda: len(heard) >= 3, 30), f"heard: {heard}")
+        run.stop()
+        self.assertEqual(len(faults(run)), 1, faults(run))
+
+    def test_a_killed_node_is_restarted_then_configured_and_activated(self):
+        """kill -9 of the active node: a `process` fault, a new process, configured and
+        activated by keel, the fault recovered once it is Active."""
+        d = domain()
+        run = run_managed(self, d)
+        [active] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30, "active")
+        os.kill(active["pid"], signal.SIGKILL)
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected", 20, "its death")
+        self.assertEqual(fault["kind"], "process")
+        [again] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "restarted", 20,
+                               "its restart")
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated"
+                     and r["pid"] == again["pid"], 30, "the new process active")
+        run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 30,
+                     "its recovery")
+        run.stop()
+
+
+if __name__ == "__main__":
+    peers.KEEL, peers.COMPONENTS = sys.argv[1], sys.argv[2]  # keel, tests/dds/components.cpp's library
+    os.environ["FASTDDS_DEFAULT_PROFILES_FILE"] = str(HERE / "fastdds-lo.xml")
+    unittest.main(argv=[sys.argv[0]] + sys.argv[3:], verbosity=2)
