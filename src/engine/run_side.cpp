@@ -168,6 +168,7 @@ Result<void> RunSide::launch() {
                           [this, asked](const std::string& instance) {
                             return e_.dds_ ? asked(e_.dds_->askLifecycleState(instance)) : Asked::NotYet;
                           }});
+    nodes_->setRecovered([this](Component& proxy, std::int64_t t_ns) { e_.fault_manager_.recovered(proxy, t_ns); });
     if (auto r = nodes_->launch(); !r) return r;
   }
   if (!supervisor_) return {};

@@ -223,8 +223,10 @@ void FaultManager::finish(FaultReport& r, unsigned where) {
     // A recovery wakes the manager with its `recovered` record; nothing else is on the path.
     queue_.enqueue(HandlingItem::Type::Report, r, !awaits_recovery);
   }
-  // A passive component has no next step of its own: it is back as soon as it is Active.
-  if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr) {
+  // A passive component has no next step of its own: it is back as soon as it is Active, or,
+  // when its stand-in says it recovers later, when that says so.
+  if (awaits_recovery && coreOf(*recovering).executor.load() == nullptr &&
+      !coreOf(*recovering).fault.recovers_later.load(std::memory_order_acquire)) {
     const std::int64_t at = coreOf(*recovering).fault.recovered_at_ns.exchange(0, std::memory_order_acq_rel);
     recovered(*recovering, at != 0 ? at : runtime::steadyNs());
   }

@@ -114,6 +114,10 @@ struct FaultCell {
   // A passive stand-in for a component running in another process (keel run's proxy): when
   // that component ran again after its reset (steady ns), the `recovered` moment; 0: on return.
   std::atomic<std::int64_t> recovered_at_ns{0};
+  // A passive stand-in whose recovery comes after its handling ends (a lifecycle node reset
+  // through its transitions: recovered once Active): its handling's end logs no `recovered`;
+  // the stand-in's owner reports it (FaultSink::recovered) when it happens.
+  std::atomic<bool> recovers_later{false};
   // The newest fault accusing this component, as diagnosed (before its records are written on
   // the fault manager's thread): stored before `ComponentCore::faults` counts it.
   std::atomic<std::uint64_t> last_id{0};

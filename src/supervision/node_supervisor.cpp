@@ -421,8 +421,10 @@ Result<void> NodeSupervisor::restart(Node& n) {
   auto pid = start(n, "restarted", writeParameters(n));
   if (!pid) return pid.error();
   std::lock_guard lock(n.mutex);
-  if (n.managed) n.resetting = true;  // recovered once configured and Active again
-  else if (n.proxy)
+  if (n.managed) {  // recovered once configured and Active again, not at the handling's end
+    n.resetting = true;
+    if (n.proxy) runtime::coreOf(*n.proxy).fault.recovers_later.store(true, std::memory_order_release);
+  } else if (n.proxy)
     runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
   return {};
 }
@@ -868,6 +870,7 @@ void NodeSupervisor::lifecycleTransition(std::string_view instance, std::uint8_t
   const std::int64_t now = runtime::steadyNs();
   std::optional<nlohmann::json> record;
   std::string fault;
+  Proxy* back = nullptr;  // the node is back after its reset: its recovery
   {
     std::lock_guard lock(n.mutex);
     if (n.pid == 0) return;  // a life that ended: its last words change nothing
@@ -886,7 +889,7 @@ void NodeSupervisor::lifecycleTransition(std::string_view instance, std::uint8_t
         if (goal == LState::PRIMARY_STATE_ACTIVE) n.active_ns = now;
         if (n.resetting && n.steps.empty() && goal == LState::PRIMARY_STATE_ACTIVE) {
           n.resetting = false;
-          if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(now, std::memory_order_release);
+          back = n.proxy;
         }
       } else if (ends && !n.stopping) {
         fault = fmt::format("node '{}': {} failed{}: it is {}", name, transitionName(t),
@@ -912,6 +915,7 @@ void NodeSupervisor::lifecycleTransition(std::string_view instance, std::uint8_t
     (*record)[log::schema::field::kTime] = log_.sinceStart(now);
     log_.write(std::move(*record));
   }
+  if (back) recoveredAt(*back, now);
   if (!fault.empty()) report(n, FaultKind::Lifecycle, fault, now);
   pokeTimer();
 }
@@ -926,6 +930,7 @@ void NodeSupervisor::lifecycleState(std::string_view instance, std::uint8_t stat
   std::optional<nlohmann::json> record;
   bool resend = false;
   std::uint8_t t = 0;
+  Proxy* back = nullptr;
   {
     std::lock_guard lock(n.mutex);
     if (n.pid == 0) return;
@@ -941,7 +946,7 @@ void NodeSupervisor::lifecycleState(std::string_view instance, std::uint8_t stat
         if (state == LState::PRIMARY_STATE_ACTIVE) n.active_ns = now;
         if (n.resetting && n.steps.empty() && state == LState::PRIMARY_STATE_ACTIVE) {
           n.resetting = false;
-          if (n.proxy) runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(now, std::memory_order_release);
+          back = n.proxy;
         }
       } else if (state == n.asked_from && now - n.sent_ns >= kResendNs) {
         resend = true;  // it never got the request
@@ -956,8 +961,15 @@ void NodeSupervisor::lifecycleState(std::string_view instance, std::uint8_t stat
     (*record)[log::schema::field::kTime] = log_.sinceStart(now);
     log_.write(std::move(*record));
   }
+  if (back) recoveredAt(*back, now);
   if (resend && lifecycle_.request) (void)lifecycle_.request(n.plan->name, t);
   pokeTimer();
+}
+
+// A managed node's reset is over: it is Active again.
+void NodeSupervisor::recoveredAt(Proxy& proxy, std::int64_t t_ns) {
+  runtime::coreOf(proxy).fault.recovers_later.store(false, std::memory_order_release);
+  if (recovered_) recovered_(proxy, t_ns);
 }
 
 std::uint8_t NodeSupervisor::lifecycleStateOf(std::string_view instance) const {
@@ -1066,7 +1078,8 @@ bool NodeSupervisor::resetByTransitions(Node& n) {
     }
     n.steps = steps;
     n.asked = -1;
-    n.resetting = true;
+    n.resetting = true;  // recovered once Active again, not at the handling's end
+    if (n.proxy) runtime::coreOf(*n.proxy).fault.recovers_later.store(true, std::memory_order_release);
     record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, "resetting");
     record[log::schema::field::kDetail] = fmt::format("{}, in the same process (it is {})", stepList(steps),
                                                       stateName(n.state));

@@ -118,6 +118,10 @@ class NodeSupervisor {
   /// How the managed nodes' transitions are asked for, before launch() (without it, a managed
   /// node is started and never configured).
   void setLifecycle(LifecycleLink link) { lifecycle_ = std::move(link); }
+  /// Where a managed node's recovery goes, before launch(): its reset ends when it is Active
+  /// again, after the reset's handling (the fault manager's `recovered`, at steady time t_ns).
+  using Recovered = std::function<void(Component& proxy, std::int64_t t_ns)>;
+  void setRecovered(Recovered recovered) { recovered_ = std::move(recovered); }
 
   /// Starts every node keel runs (not the attached ones); each one that cannot be started is
   /// an error, all said.
@@ -195,6 +199,7 @@ class NodeSupervisor {
   std::int64_t checkTimes(Node& n, std::int64_t now_ns);
   std::int64_t driveLifecycle(Node& n, std::int64_t now_ns);
   bool resetByTransitions(Node& n);
+  void recoveredAt(Proxy& proxy, std::int64_t t_ns);
   void windDown(Node& n, std::chrono::steady_clock::time_point until);
   void orderManaged(const plan::Plan& plan);
   void report(Node& n, FaultKind kind, const std::string& detail, std::int64_t t_ns);
@@ -207,6 +212,7 @@ class NodeSupervisor {
   Exited exited_;
   Emergency emergency_;
   LifecycleLink lifecycle_;
+  Recovered recovered_;
   std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
   std::vector<Node*> wind_down_order_;        // the managed nodes, each before those it needs
   int guard_fd_ = -1;                         // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
