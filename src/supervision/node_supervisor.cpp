@@ -106,7 +106,8 @@ struct NodeSupervisor::Node {
   int asked = -1;                  // the transition requested and not confirmed yet; -1: none
   std::uint8_t asked_from = 0;     // its state when it was requested
   std::int64_t asked_ns = 0;       // when it was first requested: its timeout counts from then
-  std::int64_t sent_ns = 0;        // when it was last written, or the node's state last asked
+  std::int64_t sent_ns = 0;        // when the request was last written
+  std::int64_t probed_ns = 0;      // when its state was last asked
   bool unresponsive = false;       // a transition of this life timed out: a reset restarts it
   bool resetting = false;          // the steps are a reset's: recovered once Active
   std::int64_t active_ns = 0;      // when it became Active in this life; 0: not Active
@@ -786,7 +787,8 @@ using LTransition = msg::lifecycle_msgs::Transition;
 
 /// How often keel asks a managed node its state while a transition it asked for is unconfirmed
 /// (a transition event lost on the way, or the request), and resends a request the node's state
-/// shows was not received.
+/// shows was not received or failed unseen: a second try is answered by events that arrive (the
+/// sample a Fast DDS writer loses is the first after matching).
 constexpr std::int64_t kProbeNs = 500'000'000;
 constexpr std::int64_t kResendNs = 1'000'000'000;
 /// How soon keel asks again when no reader of the node's process is matched yet.
@@ -1005,11 +1007,11 @@ std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
         n.resetting = false;
         n.unresponsive = true;
       } else {
-        if (now - n.sent_ns >= kProbeNs) {
+        if (now - n.probed_ns >= kProbeNs) {
           probe = true;
-          n.sent_ns = now;
+          n.probed_ns = now;
         }
-        next = std::min(n.asked_ns + timeout_ns, n.sent_ns + kProbeNs);
+        next = std::min(n.asked_ns + timeout_ns, n.probed_ns + kProbeNs);
       }
     } else if (!n.steps.empty()) {
       ask = n.steps.front();
@@ -1047,7 +1049,7 @@ std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
   if (n.asked < 0 && !n.steps.empty() && n.steps.front() == *ask && !n.stopping) {
     n.asked = *ask;
     n.asked_from = n.state;
-    n.asked_ns = n.sent_ns = now;
+    n.asked_ns = n.sent_ns = n.probed_ns = now;
   }
   const double timeout_ms = n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms;
   return std::min(now + kProbeNs, now + static_cast<std::int64_t>(timeout_ms * 1e6));

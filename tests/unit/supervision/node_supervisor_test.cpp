@@ -10,8 +10,10 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -22,6 +24,8 @@
 #include <thread>
 #include <vector>
 
+#include "keel/msg/lifecycle_msgs/msg/state.hpp"
+#include "keel/msg/lifecycle_msgs/msg/transition.hpp"
 #include "runtime/injection.hpp"
 #include "support/log_reader.hpp"
 #include "support/paths.hpp"
@@ -337,6 +341,168 @@ TEST(NodeSupervisor, ANodeThatLeavesTheGraphAndThenExitsIsOneFaultItsExit) {
 
 // keel-node-exec --guard alone: what keel run's death (its socket's end) does to the groups it was
 // told of.
+// A managed node as rcl_lifecycle behaves, reached through the supervisor's lifecycle link (the
+// DDS side is tests/dds/lifecycle_test.py): its state machine, answered from a thread of its
+// own, and what a first sample lost on the way does: the transition events of the first request
+// never arrive (a Fast DDS writer's first sample after CycloneDDS matches it is often dropped).
+class FakeManagedNode {
+ public:
+  using State = msg::lifecycle_msgs::State;
+  using Transition = msg::lifecycle_msgs::Transition;
+
+  FakeManagedNode(bool lose_first_events, bool fail_configure)
+      : lose_first_events_(lose_first_events), fail_configure_(fail_configure), worker_([this] { work(); }) {}
+  ~FakeManagedNode() { end(); }
+  FakeManagedNode(const FakeManagedNode&) = delete;
+  FakeManagedNode& operator=(const FakeManagedNode&) = delete;
+  FakeManagedNode(FakeManagedNode&&) = delete;
+  FakeManagedNode& operator=(FakeManagedNode&&) = delete;
+
+  LifecycleLink link(NodeSupervisor& sup) {
+    return {[this, &sup](const std::string& instance, std::uint8_t t) {
+              post([this, &sup, instance, t] { perform(sup, instance, t); });
+              return LifecycleLink::Asked::Written;
+            },
+            [this, &sup](const std::string& instance) {
+              post([this, &sup, instance] { sup.lifecycleState(instance, state()); });
+              return LifecycleLink::Asked::Written;
+            }};
+  }
+  // No answer after this: the supervisor may still ask.
+  void end() {
+    {
+      std::lock_guard lock(mutex_);
+      ending_ = true;
+      wake_.notify_all();
+    }
+    if (worker_.joinable()) worker_.join();
+  }
+  std::uint8_t state() {
+    std::lock_guard lock(mutex_);
+    return state_;
+  }
+  std::vector<std::uint8_t> requests() {
+    std::lock_guard lock(mutex_);
+    return requests_;
+  }
+  bool waitForState(std::uint8_t s) {
+    std::unique_lock lock(mutex_);
+    return wake_.wait_for(lock, std::chrono::seconds(30), [&] { return state_ == s; });
+  }
+
+ private:
+  void post(std::function<void()> f) {
+    std::lock_guard lock(mutex_);
+    if (ending_) return;
+    work_.push_back(std::move(f));
+    wake_.notify_all();
+  }
+  void work() {
+    std::unique_lock lock(mutex_);
+    for (;;) {
+      wake_.wait(lock, [&] { return ending_ || !work_.empty(); });
+      if (ending_) return;
+      auto f = std::move(work_.front());
+      work_.pop_front();
+      lock.unlock();
+      f();
+      lock.lock();
+    }
+  }
+  void perform(NodeSupervisor& sup, const std::string& instance, std::uint8_t t) {
+    std::uint8_t from = 0;
+    std::uint8_t through = 0;
+    std::uint8_t to = 0;
+    bool silent = false;
+    {
+      std::lock_guard lock(mutex_);
+      requests_.push_back(t);
+      silent = lose_first_events_ && requests_.size() == 1;
+      from = state_;
+      if (t == Transition::TRANSITION_CONFIGURE && from == State::PRIMARY_STATE_UNCONFIGURED) {
+        through = State::TRANSITION_STATE_CONFIGURING;
+        to = fail_configure_ ? State::PRIMARY_STATE_UNCONFIGURED : State::PRIMARY_STATE_INACTIVE;
+      } else if (t == Transition::TRANSITION_ACTIVATE && from == State::PRIMARY_STATE_INACTIVE) {
+        through = State::TRANSITION_STATE_ACTIVATING;
+        to = State::PRIMARY_STATE_ACTIVE;
+      } else if (t == Transition::TRANSITION_DEACTIVATE && from == State::PRIMARY_STATE_ACTIVE) {
+        through = State::TRANSITION_STATE_DEACTIVATING;
+        to = State::PRIMARY_STATE_INACTIVE;
+      } else if (t == Transition::TRANSITION_INACTIVE_SHUTDOWN && from == State::PRIMARY_STATE_INACTIVE) {
+        through = State::TRANSITION_STATE_SHUTTINGDOWN;
+        to = State::PRIMARY_STATE_FINALIZED;
+      } else {
+        return;  // not a transition from here: rcl_lifecycle refuses it, no event
+      }
+      state_ = to;
+      wake_.notify_all();
+    }
+    if (silent) return;
+    sup.lifecycleTransition(instance, from, through);
+    sup.lifecycleTransition(instance, through, to);
+  }
+
+  const bool lose_first_events_;
+  const bool fail_configure_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::function<void()>> work_;
+  std::uint8_t state_ = State::PRIMARY_STATE_UNCONFIGURED;
+  std::vector<std::uint8_t> requests_;
+  bool ending_ = false;
+  std::thread worker_;  // last: started once the rest is
+};
+
+void managedChatterNode(profile::NodeProfile& node) {
+  chatterNode(node);
+  node.start_timeout_ms = 60000;  // no start fault here
+  node.lifecycle = profile::NodeLifecycle{};
+}
+
+TEST(NodeSupervisor, AManagedNodeWhoseTransitionEventsWentUnseenIsConfirmedByItsState) {
+  FakeManagedNode managed(/*lose_first_events=*/true, /*fail_configure=*/false);
+  Rig rig("exec sleep 60", 2000, managedChatterNode);
+  rig.sup->setLifecycle(managed.link(*rig.sup));
+  ASSERT_TRUE(rig.sup->launch());
+  rig.sup->nodeSeen("talker", {{rig.sup->pidOf("talker"), true, {"/demo/chatter"}}});
+  ASSERT_TRUE(managed.waitForState(FakeManagedNode::State::PRIMARY_STATE_ACTIVE));
+  // Its state said Inactive while no event came: the configure is confirmed by it, not asked twice.
+  std::vector<std::string> phases;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (std::find(phases.begin(), phases.end(), "activated") == phases.end() &&
+         std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    phases.clear();
+    for (const auto& r : rig.nodeRecords()) phases.push_back(r["phase"]);
+  }
+  EXPECT_EQ(phases, (std::vector<std::string>{"started", "up", "configured", "activated"}));
+  const auto configured = rig.nodeRecords()[2];
+  EXPECT_EQ(configured["detail"], "confirmed by its state (its transition event was not seen)");
+  using T = FakeManagedNode::Transition;
+  EXPECT_EQ(managed.requests(), (std::vector<std::uint8_t>{T::TRANSITION_CONFIGURE, T::TRANSITION_ACTIVATE}));
+  managed.end();
+  std::lock_guard lock(rig.mutex);
+  EXPECT_TRUE(rig.faults.empty());
+}
+
+TEST(NodeSupervisor, AManagedNodeWhoseFailedConfigureWentUnseenIsAskedAgainAndItsSecondFailureIsAFault) {
+  FakeManagedNode managed(/*lose_first_events=*/true, /*fail_configure=*/true);
+  Rig rig("exec sleep 60", 2000, managedChatterNode);
+  rig.sup->setLifecycle(managed.link(*rig.sup));
+  ASSERT_TRUE(rig.sup->launch());
+  rig.sup->nodeSeen("talker", {{rig.sup->pidOf("talker"), true, {"/demo/chatter"}}});
+  // Its state still Unconfigured: the request was lost, or it failed unseen. Asked again, it fails
+  // in sight, well before the 5 s transition timeout.
+  ASSERT_TRUE(rig.waitForFault());
+  managed.end();
+  std::lock_guard lock(rig.mutex);
+  ASSERT_EQ(rig.faults.size(), 1u);
+  EXPECT_EQ(rig.faults[0].kind, FaultKind::Lifecycle);
+  EXPECT_EQ(rig.faults[0].detailText(), "node '/demo/talker': configure failed: it is unconfigured");
+  using T = FakeManagedNode::Transition;
+  EXPECT_EQ(managed.requests(), (std::vector<std::uint8_t>{T::TRANSITION_CONFIGURE, T::TRANSITION_CONFIGURE}));
+}
+
 TEST(NodeSupervisor, TheGuardKillsTheGroupsStillListedWhenItsSocketEnds) {
   Spawner spawner;
   int fds[2];
