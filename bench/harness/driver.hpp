@@ -79,7 +79,8 @@ bool isDetectionFloor(std::string_view name);
 inline constexpr std::array<std::string_view, 5> kDdsCells{"roundtrip_keel", "roundtrip_raw", "roundtrip_rclpy",
                                                            "remote", "failover"};
 /// The cells of `keel bench ros2`.
-inline constexpr std::array<std::string_view, 6> kRos2Cells{"death",   "floor_death",   "restart",
-                                                            "respawn", "deadline_only", "idle_cpu"};
+inline constexpr std::array<std::string_view, 9> kRos2Cells{"death",    "floor_death",   "restart",
+                                                            "respawn",  "deadline_only", "idle_cpu",
+                                                            "takeover", "cold",          "standby_cost"};
 
 }  // namespace keel::bench

@@ -96,10 +96,13 @@ int main(int argc, char** argv) try {
                 "cells: roundtrip_keel,roundtrip_raw (a plain CycloneDDS C program),roundtrip_rclpy,remote,failover "
                 "(root: two network namespaces)");
   auto* ros2_cmd = app.add_subcommand(
-      "ros2", "ROS 2 nodes under keel: a kill seen, beside the floor and a deadline; restart beside a respawn loop");
+      "ros2",
+      "ROS 2 nodes under keel: a kill seen, beside the floor and a deadline; restart beside a respawn loop; a "
+      "lifecycle node's standby taking over beside a cold restart");
   commonOptions(*ros2_cmd, o,
                 "cells: death,floor_death (the machine's: the pidfd of the killed node),restart,respawn (a plain "
-                "respawn loop),deadline_only,idle_cpu (once, without load)");
+                "respawn loop),deadline_only,idle_cpu (once, without load),takeover (a lifecycle node's standby),cold "
+                "(the same node restarted),standby_cost (once, without load)");
   GuardOptions g;
   auto* guard = app.add_subcommand(
       "guard", "the regression guard: recovery, takeover and detection within a bound of the floor beside them");

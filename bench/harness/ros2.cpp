@@ -55,6 +55,26 @@ std::string nodeProfile(const Paths& paths, const std::string& python, const std
                      python, script(paths), kNamespace, name, period_ms, kNamespace);
 }
 
+/// The lifecycle form of nodeProfile: ros2_bench_node.py --lifecycle, <lifecycle/>.
+std::string managedProfile(const Paths& paths, const std::string& python, const std::string& name, int period_ms) {
+  std::string text = nodeProfile(paths, python, name, period_ms);
+  const std::string command = fmt::format("<command>{} -u {}</command>", python, script(paths));
+  text.replace(text.find(command), command.size(),
+               fmt::format("<command>{} -u {} --lifecycle</command><lifecycle/>", python, script(paths)));
+  return text;
+}
+
+/// One lifecycle node `bench` (node_0.xml) with `standby` standbys, reset on a fault, as often
+/// as the benchmark kills it.
+std::string managedPackage(int standby) {
+  return fmt::format(R"(<?xml version="1.0" encoding="UTF-8"?>
+<package_profile><name>bench_ros2</name><subcomponents><subcomponent><name>bench</name>
+<reference>node_0.xml</reference>{}<fault_policy><severity>reset</severity>
+<restart intensity="1000" period="1000"/></fault_policy></subcomponent></subcomponents></package_profile>
+)",
+                     standby > 0 ? fmt::format(R"(<process name="bench" standby="{}"/>)", standby) : "");
+}
+
 /// A package of `count` nodes (`node_K.xml`, subcomponents `node_K`; one: `bench`), each reset
 /// (a restart) on a fault, as often as the benchmark kills it.
 std::string nodesPackage(int count) {
@@ -346,6 +366,109 @@ DdsCell measureDeadlineOnly(const Paths& paths, const std::string& python, int n
   cell.note = fmt::format("a <subscribe deadline=\"{}\"> on the node's topic, the node not supervised",
                           kNodeDeadlineMs);
   return cell;
+}
+
+Ros2Kills measureManaged(const Paths& paths, const std::string& python, int n, int standby) {
+  Ros2Kills out;
+  std::string& error = out.back.error;
+  TempDir dir("keel-bench-ros2-managed-");
+  const std::string log = dir.path() + "/fault.jsonl";
+  auto engine = engineOver(dir,
+                           {{"node_0.xml", managedProfile(paths, python, "managed", 10)},
+                            {"app.xml", managedPackage(standby)}},
+                           "app.xml", paths, log, out.back.note, error);
+  if (!engine) return out;
+  LogTail tail(log);
+  FileLines lines(dir.path() + "/fault.bench.out");  // every process of the node writes there
+  std::set<pid_t> ready;                             // standbys configured, by pid
+  auto standbyReady = [&](pid_t serving) {
+    for (const auto& r : tail.newRecords())
+      if (r.value("event", "") == "node" && r.value("phase", "") == "standby_ready") ready.insert(r.value("pid", 0));
+    return std::any_of(ready.begin(), ready.end(), [&](pid_t p) { return p != serving && ::kill(p, 0) == 0; });
+  };
+  pid_t gone = 0;
+  std::int64_t killed = 0;
+  for (int i = 0; i <= n; ++i) {  // kill 0 warms up, uncounted
+    const auto life = nextLife(lines, gone);
+    if (!life) {
+      error = fmt::format("kill {}: the node sent nothing within {} s", i, kUpBound.count());
+      break;
+    }
+    if (i > 1) out.back.latencies_ns.push_back(life->first - killed);
+    if (standby > 0 && !pollUntil([&] { return standbyReady(life->second); }, kUpBound, kLook)) {
+      error = fmt::format("kill {}: no standby ready within {} s", i, kUpBound.count());
+      break;
+    }
+    std::this_thread::sleep_for(kPublishing);
+    killed = runtime::steadyNs();
+    ::kill(life->second, SIGKILL);
+    gone = life->second;
+  }
+  if (error.empty() && n > 0) {
+    if (const auto life = nextLife(lines, gone)) out.back.latencies_ns.push_back(life->first - killed);
+    else ++out.back.failed;
+  }
+  engine->shutdown();
+  out.back.note = standby > 0 ? "kill -9 of the active → the standby's first message"
+                              : "kill -9 → the restarted node's first message (start, configure, activate)";
+  return out;
+}
+
+namespace {
+
+/// A process's resident memory (/proc/<pid>/status VmRSS), MiB; 0 once it is gone.
+double rssMib(pid_t pid) {
+  std::ifstream in(fmt::format("/proc/{}/status", pid));
+  for (std::string line; std::getline(in, line);)
+    if (line.starts_with("VmRSS:")) {
+      std::istringstream fields(line.substr(6));
+      double kib = 0;
+      fields >> kib;
+      return kib / 1024;
+    }
+  return 0;
+}
+
+}  // namespace
+
+StandbyCost measureStandbyCost(const Paths& paths, const std::string& python) {
+  StandbyCost out;
+  TempDir dir("keel-bench-ros2-standby-");
+  const std::string log = dir.path() + "/fault.jsonl";
+  std::string note;
+  auto engine = engineOver(dir,
+                           {{"node_0.xml", managedProfile(paths, python, "managed", 10)},
+                            {"app.xml", managedPackage(1)}},
+                           "app.xml", paths, log, note, out.error);
+  if (!engine) return out;
+  LogTail tail(log);
+  pid_t active = 0, standby = 0;
+  if (!pollUntil(
+          [&] {
+            for (const auto& r : tail.newRecords()) {
+              if (r.value("event", "") != "node") continue;
+              if (r.value("phase", "") == "activated") active = r.value("pid", 0);
+              if (r.value("phase", "") == "standby_ready") standby = r.value("pid", 0);
+            }
+            return active != 0 && standby != 0;
+          },
+          60s, kLook)) {
+    out.error = "the node active and its standby ready: not within 60 s";
+    engine->shutdown();
+    return out;
+  }
+  std::this_thread::sleep_for(2s);  // discovery's first burst over
+  const std::int64_t wall0 = runtime::steadyNs();
+  const long long active0 = cpuTicks(active), standby0 = cpuTicks(standby);
+  std::this_thread::sleep_for(kIdleWindow);
+  const auto wall = static_cast<double>(runtime::steadyNs() - wall0);
+  const double tick_ns = 1e9 / static_cast<double>(::sysconf(_SC_CLK_TCK));
+  out.active_cpu_percent = static_cast<double>(cpuTicks(active) - active0) * tick_ns / wall * 100;
+  out.standby_cpu_percent = static_cast<double>(cpuTicks(standby) - standby0) * tick_ns / wall * 100;
+  out.active_rss_mib = rssMib(active);
+  out.standby_rss_mib = rssMib(standby);
+  engine->shutdown();
+  return out;
 }
 
 IdleCpu measureIdleCpu(const Paths& paths, const std::string& python) {

@@ -16,6 +16,12 @@
 //                  subscriber has without supervision)
 //   idle_cpu       keel's CPU while it supervises kIdleNodes idle nodes (a message a second
 //                  each), beside the nodes' own, over kIdleWindow
+//   takeover       the node as a lifecycle node (--lifecycle) with one standby: kill -9 of the
+//                  active → the standby's first message (keel sees the death, fences nothing,
+//                  activates the standby, which publishes at its next tick)
+//   cold           the same lifecycle node without a standby: kill -9 → the restarted node's
+//                  first message (start, configure, activate, first message)
+//   standby_cost   the standby's CPU while it waits and its memory, beside the active's
 // Every node and keel's engine are on one domain, on the loopback (DdsEnvironment).
 #pragma once
 
@@ -51,5 +57,19 @@ struct IdleCpu {
 };
 /// keel supervising kIdleNodes idle nodes, once every one is up, over kIdleWindow.
 IdleCpu measureIdleCpu(const Paths& paths, const std::string& python);
+
+/// `n` kills (and a first one, not counted) of the active process of a lifecycle node keel
+/// supervises with policy `reset`, with `standby` standbys (each kill once one is ready).
+/// `back`: the kill → the next active's first message; `death` is not measured.
+Ros2Kills measureManaged(const Paths& paths, const std::string& python, int n, int standby);
+
+struct StandbyCost {
+  double standby_cpu_percent = 0;  // the standby waiting, over kIdleWindow: % of one CPU
+  double active_cpu_percent = 0;   // the active publishing every 10 ms, the same window
+  double standby_rss_mib = 0;      // resident memory
+  double active_rss_mib = 0;
+  std::string error;
+};
+StandbyCost measureStandbyCost(const Paths& paths, const std::string& python);
 
 }  // namespace keel::bench

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <string>
+#include <tuple>
 
 #include "driver.hpp"
 #include "ros2.hpp"
@@ -45,6 +46,12 @@ void printRos2(const std::vector<Row>& rows, const std::vector<int>& loads, std:
     out << fmt::format("| {} | {} | {} | {} |\n", load, ms(find(rows, load, "restart")),
                        ms(find(rows, load, "respawn")),
                        ratio(find(rows, load, "restart"), find(rows, load, "respawn")));
+  out << "\nA lifecycle node back, p50 / p99 ms (kill -9 of the active → the first message again): its standby "
+         "taking over beside a cold restart (start, configure, activate)\n\n";
+  out << "| load % | keel: standby takes over | cold restart | cold ÷ takeover |\n|---|---|---|---|\n";
+  for (int load : loads)
+    out << fmt::format("| {} | {} | {} | {} |\n", load, cell(find(rows, load, "takeover")),
+                       ms(find(rows, load, "cold")), ratio(find(rows, load, "cold"), find(rows, load, "takeover")));
 }
 
 }  // namespace
@@ -66,7 +73,7 @@ int ros2Benchmark(Options o, const Paths& paths) {
                            deadline_kills)
             << std::flush;
   std::vector<Row> rows;
-  nlohmann::json idle;
+  nlohmann::json idle, standby_cost;
   const std::string self = paths.bin + "/keel-bench";
   for (int load : o.loads) {
     BackgroundLoad bg(load, loadSourceOf(o.load_source), self);
@@ -123,6 +130,48 @@ int ros2Benchmark(Options o, const Paths& paths) {
         rows.push_back(std::move(r));
       }
     }
+    // The standby's takeovers and the cold restarts alternate in chunks, as above.
+    if (wants("takeover") || wants("cold")) {
+      const CpuMeter meter;
+      DdsCell take, cold;
+      constexpr int kChunks = 5;
+      for (int chunk = 0; chunk < kChunks; ++chunk) {
+        const int m = o.n / kChunks + (chunk < o.n % kChunks ? 1 : 0);
+        if (m == 0) continue;
+        for (auto [what, to, standby] : {std::tuple{"takeover", &take, 1}, std::tuple{"cold", &cold, 0}}) {
+          if (!wants(what)) continue;
+          Ros2Kills part = measureManaged(paths, python, m, standby);
+          to->latencies_ns.insert(to->latencies_ns.end(), part.back.latencies_ns.begin(), part.back.latencies_ns.end());
+          to->failed += part.back.failed;
+          addNote(to->error, part.back.error);
+          addNote(to->note, part.back.note);
+        }
+      }
+      const double busy = meter.busy() * 100;
+      for (auto [what, c] : {std::pair{"takeover", &take}, std::pair{"cold", &cold}}) {
+        if (!wants(what)) continue;
+        Row r = row(what);
+        r.load_achieved = busy;
+        fillRow(std::move(*c), r);
+        report(r);
+        rows.push_back(std::move(r));
+      }
+    }
+    if (wants("standby_cost") && standby_cost.is_null() && load == 0) {  // measured without load
+      const StandbyCost c = measureStandbyCost(paths, python);
+      standby_cost = {{"cell", "standby_cost"},
+                      {"window_s", kIdleWindow.count()},
+                      {"standby_cpu_percent", std::round(c.standby_cpu_percent * 1000) / 1000},
+                      {"active_cpu_percent", std::round(c.active_cpu_percent * 1000) / 1000},
+                      {"standby_rss_mib", std::round(c.standby_rss_mib * 10) / 10},
+                      {"active_rss_mib", std::round(c.active_rss_mib * 10) / 10}};
+      if (!c.error.empty()) standby_cost["note"] = c.error;
+      std::cerr << fmt::format(
+          "keel-bench: standby_cost: the standby {:.3f} % of a CPU and {:.1f} MiB, the active {:.3f} % and {:.1f} "
+          "MiB{}\n",
+          c.standby_cpu_percent, c.standby_rss_mib, c.active_cpu_percent, c.active_rss_mib,
+          c.error.empty() ? "" : ": " + c.error);
+    }
     if (wants("deadline_only")) {
       Row r = row("deadline_only");
       const CpuMeter meter;
@@ -151,6 +200,14 @@ int ros2Benchmark(Options o, const Paths& paths) {
         kIdleNodes, kIdleWindow.count(), idle["keel_cpu_percent"].get<double>(),
         idle["nodes_cpu_percent"].get<double>(),
         idle.contains("note") ? " (" + idle["note"].get<std::string>() + ")" : "");
+  if (!standby_cost.is_null())
+    std::cout << fmt::format(
+        "\nA standby waiting, over {} s: {:.3f} % of one CPU and {:.1f} MiB resident; the active beside it (a "
+        "message every 10 ms) {:.3f} % and {:.1f} MiB{}\n",
+        kIdleWindow.count(), standby_cost["standby_cpu_percent"].get<double>(),
+        standby_cost["standby_rss_mib"].get<double>(), standby_cost["active_cpu_percent"].get<double>(),
+        standby_cost["active_rss_mib"].get<double>(),
+        standby_cost.contains("note") ? " (" + standby_cost["note"].get<std::string>() + ")" : "");
   std::cout << "\nEvery cell (p50 / p99 / max µs; failed: trials that did not end within their bound)\n\n";
   printCells(rows, false, std::cout);
   nlohmann::json j = nlohmann::json::array();
@@ -164,9 +221,11 @@ int ros2Benchmark(Options o, const Paths& paths) {
     };
     if (r.what == "death") vs("floor_death", "vs_floor");
     if (r.what == "restart") vs("respawn", "vs_respawn");
+    if (r.what == "cold") vs("takeover", "vs_takeover");
     j.push_back(std::move(c));
   }
   if (!idle.is_null()) j.push_back(idle);
+  if (!standby_cost.is_null()) j.push_back(standby_cost);
   o.no_plot = true;  // tables only
   finish(o, paths, "ros2", j);
   return 0;

@@ -6,12 +6,17 @@ CLOCK_MONOTONIC, and with `deadline_ms` > 0 offers that deadline and a lease of 
 after its first publish it prints `first <CLOCK_MONOTONIC ns> <pid>`: the moment a restart or a
 respawn has the node back, on the clock every other time of the benchmark is on.
 
-  ros2_bench_node.py [--ros-args -r __node:=NAME -r __ns:=NS -p period_ms:=10 ...]"""
+With `--lifecycle` it is a managed node (rclpy.lifecycle): Unconfigured at start, its publisher
+a lifecycle publisher made by on_configure, publishing while Active, and `first ...` printed at
+its first publish after each activation (a standby's, once promoted).
+
+  ros2_bench_node.py [--lifecycle] [--ros-args -r __node:=NAME -r __ns:=NS -p period_ms:=10 ...]"""
 import os
 import sys
 import time
 
 import rclpy
+import rclpy.lifecycle
 from rclpy.duration import Duration
 from rclpy.executors import ExternalShutdownException
 from rclpy.node import Node
@@ -47,9 +52,39 @@ class Beat(Node):
             print(f"first {t} {os.getpid()}", flush=True)
 
 
+class LifecycleBeat(rclpy.lifecycle.Node):
+    def __init__(self):
+        super().__init__("beat_node")
+        self.period_ms = self.declare_parameter("period_ms", 10).value
+        self.publisher = None
+        self.first = True
+
+    def on_configure(self, state):
+        self.publisher = self.create_lifecycle_publisher(Header, "beat", QoSProfile(depth=10))
+        self.create_timer(self.period_ms / 1000.0, self.tick)
+        return rclpy.lifecycle.TransitionCallbackReturn.SUCCESS
+
+    def on_activate(self, state):
+        self.first = True
+        return super().on_activate(state)
+
+    def tick(self):
+        if self.publisher is None or not self.publisher.is_activated:
+            return
+        t = now_ns()
+        msg = Header()
+        msg.stamp.sec, msg.stamp.nanosec = divmod(t, 1_000_000_000)
+        self.publisher.publish(msg)
+        if self.first:
+            self.first = False
+            print(f"first {t} {os.getpid()}", flush=True)
+
+
 def main():
-    rclpy.init(args=sys.argv)
-    node = Beat()
+    managed = "--lifecycle" in sys.argv
+    args = [a for a in sys.argv if a != "--lifecycle"]
+    rclpy.init(args=args)
+    node = LifecycleBeat() if managed else Beat()
     try:
         rclpy.spin(node)
     except (KeyboardInterrupt, ExternalShutdownException):

@@ -276,17 +276,9 @@ Result<void> DdsPorts::joinGraph(int domain, std::string_view name) {
   profile::DdsBinding b;  // as every rmw writes it: reliable, transient local, keep last 1
   b.qos = profile::DdsQos::TransientLocal;
   const Qos qos = qosOf(b);
+  std::lock_guard lock(graph_mutex_);
+  graph_name_ = rosNodeName(name);
   for (const auto& [d, participant] : participants_) {
-    msg::rmw_dds_common::ParticipantEntitiesInfo info;
-    info.gid = gidOf(participant);
-    msg::rmw_dds_common::NodeEntitiesInfo node;
-    node.node_namespace = "/keel";
-    node.node_name = rosNodeName(name);
-    for (const Endpoint& e : endpoints_) {
-      if (e.participant != participant) continue;
-      (e.writer ? node.writer_gid_seq : node.reader_gid_seq).push_back(gidOf(e.entity));
-    }
-    info.node_entities_info_seq.push_back(std::move(node));
     // Its own name, no "rt/": not a ROS 2 topic but the graph's.
     const dds_entity_t topic = dds_create_topic(participant, descriptor, "ros_discovery_info", nullptr, nullptr);
     if (topic < 0)
@@ -294,11 +286,35 @@ Result<void> DdsPorts::joinGraph(int domain, std::string_view name) {
     const dds_entity_t writer = dds_create_writer(participant, topic, qos.get(), nullptr);
     if (writer < 0)
       return fail(fmt::format("the ROS 2 graph: CycloneDDS refused the writer: {}", dds_strretcode(writer)));
-    std::shared_ptr<detail::ByteEnd> outlet = type->make_outlet(writer);
-    static_cast<detail::Connection<msg::rmw_dds_common::ParticipantEntitiesInfo>&>(outlet->connection()).send(info);
-    graph_outlets_.push_back(std::move(outlet));
+    listings_.push_back({participant, type->make_outlet(writer)});
+    publishListing(listings_.back());
   }
   return {};
+}
+
+void DdsPorts::publishListing(const Listing& l) {
+  msg::rmw_dds_common::ParticipantEntitiesInfo info;
+  info.gid = gidOf(l.participant);
+  msg::rmw_dds_common::NodeEntitiesInfo node;
+  node.node_namespace = "/keel";
+  node.node_name = graph_name_;
+  for (const Endpoint& e : endpoints_) {
+    if (e.participant != l.participant) continue;
+    (e.writer ? node.writer_gid_seq : node.reader_gid_seq).push_back(gidOf(e.entity));
+  }
+  info.node_entities_info_seq.push_back(std::move(node));
+  static_cast<detail::Connection<msg::rmw_dds_common::ParticipantEntitiesInfo>&>(l.outlet->connection()).send(info);
+}
+
+void DdsPorts::renewLifecycleRequests(const std::string& instance, const std::string& name) {
+  if (!lifecycles_) return;
+  const auto replaced = lifecycles_->renew(instance, name);
+  if (replaced.empty()) return;
+  std::lock_guard lock(graph_mutex_);
+  for (Endpoint& e : endpoints_)
+    for (const auto& [before, after] : replaced)
+      if (e.entity == before) e.entity = after;
+  for (const Listing& l : listings_) publishListing(l);
 }
 
 void DdsPorts::close() {

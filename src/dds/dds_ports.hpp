@@ -134,14 +134,19 @@ class DdsPorts {
   /// runs) in `domain` (ROS_DOMAIN_ID overrides it): what they say goes to `watch`
   /// (lifecycle.hpp), until close(). Call watchNodes first: its graph judges whose they are.
   Result<void> watchLifecycles(int domain, const std::vector<LifecycleNode>& nodes, LifecycleWatch& watch);
-  /// Asks managed node `instance` for transition `transition` (any thread): what became of it.
-  LifecycleClients::Sent requestTransition(const std::string& instance, std::uint8_t transition) {
-    return lifecycles_ ? lifecycles_->request(instance, transition) : LifecycleClients::Sent::NoSuchNode;
+  /// Asks the process named `name` of managed node `instance` for transition `transition` (any
+  /// thread): what became of it.
+  LifecycleClients::Sent requestTransition(const std::string& instance, const std::string& name,
+                                           std::uint8_t transition) {
+    return lifecycles_ ? lifecycles_->request(instance, name, transition) : LifecycleClients::Sent::NoSuchNode;
   }
-  /// Asks managed node `instance` its state (any thread): what became of it.
-  LifecycleClients::Sent askLifecycleState(const std::string& instance) {
-    return lifecycles_ ? lifecycles_->askState(instance) : LifecycleClients::Sent::NoSuchNode;
+  /// Asks the process named `name` of managed node `instance` its state (any thread).
+  LifecycleClients::Sent askLifecycleState(const std::string& instance, const std::string& name) {
+    return lifecycles_ ? lifecycles_->askState(instance, name) : LifecycleClients::Sent::NoSuchNode;
   }
+  /// A new process is to run as `name` of managed node `instance`: requests to it go through new
+  /// writers (LifecycleClients::renew), listed in the graph in place of the old (any thread).
+  void renewLifecycleRequests(const std::string& instance, const std::string& name);
   /// Writes each node's safe command of `commands` (its <emergency>'s <publish>) in `domain` while
   /// keel's emergency stop holds: from safeCommandsOn(its node) until safeCommandsOff().
   Result<void> openSafeCommands(int domain, const std::vector<NodeSafeCommand>& commands);
@@ -202,8 +207,17 @@ class DdsPorts {
     std::int32_t entity;
     bool writer;
   };
-  std::vector<Endpoint> endpoints_;                              // every writer and reader made, for the graph
-  std::vector<std::shared_ptr<detail::ByteEnd>> graph_outlets_;  // ros_discovery_info's writers
+  /// keel's node in one participant's ros_discovery_info: its writer.
+  struct Listing {
+    std::int32_t participant;
+    std::shared_ptr<detail::ByteEnd> outlet;
+  };
+  /// Writes `l`'s participant's ros_discovery_info: keel's node and its endpoints_ there.
+  void publishListing(const Listing& l);
+  std::mutex graph_mutex_;           // endpoints_, the listings: renewLifecycleRequests runs any time
+  std::vector<Endpoint> endpoints_;  // every writer and reader made, for the graph
+  std::string graph_name_;           // keel's node name in the graph
+  std::vector<Listing> listings_;
   std::mutex dead_mutex_;
   std::set<pid_t> dead_;  // processes writersDied() was told of: their writers are gone
 };

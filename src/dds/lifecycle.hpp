@@ -12,11 +12,15 @@
 //   unacknowledged), and a restarted node's first events would wait or be lost. On the host's
 //   loopback a best-effort sample is lost only when a socket buffer overflows, and a transition
 //   keel does not see confirmed it asks the node's state for.
-// Only what a node's own process writes counts: a sample's writer must be of a participant the
-// graph (ros2_graph.hpp) judges the node's.
+// A managed node may run as several processes under names of their own (its standbys:
+// "/ns/name_standby_1"); each name is reached apart. Only what the process keel runs under a name
+// writes or reads counts: an endpoint's participant must announce that process's pid (as the
+// graph, ros2_graph.hpp, knows it) — a killed process's stays in the graph until its lease ends.
 // Thread-safety: open/close from one thread; request and askState from any thread after open;
 // the listeners run on CycloneDDS's threads and call the watch (never under a lock of this).
 #pragma once
+
+#include <sys/types.h>
 
 #include <cstdint>
 #include <memory>
@@ -33,17 +37,22 @@ namespace keel::dds {
 class LifecycleWatch {
  public:
   virtual ~LifecycleWatch() = default;
-  /// Node `instance` went from state `start` to `goal` (lifecycle_msgs/msg/State ids), as its
-  /// `~/transition_event` says. CycloneDDS's threads.
-  virtual void transitioned(const std::string& instance, std::uint8_t start, std::uint8_t goal) = 0;
-  /// Node `instance` is in state `state`, as a `~/get_state` reply says. CycloneDDS's threads.
-  virtual void stateIs(const std::string& instance, std::uint8_t state) = 0;
+  /// The process named `name` of node `instance` went from state `start` to `goal`
+  /// (lifecycle_msgs/msg/State ids), as its `~/transition_event` says. CycloneDDS's threads.
+  virtual void transitioned(const std::string& instance, const std::string& name, std::uint8_t start,
+                            std::uint8_t goal) = 0;
+  /// The process named `name` of node `instance` is in state `state`, as a `~/get_state` reply
+  /// says. CycloneDDS's threads.
+  virtual void stateIs(const std::string& instance, const std::string& name, std::uint8_t state) = 0;
+  /// Whether process `pid` is the one keel runs as `name` of node `instance` now. Any thread.
+  virtual bool runs(const std::string& instance, const std::string& name, pid_t pid) = 0;
 };
 
-/// A lifecycle node to drive: keel's instance and its ROS 2 name ("/ns/name").
+/// A lifecycle node to drive: keel's instance and every ROS 2 name it may run under ("/ns/name",
+/// then its standbys' "/ns/name_standby_K").
 struct LifecycleNode {
   std::string instance;
-  std::string name;
+  std::vector<std::string> names;
 };
 
 class LifecycleClients {
@@ -58,7 +67,7 @@ class LifecycleClients {
   /// error; nothing is left open after a failure.
   Result<void> open(std::int32_t participant, const std::vector<LifecycleNode>& nodes);
   /// Every writer and reader open() made, each with whether it is a writer (for keel's listing
-  /// in the ROS 2 graph).
+  /// in the ROS 2 graph; renew() replaces writers).
   std::vector<std::pair<std::int32_t, bool>> entities() const;
 
   /// What became of a request.
@@ -68,10 +77,17 @@ class LifecycleClients {
     Cyclone,     // not written: the node's reader is rmw_cyclonedds's, which reads another request
     NoSuchNode,  // not one of the nodes open() was given
   };
-  /// Asks node `instance` for transition `transition` (lifecycle_msgs/msg/Transition id).
-  Sent request(const std::string& instance, std::uint8_t transition);
-  /// Asks node `instance` its state; the reply goes to the watch's stateIs.
-  Sent askState(const std::string& instance);
+  /// Asks the process named `name` of node `instance` for transition `transition`
+  /// (lifecycle_msgs/msg/Transition id).
+  Sent request(const std::string& instance, const std::string& name, std::uint8_t transition);
+  /// Asks the process named `name` of node `instance` its state; the reply goes to stateIs.
+  Sent askState(const std::string& instance, const std::string& name);
+  /// A new process is to run as `name` of node `instance`: its request writers are made anew,
+  /// so that nothing keel asked an earlier process of that name reaches it (a CycloneDDS writer
+  /// hands a Fast DDS reader that joins late the requests it still holds, and the new process
+  /// would perform them). Returns each writer replaced with its replacement (for keel's listing
+  /// in the ROS 2 graph); none when `name` is not one of open()'s or CycloneDDS refused.
+  std::vector<std::pair<std::int32_t, std::int32_t>> renew(const std::string& instance, const std::string& name);
   /// Deletes every writer and reader; no listener runs once it returns. Idempotent.
   void close();
 

@@ -67,8 +67,10 @@ struct ParameterEvents::State final : detail::Sink<msg::rcl_interfaces::Paramete
 
   // One event (the mutex held: the listener takes it before delivering).
   void deliver(const msg::rcl_interfaces::ParameterEvent& event) override {
-    const bool ours = std::any_of(nodes.begin(), nodes.end(),
-                                  [&](const WatchedNode& n) { return n.name == event.node; });
+    auto named = [&](const WatchedNode& n) {  // by its name, or a standby's (one may serve it)
+      return n.name == event.node || std::find(n.aliases.begin(), n.aliases.end(), event.node) != n.aliases.end();
+    };
+    const bool ours = std::any_of(nodes.begin(), nodes.end(), named);
     if (!ours) return;  // a node keel does not run
     std::vector<std::string> skipped;
     const profile::ParameterUpdate update = updateOf(event, skipped);
@@ -80,7 +82,7 @@ struct ParameterEvents::State final : detail::Sink<msg::rcl_interfaces::Paramete
                         event.node, name));
     if (update.set.empty() && update.deleted.empty()) return;
     for (const WatchedNode& n : nodes)
-      if (n.name == event.node) watch.parametersChanged(n.instance, update);
+      if (named(n)) watch.parametersChanged(n.instance, update);
   }
 };
 

@@ -103,7 +103,7 @@ struct Ros2Graph::State final : detail::Sink<msg::rmw_dds_common::ParticipantEnt
       // writers at once; its supervisor knows its process by the participant's pid.
       std::set<Guid> candidates;
       for (const auto& [guid, names] : listed)
-        if (names.contains(node.name)) candidates.insert(guid);
+        if (node.listedIn(names)) candidates.insert(guid);
       std::set<std::string> dds_topics;
       for (const std::string& topic : node.outputs) dds_topics.insert(ddsTopicName(topic));
       for (const auto& [writer, where] : writers)
@@ -117,7 +117,7 @@ struct Ros2Graph::State final : detail::Sink<msg::rmw_dds_common::ParticipantEnt
         s.pid = p->second.pid;
         s.host = p->second.host;
         const auto names = listed.find(guid);
-        s.listed = names != listed.end() && names->second.contains(node.name);
+        s.listed = names != listed.end() && node.listedIn(names->second);
         for (const std::string& topic : node.outputs) {
           const std::string dds_topic = ddsTopicName(topic);
           const bool published = std::any_of(writers.begin(), writers.end(), [&](const auto& w) {
@@ -256,7 +256,7 @@ bool Ros2Graph::ownedBy(const std::string& instance, const std::uint8_t* partici
   const auto p = s.participants.find(guid);
   if (node == s.nodes.end() || p == s.participants.end()) return false;  // not discovered yet: not known to be
   const auto names = s.listed.find(guid);
-  const bool listed = names != s.listed.end() && names->second.contains(node->name);
+  const bool listed = names != s.listed.end() && node->listedIn(names->second);
   return s.watch.ownsParticipant(instance, p->second.pid, listed);
 }
 

@@ -11,6 +11,7 @@
 
 #include <sys/types.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -54,6 +55,16 @@ struct WatchedNode {
   std::string name;                  // "/ns/name"
   std::vector<std::string> outputs;  // ROS 2 topic names: "/cmd_vel"
   std::string diagnostics;           // the name of its own /diagnostics status; "": none
+  /// Its other names ("/ns/name_standby_1": a lifecycle node's standbys, one of which may serve
+  /// it): a participant listing one of them lists the node.
+  std::vector<std::string> aliases{};
+
+  /// Whether `listed` (the names a participant lists) holds the node's name or an alias.
+  template <class Names>
+  bool listedIn(const Names& listed) const {
+    return listed.contains(name) ||
+           std::any_of(aliases.begin(), aliases.end(), [&](const std::string& a) { return listed.contains(a); });
+  }
 };
 
 class Ros2Graph {

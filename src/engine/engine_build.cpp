@@ -432,7 +432,7 @@ Result<void> Engine::connect() {
     for (const plan::PlannedInstance& pi : planned_.plan.instances) {
       if (!pi.node) continue;
       dds::WatchedNode& w = nodes.emplace_back(
-          dds::WatchedNode{pi.name, pi.node->fullName(), {}, pi.node->diagnostics_name});
+          dds::WatchedNode{pi.name, pi.node->fullName(), {}, pi.node->diagnostics_name, plan::standbyNodeNames(pi)});
       for (const profile::NodeTopic& t : pi.node->topics)
         for (const profile::DataPort& d : pi.node->component.data_ports)
           if (d.name == t.port && d.usage == PortDirection::Output) w.outputs.push_back(t.topic);
@@ -483,7 +483,11 @@ Result<void> Engine::connect() {
   if (dds::LifecycleWatch* lifecycles = graph ? side_->lifecycleWatch() : nullptr) {  // the managed nodes keel drives
     std::vector<dds::LifecycleNode> nodes;
     for (const plan::PlannedInstance& pi : planned_.plan.instances)
-      if (pi.node && !pi.attached && pi.node->lifecycle) nodes.push_back({pi.name, pi.node->fullName()});
+      if (pi.node && !pi.attached && pi.node->lifecycle) {
+        std::vector<std::string> names{pi.node->fullName()};  // and its standbys'
+        for (std::string& s : plan::standbyNodeNames(pi)) names.push_back(std::move(s));
+        nodes.push_back({pi.name, std::move(names)});
+      }
     if (!nodes.empty())
       if (auto watching = dds_->watchLifecycles(planned_.plan.rosDomain(), nodes, *lifecycles); !watching)
         errors += watching.error().message + '\n';
@@ -491,7 +495,7 @@ Result<void> Engine::connect() {
   if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
     std::vector<dds::WatchedNode> nodes;
     for (const plan::PlannedInstance& pi : planned_.plan.instances)
-      if (pi.node && !pi.attached) nodes.push_back({pi.name, pi.node->fullName(), {}, {}});
+      if (pi.node && !pi.attached) nodes.push_back({pi.name, pi.node->fullName(), {}, {}, plan::standbyNodeNames(pi)});
     if (!nodes.empty())
       if (auto watching = dds_->watchParameters(planned_.plan.rosDomain(), std::move(nodes), *params); !watching)
         errors += watching.error().message + '\n';

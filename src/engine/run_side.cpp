@@ -162,11 +162,15 @@ Result<void> RunSide::launch() {
         default: return Asked::NotYet;
       }
     };
-    nodes_->setLifecycle({[this, asked](const std::string& instance, std::uint8_t transition) {
-                            return e_.dds_ ? asked(e_.dds_->requestTransition(instance, transition)) : Asked::NotYet;
+    nodes_->setLifecycle({[this, asked](const std::string& instance, const std::string& name, std::uint8_t transition) {
+                            return e_.dds_ ? asked(e_.dds_->requestTransition(instance, name, transition))
+                                           : Asked::NotYet;
                           },
-                          [this, asked](const std::string& instance) {
-                            return e_.dds_ ? asked(e_.dds_->askLifecycleState(instance)) : Asked::NotYet;
+                          [this, asked](const std::string& instance, const std::string& name) {
+                            return e_.dds_ ? asked(e_.dds_->askLifecycleState(instance, name)) : Asked::NotYet;
+                          },
+                          [this](const std::string& instance, const std::string& name) {
+                            if (e_.dds_) e_.dds_->renewLifecycleRequests(instance, name);
                           }});
     nodes_->setRecovered([this](Component& proxy, std::int64_t t_ns) { e_.fault_manager_.recovered(proxy, t_ns); });
     if (auto r = nodes_->launch(); !r) return r;

@@ -74,10 +74,16 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
     nodes_->parametersChanged(instance, update);
   }
   // What the managed nodes say of their lifecycle: to the node supervisor, which drives them.
-  void transitioned(const std::string& instance, std::uint8_t start, std::uint8_t goal) override {
-    nodes_->lifecycleTransition(instance, start, goal);
+  void transitioned(const std::string& instance, const std::string& name, std::uint8_t start,
+                    std::uint8_t goal) override {
+    nodes_->lifecycleTransition(instance, name, start, goal);
   }
-  void stateIs(const std::string& instance, std::uint8_t state) override { nodes_->lifecycleState(instance, state); }
+  void stateIs(const std::string& instance, const std::string& name, std::uint8_t state) override {
+    nodes_->lifecycleState(instance, name, state);
+  }
+  bool runs(const std::string& instance, const std::string& name, pid_t pid) override {
+    return nodes_->runs(instance, name, pid);
+  }
   Result<void> setUpNodes();
 
   Engine& e_;

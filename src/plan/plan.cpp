@@ -251,14 +251,23 @@ class Planner {
       for (const auto& [k, p] : sub.property_overrides) inst.properties[k] = p.value;
       inst.policy = sub.fault_policy;
       inst.application = app;
-      if (sub.process) inst.process = noteProcess(prefix, *sub.process);
       inst.redundancy = sub.redundancy;
       if (auto node = set_.nodes.find(sub.reference); node != set_.nodes.end()) {
         inst.node = &node->second;
         inst.attached = sub.attach.has_value();
-        if (sub.process)
-          plan_errors_ += fmt::format("{}:{}: <process> of subcomponent '{}': a ROS 2 node is a process of its own\n",
-                                      sub.process->where.file, sub.process->where.line, sub.name);
+        if (sub.process && sub.process->standby == 0)
+          plan_errors_ += fmt::format(
+              "{}:{}: <process> of subcomponent '{}': a ROS 2 node is a process of its own (standby=\"N\" keeps N "
+              "more of a lifecycle node ready)\n",
+              sub.process->where.file, sub.process->where.line, sub.name);
+        else if (sub.process && !node->second.lifecycle)
+          plan_errors_ += fmt::format(
+              "{}:{}: <process standby=\"{}\"> of subcomponent '{}': a standby node waits configured and inactive, "
+              "which only a lifecycle node can: its profile ({}) has no <lifecycle/>\n",
+              sub.process->where.file, sub.process->where.line, sub.process->standby, sub.name, node->second.file);
+        else if (sub.process) inst.node_standby = sub.process->standby;
+      } else if (sub.process) {
+        inst.process = noteProcess(prefix, *sub.process);
       }
       inst.where = sub.where;
       plan_.instances.push_back(std::move(inst));
@@ -318,6 +327,14 @@ class Planner {
 };
 
 }  // namespace
+
+std::vector<std::string> standbyNodeNames(const PlannedInstance& instance) {
+  std::vector<std::string> names;
+  if (instance.node == nullptr || instance.node_standby == 0) return names;
+  for (int k = 1; k <= instance.node_standby + 1; ++k)
+    names.push_back(instance.node->inNamespace(instance.node->standbyName(k)));
+  return names;
+}
 
 const PlannedInstance* Plan::find(std::string_view instance) const {
   for (const auto& i : instances)

@@ -33,7 +33,15 @@ struct PlannedInstance {
   /// passive component's): keel run starts it, or watches it when `attached`.
   const profile::NodeProfile* node = nullptr;
   bool attached = false;  // <attach/>: someone else starts it
+  /// A lifecycle node's <process standby="N"/>: N more of it kept started, configured and
+  /// inactive, one of which takes over when the active one dies or faults.
+  int node_standby = 0;
 };
+
+/// The fully qualified names a lifecycle node's standbys may have ("/ns/name_standby_K"): K from 1
+/// to its `node_standby` + 1 (its standbys, and one of them promoted to serve, whose name it
+/// keeps); none without standbys.
+std::vector<std::string> standbyNodeNames(const PlannedInstance& instance);
 
 /// A component process (<process name standby>): the instances it hosts, in plan order.
 struct PlannedProcess {

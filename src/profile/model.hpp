@@ -412,7 +412,13 @@ struct NodeProfile {
   Where where;
 
   /// "/ns/name" ("/name" in the root namespace).
-  std::string fullName() const { return node_namespace == "/" ? "/" + node_name : node_namespace + "/" + node_name; }
+  std::string fullName() const { return inNamespace(node_name); }
+  /// The node name of its K-th standby process (K ≥ 1, <process standby>): "name_standby_K".
+  std::string standbyName(int k) const { return node_name + "_standby_" + std::to_string(k); }
+  /// Node name `base` in its namespace: "/ns/base".
+  std::string inNamespace(const std::string& base) const {
+    return node_namespace == "/" ? "/" + base : node_namespace + "/" + base;
+  }
 };
 
 /// One component an application needs, and how many of its duplicates must stay healthy.

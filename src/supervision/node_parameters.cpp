@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 #include <unistd.h>
+#include <atomic>
 
 #include <cerrno>
 #include <cmath>
@@ -301,7 +302,8 @@ std::string paramsFileText(std::string_view fqn, const ParameterMap& values) {
 
 Result<void> writeParamsFile(const std::string& path, std::string_view fqn, const ParameterMap& values) {
   const std::string text = paramsFileText(fqn, values);
-  const std::string temporary = fmt::format("{}.{}.tmp", path, ::getpid());
+  static std::atomic<unsigned> written{0};  // two threads may write one file: each its own temporary
+  const std::string temporary = fmt::format("{}.{}.{}.tmp", path, ::getpid(), written.fetch_add(1));
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out << text;

@@ -34,6 +34,16 @@ namespace keel::supervision {
 namespace fs = std::filesystem;
 using Clock = std::chrono::steady_clock;
 
+namespace {
+
+/// A managed node's reset (`resetting`): its recovery comes when it is Active again, not at
+/// the handling's end. Called with its mutex held.
+void recoversLater(Component* proxy) {
+  if (proxy) runtime::coreOf(*proxy).fault.recovers_later.store(true, std::memory_order_release);
+}
+
+}  // namespace
+
 std::string defaultNodeExec() {
   if (const char* env = std::getenv("KEEL_NODE_EXEC"); env && *env) return env;
   std::error_code ec;
@@ -65,6 +75,33 @@ std::vector<std::string> lastLines(const std::string& path, std::size_t n) {
   if (lines.size() > n) lines.erase(lines.begin(), lines.end() - static_cast<std::ptrdiff_t>(n));
   return lines;
 }
+
+// One process of a managed node (the serving one, or a standby): its lifecycle as keel knows it,
+// and the transitions keel has yet to make it go through (requested one at a time, each
+// confirmed before the next).
+struct Lifecycle {
+  std::uint8_t state = 0;          // lifecycle_msgs/msg/State id; 0: unknown
+  std::deque<std::uint8_t> steps;  // transitions to request, in order
+  int asked = -1;                  // the transition requested and not confirmed yet; -1: none
+  std::uint8_t asked_from = 0;     // its state when it was requested
+  std::int64_t asked_ns = 0;       // when it was first requested: its timeout counts from then
+  std::int64_t sent_ns = 0;        // when the request was last written
+  std::int64_t probed_ns = 0;      // when the process's state was last asked
+  bool unresponsive = false;       // a transition of this process timed out
+  bool answered = false;           // it has said something (an event, its state): it reads requests
+  std::int64_t active_ns = 0;      // when it became Active; 0: not Active
+};
+
+// A standby of a managed node (<process standby>): a process of its own name, started and
+// configured, waiting Inactive to be promoted.
+struct Standby {
+  pid_t pid = 0;
+  std::string name;  // its fully qualified node name: "/ns/name_standby_K"
+  Lifecycle life;
+  std::int64_t started_ns = 0;
+  bool ready = false;   // configured: Inactive, promotable
+  bool ending = false;  // keel ends it (failed, or the role's end): its exit is no loss to report
+};
 
 // One node keel runs or watches. Its process fields are guarded by `mutex`; `changed` is
 // notified on every exit.
@@ -98,20 +135,18 @@ struct NodeSupervisor::Node {
   // Its parameter values for a restart: the profile's, overlaid by /parameter_events.
   ParameterMap parameters;
   std::string params_file;  // where its restart's params file is written
-  // A managed node (<lifecycle/>): its state as keel last knew it, and the transitions keel has
-  // yet to make it go through (requested one at a time, each confirmed before the next).
+  // A managed node (<lifecycle/>).
   bool managed = false;
-  std::uint8_t state = 0;          // lifecycle_msgs/msg/State id; 0: unknown
-  std::deque<std::uint8_t> steps;  // transitions to request, in order
-  int asked = -1;                  // the transition requested and not confirmed yet; -1: none
-  std::uint8_t asked_from = 0;     // its state when it was requested
-  std::int64_t asked_ns = 0;       // when it was first requested: its timeout counts from then
-  std::int64_t sent_ns = 0;        // when the request was last written
-  std::int64_t probed_ns = 0;      // when its state was last asked
-  bool unresponsive = false;       // a transition of this life timed out: a reset restarts it
-  bool resetting = false;          // the steps are a reset's: recovered once Active
-  std::int64_t active_ns = 0;      // when it became Active in this life; 0: not Active
-  std::vector<const Node*> needs;  // the managed nodes it needs (<needs>, through any component)
+  std::string ros_name;                  // the serving process's node name: the profile's, or a promoted standby's
+  Lifecycle life;                        // the serving process's
+  bool resetting = false;                // its steps are a reset's (or a promotion's): recovered once Active
+  std::vector<const Node*> needs;        // the managed nodes it needs (<needs>, through any component)
+  int standby_count = 0;                 // <process standby="N">
+  std::vector<Standby> standbys;         // the standbys running (at most standby_count)
+  bool standbys_end = false;             // the role ended: no standby is started any more
+  std::map<pid_t, std::string> retired;  // former serving processes keel fenced and ends, by name: no fault
+  int standby_losses = 0;                // standbys lost in a row: the next waits longer
+  std::int64_t standby_due_ns = 0;       // when the next standby may be started
 };
 
 // The stand-in of a node's role: of the node its profile names, or (`serves` set) of its
@@ -154,6 +189,7 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
   }
   ReturnCode onStop() override {
     sup.stopNode(node, graceOf(node));
+    sup.endStandbys(node, graceOf(node));  // the role ends: what stands by for it too
     return ReturnCode::Ok;
   }
   // The role's <emergency> holds whichever node serves it, and so does its alternative's: keel
@@ -164,7 +200,10 @@ struct NodeSupervisor::Proxy final : Component, runtime::ProcessTarget {
     if (stops(node.profile) || stops(node.serving.load(std::memory_order_acquire))) sup.stopNode(node, graceOf(node));
     return ReturnCode::Ok;
   }
-  void endProcess() override { sup.stopNode(node, graceOf(node)); }
+  void endProcess() override {  // a fault stop: the role ends, its standbys too
+    sup.stopNode(node, graceOf(node));
+    sup.endStandbys(node, graceOf(node));
+  }
   bool signalProcess(int signal) override {
     std::lock_guard lock(node.mutex);
     return node.pid > 0 && ::kill(node.pid, signal) == 0;
@@ -190,6 +229,8 @@ NodeSupervisor::NodeSupervisor(const plan::Plan& plan, NodeLaunch launch, runtim
     n->profile = pi.node;
     n->serving.store(pi.node, std::memory_order_release);
     n->managed = pi.node->lifecycle.has_value() && !pi.attached;
+    n->ros_name = pi.node->fullName();
+    n->standby_count = pi.node_standby;
     for (const auto& t : pi.node->topics)
       for (const auto& d : pi.node->component.data_ports)
         n->has_outputs |= d.name == t.port && d.usage == PortDirection::Output;
@@ -324,13 +365,13 @@ std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance
   return nullptr;
 }
 
-ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file) const {
+ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file, const std::string& ros_name) const {
   const profile::NodeProfile& p = *n.serving.load(std::memory_order_acquire);
   ChildSpec child{p.executable, {}, {}};
   child.args.assign(p.command.begin() + (p.command.empty() ? 0 : 1), p.command.end());
   // ROS 2's own section last, as launch_ros writes it: rcl reads what follows --ros-args.
-  child.args.insert(child.args.end(),
-                    {"--ros-args", "-r", "__node:=" + p.node_name, "-r", "__ns:=" + p.node_namespace});
+  const std::string node_name = ros_name.substr(ros_name.rfind('/') + 1);
+  child.args.insert(child.args.end(), {"--ros-args", "-r", "__node:=" + node_name, "-r", "__ns:=" + p.node_namespace});
   // A restart's values are all in its params file: a `-p` would win over the file in rcl.
   if (!params_file.empty()) child.args.insert(child.args.end(), {"--params-file", params_file});
   else
@@ -346,7 +387,13 @@ ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file)
 }
 
 Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::string& params_file) {
-  auto pid = spawner_.start(childOf(n, params_file));
+  std::string ros_name;
+  {
+    std::lock_guard lock(n.mutex);
+    ros_name = n.ros_name;
+  }
+  if (n.managed && lifecycle_.renew) lifecycle_.renew(n.plan->name, ros_name);
+  auto pid = spawner_.start(childOf(n, params_file, ros_name));
   if (!pid) return fail(fmt::format("node '{}': {}", n.plan->name, pid.error().message));
   tellGuard('+', *pid);  // its process group's id is its pid
   {
@@ -358,17 +405,15 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::
     n.late = false;
     n.left_ns = 0;
     n.reported = false;
-    if (n.managed) {  // a new process is Unconfigured: configured and activated once it is in the graph
-      n.state = msg::lifecycle_msgs::State::PRIMARY_STATE_UNCONFIGURED;
-      n.steps = {msg::lifecycle_msgs::Transition::TRANSITION_CONFIGURE,
-                 msg::lifecycle_msgs::Transition::TRANSITION_ACTIVATE};
-      n.asked = -1;
-      n.unresponsive = false;
-      n.active_ns = 0;
+    if (n.managed) {  // a new process is Unconfigured: configured and activated once it reads requests
+      n.life = Lifecycle{};
+      n.life.state = msg::lifecycle_msgs::State::PRIMARY_STATE_UNCONFIGURED;
+      n.life.steps = {msg::lifecycle_msgs::Transition::TRANSITION_CONFIGURE,
+                      msg::lifecycle_msgs::Transition::TRANSITION_ACTIVATE};
     }
   }
   pokeTimer();
-  nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), *pid, phase);
+  nlohmann::json rec = log::schema::node(n.plan->name, ros_name, *pid, phase);
   rec[log::schema::field::kOutput] = n.output;
   if (!params_file.empty()) rec[log::schema::field::kParams] = params_file;
   rec[log::schema::field::kTime] = log_.now();
@@ -381,21 +426,33 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::
 }
 
 void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
+  if (standbyExited(n, pid, exit)) return;
   bool asked = false;
   Proxy* proxy = nullptr;
+  std::string name = n.profile->fullName();  // the process's own: a promoted standby's is another
   {
     std::lock_guard lock(n.mutex);
-    if (n.pid == pid) n.pid = 0;
-    n.up = false;
-    n.left_ns = 0;
-    asked = n.stopping;
+    if (const auto r = n.retired.find(pid); r != n.retired.end()) {  // a serving process a standby took over from
+      asked = true;
+      name = r->second;
+      n.retired.erase(r);
+    }
+    if (n.pid == pid) {
+      name = n.ros_name;
+      n.pid = 0;
+    }
+    if (!asked) {
+      n.up = false;
+      n.left_ns = 0;
+      asked = n.stopping;
+    }
     proxy = n.proxy;
     ++n.exits;
   }
   if (asked) ::killpg(pid, SIGKILL);  // whatever the node forked and left in its group
   tellGuard('-', pid);
   const std::string how = describe(exit);
-  nlohmann::json rec = log::schema::node(n.plan->name, n.profile->fullName(), pid, asked ? "stopped" : "exited");
+  nlohmann::json rec = log::schema::node(n.plan->name, name, pid, asked ? "stopped" : "exited");
   rec[log::schema::field::kDetail] = how;
   std::vector<std::string> last;
   if (!asked && !n.output.empty()) {
@@ -405,7 +462,7 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
   rec[log::schema::field::kTime] = log_.sinceStart(exit.at_ns);
   log_.write(std::move(rec));
   n.changed.notify_all();
-  const std::string who = fmt::format("node '{}' (pid {}) {}", n.profile->fullName(), pid, how);
+  const std::string who = fmt::format("node '{}' (pid {}) {}", name, pid, how);
   if (!asked && proxy && report_) {  // the node's fault first: the cause before what it causes
     FaultEvent ev(FaultKind::Process, n.plan->name, last.empty() ? who : who + ": " + last.back());
     ev.t_ns = exit.at_ns;
@@ -417,6 +474,7 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
 Result<void> NodeSupervisor::restart(Node& n) {
   if (n.plan->attached) return fail("an attached node is not keel's to restart");
   std::lock_guard one(n.restart_mutex);
+  if (promote(n)) return {};
   if (resetByTransitions(n)) return {};
   stopNode(n, Proxy::graceOf(n));  // alive when its fault came from its topics
   auto pid = start(n, "restarted", writeParameters(n));
@@ -424,7 +482,7 @@ Result<void> NodeSupervisor::restart(Node& n) {
   std::lock_guard lock(n.mutex);
   if (n.managed) {  // recovered once configured and Active again, not at the handling's end
     n.resetting = true;
-    if (n.proxy) runtime::coreOf(*n.proxy).fault.recovers_later.store(true, std::memory_order_release);
+    recoversLater(n.proxy);
   } else if (n.proxy)
     runtime::coreOf(*n.proxy).fault.recovered_at_ns.store(runtime::steadyNs(), std::memory_order_release);
   return {};
@@ -438,6 +496,7 @@ Result<void> NodeSupervisor::replace(Node& n, const profile::NodeProfile& altern
     std::lock_guard lock(n.mutex);
     n.proxy = &by;                                           // its faults from now on
     n.parameters = typedParameters(alternative.parameters);  // another node: its own values
+    n.ros_name = alternative.fullName();
   }
   auto pid = start(n, "replaced");
   if (!pid) return pid.error();
@@ -458,8 +517,7 @@ void NodeSupervisor::stopNode(Node& n, std::chrono::milliseconds grace) {
   const pid_t pid = n.pid;
   if (pid == 0) return;
   n.stopping = true;
-  const std::uint64_t exits = n.exits;
-  auto gone = [&] { return n.exits != exits; };
+  auto gone = [&] { return n.pid != pid; };
   ::killpg(pid, SIGINT);
   if (!n.changed.wait_for(lock, grace, gone)) {
     ::killpg(pid, SIGKILL);
@@ -494,6 +552,7 @@ void NodeSupervisor::windDownManaged(std::chrono::milliseconds within) {
   for (Node* n : wind_down_order_) {
     {
       std::lock_guard lock(n->mutex);
+      n->standbys_end = true;  // none started any more
       if (n->pid == 0 || n->stopping) continue;
       n->stopping = true;  // its silence from here on is keel's doing
     }
@@ -505,6 +564,7 @@ void NodeSupervisor::stop(std::chrono::milliseconds within) {
   for (auto& n : nodes_) {
     std::lock_guard one(n->restart_mutex);
     stopNode(*n, std::min(within, Proxy::graceOf(*n)));
+    endStandbys(*n, std::min(within, Proxy::graceOf(*n)));
   }
 }
 
@@ -542,22 +602,30 @@ ParameterMap NodeSupervisor::parametersOf(std::string_view instance) const {
   return {};
 }
 
-// Its params file, written now: the file, or "" when it could not be (warned) or would hold no
-// value (rcl refuses a params file whose node has no parameters): then the restart has the
-// profile's `-p`s, as its first start had.
-std::string NodeSupervisor::writeParameters(Node& n) {
+// The params file of its process named `ros_name` ("": the serving one's), written now: the
+// file, or "" when it could not be (warned) or would hold no value (rcl refuses a params file
+// whose node has no parameters): then the process has the profile's `-p`s, as its first start
+// had. rcl takes a params file's values by node name: a standby's file is keyed by its own name,
+// and is a file of its own (`run.talker.talker_standby_1.params.yaml`).
+std::string NodeSupervisor::writeParameters(Node& n, std::string ros_name) {
   ParameterMap values;
   {
     std::lock_guard lock(n.mutex);
     values = n.parameters;
+    if (ros_name.empty()) ros_name = n.ros_name;
   }
   if (values.empty()) return {};
-  if (auto written = writeParamsFile(n.params_file, n.profile->fullName(), values); !written) {
+  std::string path = n.params_file;
+  if (ros_name != n.profile->fullName()) {
+    constexpr std::string_view kSuffix = ".params.yaml";
+    path.insert(path.size() - kSuffix.size(), "." + ros_name.substr(ros_name.rfind('/') + 1));
+  }
+  if (auto written = writeParamsFile(path, ros_name, values); !written) {
     warn_(
         fmt::format("node '{}': {}: it restarts with its profile's parameters", n.plan->name, written.error().message));
     return {};
   }
-  return n.params_file;
+  return path;
 }
 
 // ---- the ROS 2 graph: up, late, left ----
@@ -578,9 +646,12 @@ bool owns(bool attached, pid_t pid, const GraphSighting& g) {
 }
 
 /// Whether `g` shows the node up: every output topic published (a node with none: listed). A
-/// managed node: listed (its topics come with its configuration, which keel asks for then).
+/// managed node: listed, or configured (its topics come with its configuration, which keel asks
+/// for once it is listed; a promoted standby is configured long before its listing may reach keel:
+/// a Fast DDS participant's comes with a heartbeat, up to 3 s after it started).
 bool completeWith(const GraphSighting& g, bool has_outputs, bool managed) {
-  return managed ? g.listed : g.missing.empty() && (g.listed || has_outputs);
+  const bool publishes = g.missing.empty() && has_outputs;
+  return managed ? g.listed || publishes : publishes || (g.missing.empty() && g.listed);
 }
 
 /// The sighting that speaks for the node: its own that is complete, else any of its own.
@@ -685,7 +756,7 @@ bool NodeSupervisor::quiet(std::string_view instance) const {
     // life's only, so a new life's deadline counts from its own first sample). An attached one:
     // while it is not up (its leaving the graph is its fault).
     // A managed node: also while it is not Active (its lifecycle publishers are silent then).
-    return n->plan->attached ? !n->up : n->pid == 0 || n->stopping || (n->managed && n->active_ns == 0);
+    return n->plan->attached ? !n->up : n->pid == 0 || n->stopping || (n->managed && n->life.active_ns == 0);
   }
   return false;
 }
@@ -697,7 +768,7 @@ std::int64_t NodeSupervisor::firstSampleDue(std::string_view instance) const {
     // Not up: its start fault speaks for it (at the same timeout).
     if (!n->up || (!n->plan->attached && (n->pid == 0 || n->stopping))) return 0;
     const double timeout_ms = n->serving.load(std::memory_order_acquire)->start_timeout_ms;
-    if (n->managed) return n->active_ns == 0 ? 0 : n->active_ns + static_cast<std::int64_t>(timeout_ms * 1e6);
+    if (n->managed) return n->life.active_ns == 0 ? 0 : n->life.active_ns + static_cast<std::int64_t>(timeout_ms * 1e6);
     return n->started_ns + static_cast<std::int64_t>(timeout_ms * 1e6);
   }
   return 0;
@@ -793,6 +864,12 @@ constexpr std::int64_t kProbeNs = 500'000'000;
 constexpr std::int64_t kResendNs = 1'000'000'000;
 /// How soon keel asks again when no reader of the node's process is matched yet.
 constexpr std::int64_t kUnmatchedRetryNs = 20'000'000;
+/// A standby lost right after another waits before it is started again: 0.5 s, doubling, at
+/// most 30 s (a node that cannot stand by must not be restarted in a loop); one that could not be
+/// started at all is tried again after 5 s.
+constexpr std::int64_t kStandbyBackoffNs = 500'000'000;
+constexpr std::int64_t kStandbyBackoffMaxNs = 30'000'000'000;
+constexpr std::int64_t kStandbyRetryNs = 5'000'000'000;
 
 bool primary(std::uint8_t s) { return s >= LState::PRIMARY_STATE_UNCONFIGURED && s <= LState::PRIMARY_STATE_FINALIZED; }
 
@@ -863,108 +940,164 @@ std::string stepList(const std::deque<std::uint8_t>& steps) {
 
 }  // namespace
 
-// What a managed node's transition event says: its state, and the transition keel asked for
-// confirmed or failed; unasked, a fall into ErrorProcessing or Finalized is its fault.
-void NodeSupervisor::lifecycleTransition(std::string_view instance, std::uint8_t start, std::uint8_t goal) {
-  const auto it = std::find_if(nodes_.begin(), nodes_.end(), [&](const auto& n) { return n->plan->name == instance; });
-  if (it == nodes_.end() || !(*it)->managed) return;
-  Node& n = **it;
+// What an event or a state means for the transition a process was asked for.
+struct Heard {
+  enum Kind { Nothing, Done, Failed, Fell, Moved } kind = Nothing;
+  std::uint8_t transition = 0;
+  double after_ms = 0;      // Done: since it was asked
+  bool with_error = false;  // Failed: through ErrorProcessing
+  bool by_state = false;    // Done: confirmed by a get_state reply
+  std::uint8_t from = 0;    // Fell, Moved: the state it left
+  bool resend = false;      // a get_state reply shows the request never arrived
+};
+
+namespace {
+
+void confirm(Lifecycle& l, std::uint8_t t, std::int64_t now, Heard& h) {
+  l.asked = -1;
+  if (!l.steps.empty() && l.steps.front() == t) l.steps.pop_front();
+  if (goalOf(t) == LState::PRIMARY_STATE_ACTIVE) l.active_ns = now;
+  h.kind = Heard::Done;
+  h.transition = t;
+  h.after_ms = static_cast<double>(now - l.asked_ns) / 1e6;
+}
+
+/// A transition event of the process: its state, and the transition asked of it confirmed or
+/// failed; unasked (and not while keel stops it), a fall into ErrorProcessing or Finalized, or
+/// another client's doing.
+Heard hearEvent(Lifecycle& l, std::uint8_t start, std::uint8_t goal, std::int64_t now, bool stopping) {
+  Heard h;
+  const std::uint8_t known = l.state;
+  l.state = goal;
+  if (goal != LState::PRIMARY_STATE_ACTIVE) l.active_ns = 0;
+  if (l.asked >= 0) {
+    const auto t = static_cast<std::uint8_t>(l.asked);
+    const bool ends = primary(goal) && (start == throughOf(t) || start == LState::TRANSITION_STATE_ERRORPROCESSING);
+    if (ends && goal == goalOf(t)) {
+      confirm(l, t, now, h);
+    } else if (ends && !stopping) {
+      l.asked = -1;
+      l.steps.clear();
+      h.kind = Heard::Failed;
+      h.transition = t;
+      h.with_error = start == LState::TRANSITION_STATE_ERRORPROCESSING;
+    }
+    return h;
+  }
+  if (stopping) return h;
+  h.from = start;
+  if (goal == LState::TRANSITION_STATE_ERRORPROCESSING || goal == LState::PRIMARY_STATE_FINALIZED) {
+    l.steps.clear();
+    h.kind = Heard::Fell;
+  } else if (primary(goal) && !primary(start) && goal != known) {
+    // Another client moved it (`ros2 lifecycle set`). (An event of keel's own transition that
+    // its state confirmed first changes no state it knew.)
+    h.kind = Heard::Moved;
+  }
+  return h;
+}
+
+/// A get_state reply: the confirmation of a transition whose event was lost, or the sign that a
+/// request was (its state still the one it had, a while after it was sent).
+Heard hearState(Lifecycle& l, std::uint8_t state, std::int64_t now) {
+  Heard h;
+  if (l.asked >= 0) {
+    const auto t = static_cast<std::uint8_t>(l.asked);
+    if (state == goalOf(t)) {
+      l.state = state;
+      confirm(l, t, now, h);
+      h.by_state = true;
+    } else if (state == l.asked_from && now - l.sent_ns >= kResendNs) {
+      h.resend = true;
+      h.transition = t;
+      l.sent_ns = now;
+    }
+  } else if (primary(state)) {
+    l.state = state;
+  }
+  return h;
+}
+
+}  // namespace
+
+NodeSupervisor::Node* NodeSupervisor::managedNode(std::string_view instance) {
+  for (auto& n : nodes_)
+    if (n->managed && n->plan->name == instance) return n.get();
+  return nullptr;
+}
+
+// What a process of a managed node said: the serving one's confirmations and faults, or a
+// standby's readiness and loss.
+void NodeSupervisor::heard(Node& n, const std::string& name, bool from_event, std::uint8_t start, std::uint8_t goal) {
   const std::int64_t now = runtime::steadyNs();
   std::optional<nlohmann::json> record;
   std::string fault;
+  pid_t lost = 0;
   Proxy* back = nullptr;  // the node is back after its reset: its recovery
+  Heard h;
   {
     std::lock_guard lock(n.mutex);
-    if (n.pid == 0) return;  // a life that ended: its last words change nothing
-    const std::uint8_t known = n.state;
-    n.state = goal;
-    if (goal != LState::PRIMARY_STATE_ACTIVE) n.active_ns = 0;
-    const std::string name = n.profile->fullName();
-    if (n.asked >= 0) {
-      const auto t = static_cast<std::uint8_t>(n.asked);
-      const bool ends = primary(goal) && (start == throughOf(t) || start == LState::TRANSITION_STATE_ERRORPROCESSING);
-      if (ends && goal == goalOf(t)) {
-        n.asked = -1;
-        if (!n.steps.empty() && n.steps.front() == t) n.steps.pop_front();
-        record = log::schema::node(n.plan->name, name, n.pid, confirmedPhase(t));
-        (*record)[log::schema::field::kAfterMs] = static_cast<double>(now - n.asked_ns) / 1e6;
-        if (goal == LState::PRIMARY_STATE_ACTIVE) n.active_ns = now;
-        if (n.resetting && n.steps.empty() && goal == LState::PRIMARY_STATE_ACTIVE) {
+    if (n.pid != 0 && name == n.ros_name) {
+      n.life.answered = true;
+      h = from_event ? hearEvent(n.life, start, goal, now, n.stopping) : hearState(n.life, goal, now);
+      switch (h.kind) {
+        case Heard::Done:
+          record = log::schema::node(n.plan->name, name, n.pid, confirmedPhase(h.transition));
+          (*record)[log::schema::field::kAfterMs] = h.after_ms;
+          if (h.by_state)
+            (*record)[log::schema::field::kDetail] = "confirmed by its state (its transition event was not seen)";
+          if (n.resetting && n.life.steps.empty() && n.life.state == LState::PRIMARY_STATE_ACTIVE) {
+            n.resetting = false;
+            back = n.proxy;
+          }
+          break;
+        case Heard::Failed:
+          fault = fmt::format("node '{}': {} failed{}: it is {}", name, transitionName(h.transition),
+                              h.with_error ? " with an error" : "", stateName(n.life.state));
           n.resetting = false;
-          back = n.proxy;
-        }
-      } else if (ends && !n.stopping) {
-        fault = fmt::format("node '{}': {} failed{}: it is {}", name, transitionName(t),
-                            start == LState::TRANSITION_STATE_ERRORPROCESSING ? " with an error" : "", stateName(goal));
-        n.asked = -1;
-        n.steps.clear();
-        n.resetting = false;
+          break;
+        case Heard::Fell:
+          fault = fmt::format("node '{}' went from {} to {} by itself", name, stateName(h.from),
+                              stateName(n.life.state));
+          break;
+        case Heard::Moved:
+          record = log::schema::node(n.plan->name, name, n.pid, stateName(n.life.state));
+          (*record)[log::schema::field::kDetail] = fmt::format("{} → {}, not asked by keel", stateName(h.from),
+                                                               stateName(n.life.state));
+          break;
+        case Heard::Nothing: break;
       }
-    } else if (!n.stopping &&
-               (goal == LState::TRANSITION_STATE_ERRORPROCESSING || goal == LState::PRIMARY_STATE_FINALIZED)) {
-      fault = fmt::format("node '{}' went from {} to {} by itself", name, stateName(start), stateName(goal));
-      n.steps.clear();
-    } else if (!n.stopping && primary(goal) && !primary(start) && goal != known) {
-      // Another client moved it (`ros2 lifecycle set`): said in the log, not a fault. (An event
-      // of keel's own transition that its state confirmed first changes no state it knew.)
-      record = log::schema::node(n.plan->name, name, n.pid, stateName(goal));
-      (*record)[log::schema::field::kDetail] = fmt::format("{} → {}, not asked by keel", stateName(start),
-                                                           stateName(goal));
+    } else {
+      const auto sb = std::find_if(n.standbys.begin(), n.standbys.end(),
+                                   [&](const Standby& b) { return b.name == name && b.pid != 0; });
+      if (sb == n.standbys.end()) return;  // a life that ended: its last words change nothing
+      sb->life.answered = true;
+      h = from_event ? hearEvent(sb->life, start, goal, now, sb->ending) : hearState(sb->life, goal, now);
+      if (h.kind == Heard::Done && sb->life.steps.empty() && sb->life.state == LState::PRIMARY_STATE_INACTIVE) {
+        sb->ready = true;
+        n.standby_losses = 0;
+        record = log::schema::node(n.plan->name, name, sb->pid, "standby_ready");
+        (*record)[log::schema::field::kAfterMs] = static_cast<double>(now - sb->started_ns) / 1e6;
+      } else if (h.kind == Heard::Failed || h.kind == Heard::Fell ||
+                 (h.kind == Heard::Moved && sb->life.state != LState::PRIMARY_STATE_INACTIVE)) {
+        // A standby is promoted Inactive or not at all: this one is ended, and another started.
+        sb->ending = true;
+        sb->ready = false;
+        lost = sb->pid;
+        record = log::schema::node(n.plan->name, name, sb->pid, "standby_failed");
+        (*record)[log::schema::field::kDetail] = fmt::format("it is {}", stateName(sb->life.state));
+      }
     }
   }
   n.changed.notify_all();
+  if (lost != 0) ::killpg(lost, SIGKILL);
   if (record) {
     (*record)[log::schema::field::kTime] = log_.sinceStart(now);
     log_.write(std::move(*record));
   }
   if (back) recoveredAt(*back, now);
+  if (h.resend && lifecycle_.request) (void)lifecycle_.request(n.plan->name, name, h.transition);
   if (!fault.empty()) report(n, FaultKind::Lifecycle, fault, now);
-  pokeTimer();
-}
-
-// A get_state reply: the confirmation of a transition whose event was lost, or the sign that a
-// request was (its state still the one it had).
-void NodeSupervisor::lifecycleState(std::string_view instance, std::uint8_t state) {
-  const auto it = std::find_if(nodes_.begin(), nodes_.end(), [&](const auto& n) { return n->plan->name == instance; });
-  if (it == nodes_.end() || !(*it)->managed) return;
-  Node& n = **it;
-  const std::int64_t now = runtime::steadyNs();
-  std::optional<nlohmann::json> record;
-  bool resend = false;
-  std::uint8_t t = 0;
-  Proxy* back = nullptr;
-  {
-    std::lock_guard lock(n.mutex);
-    if (n.pid == 0) return;
-    if (n.asked >= 0) {
-      t = static_cast<std::uint8_t>(n.asked);
-      if (state == goalOf(t)) {
-        n.state = state;
-        n.asked = -1;
-        if (!n.steps.empty() && n.steps.front() == t) n.steps.pop_front();
-        record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, confirmedPhase(t));
-        (*record)[log::schema::field::kAfterMs] = static_cast<double>(now - n.asked_ns) / 1e6;
-        (*record)[log::schema::field::kDetail] = "confirmed by its state (its transition event was not seen)";
-        if (state == LState::PRIMARY_STATE_ACTIVE) n.active_ns = now;
-        if (n.resetting && n.steps.empty() && state == LState::PRIMARY_STATE_ACTIVE) {
-          n.resetting = false;
-          back = n.proxy;
-        }
-      } else if (state == n.asked_from && now - n.sent_ns >= kResendNs) {
-        resend = true;  // it never got the request
-        n.sent_ns = now;
-      }
-    } else if (primary(state)) {
-      n.state = state;
-    }
-  }
-  n.changed.notify_all();
-  if (record) {
-    (*record)[log::schema::field::kTime] = log_.sinceStart(now);
-    log_.write(std::move(*record));
-  }
-  if (back) recoveredAt(*back, now);
-  if (resend && lifecycle_.request) (void)lifecycle_.request(n.plan->name, t);
   pokeTimer();
 }
 
@@ -974,85 +1107,386 @@ void NodeSupervisor::recoveredAt(Proxy& proxy, std::int64_t t_ns) {
   if (recovered_) recovered_(proxy, t_ns);
 }
 
+void NodeSupervisor::lifecycleTransition(std::string_view instance, const std::string& name, std::uint8_t start,
+                                         std::uint8_t goal) {
+  if (Node* n = managedNode(instance)) heard(*n, name, true, start, goal);
+}
+
+void NodeSupervisor::lifecycleState(std::string_view instance, const std::string& name, std::uint8_t state) {
+  if (Node* n = managedNode(instance)) heard(*n, name, false, 0, state);
+}
+
+bool NodeSupervisor::runs(std::string_view instance, const std::string& name, pid_t pid) const {
+  for (const auto& n : nodes_) {
+    if (n->plan->name != instance) continue;
+    std::lock_guard lock(n->mutex);
+    if (n->pid == pid && n->ros_name == name) return true;
+    return std::any_of(n->standbys.begin(), n->standbys.end(),
+                       [&](const Standby& b) { return b.pid == pid && b.name == name; });
+  }
+  return false;
+}
+
 std::uint8_t NodeSupervisor::lifecycleStateOf(std::string_view instance) const {
   for (const auto& n : nodes_) {
     if (n->plan->name != instance) continue;
     std::lock_guard lock(n->mutex);
-    return n->state;
+    return n->life.state;
   }
   return 0;
 }
 
-// The next of a managed node's steps, once it is in the graph; an unconfirmed one probed, and
-// late, its fault. Returns when next to look.
+// One process's next step: requested once its reader is matched; an unconfirmed one probed, and
+// late, `late` says so. Called with the node's mutex held; the requests are made by the caller.
+struct NodeSupervisor::Step {
+  int ask = -1;                 // the transition to request now; -1: none
+  bool probe = false;           // to ask its state
+  bool late = false;            // its transition timed out
+  std::uint8_t transition = 0;  // late: which
+  std::int64_t next = std::numeric_limits<std::int64_t>::max();
+};
+
+namespace {
+
+NodeSupervisor::Step nextStep(Lifecycle& l, std::int64_t now, std::int64_t timeout_ns) {
+  NodeSupervisor::Step step;
+  if (l.asked >= 0) {
+    const auto t = static_cast<std::uint8_t>(l.asked);
+    if (now - l.asked_ns >= timeout_ns) {
+      step.late = true;
+      step.transition = t;
+      l.asked = -1;
+      l.steps.clear();
+      l.unresponsive = true;
+    } else {
+      if (now - l.probed_ns >= kProbeNs) {
+        step.probe = true;
+        l.probed_ns = now;
+      }
+      step.next = std::min(l.asked_ns + timeout_ns, l.probed_ns + kProbeNs);
+    }
+  } else if (!l.steps.empty()) {
+    step.ask = l.steps.front();
+  }
+  return step;
+}
+
+/// After a request of `t` was written: its timeout counts from now.
+void asked(Lifecycle& l, std::uint8_t t, std::int64_t now) {
+  if (l.asked >= 0 || l.steps.empty() || l.steps.front() != t) return;
+  l.asked = t;
+  l.asked_from = l.state;
+  l.asked_ns = l.sent_ns = l.probed_ns = now;
+}
+
+}  // namespace
+
+// The serving process's steps, once it is in the graph and what it needs is Active; then each
+// standby's (its configuration), and a standby started where one is missing. Returns when next
+// to look.
 std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
   constexpr std::int64_t kNever = std::numeric_limits<std::int64_t>::max();
   if (!n.managed || !lifecycle_.request) return kNever;
-  std::optional<std::uint8_t> ask;
-  bool probe = false;
-  std::string fault;
+  const double timeout_ms = n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms;
+  const auto timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
   std::int64_t next = kNever;
+  Step serving;
+  std::string name;
+  std::vector<std::pair<std::string, Step>> standby_steps;
+  bool start_standby = false;
   {
     std::lock_guard lock(n.mutex);
-    if (n.pid == 0 || n.stopping || !n.up) return kNever;
-    const double timeout_ms = n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms;
-    const auto timeout_ns = static_cast<std::int64_t>(timeout_ms * 1e6);
-    if (n.asked >= 0) {
-      const auto t = static_cast<std::uint8_t>(n.asked);
-      if (now - n.asked_ns >= timeout_ns) {
-        fault = fmt::format("node '{}': {} not done within {:g} ms: it is {}", n.profile->fullName(), transitionName(t),
-                            timeout_ms, stateName(n.state));
-        n.asked = -1;
-        n.steps.clear();
-        n.resetting = false;
-        n.unresponsive = true;
-      } else {
-        if (now - n.probed_ns >= kProbeNs) {
-          probe = true;
-          n.probed_ns = now;
-        }
-        next = std::min(n.asked_ns + timeout_ns, n.probed_ns + kProbeNs);
-      }
-    } else if (!n.steps.empty()) {
-      ask = n.steps.front();
+    name = n.ros_name;
+    // Asked as soon as its request reader is matched (request() says when), not once it is
+    // listed in the graph: a Fast DDS node's listing can come seconds later.
+    if (n.pid != 0 && !n.stopping) serving = nextStep(n.life, now, timeout_ns);
+    for (Standby& b : n.standbys)
+      if (b.pid != 0 && !b.ending) standby_steps.emplace_back(b.name, nextStep(b.life, now, timeout_ns));
+    const bool running = n.pid != 0 || !n.standbys.empty();
+    if (!n.standbys_end && running && static_cast<int>(n.standbys.size()) < n.standby_count) {
+      if (now >= n.standby_due_ns) start_standby = true;
+      else next = std::min(next, n.standby_due_ns);
     }
   }
+  next = std::min(next, serving.next);
   // Configured and activated once what it needs is Active (their transitions poke the timer).
-  if (ask && (*ask == LTransition::TRANSITION_CONFIGURE || *ask == LTransition::TRANSITION_ACTIVATE))
+  if (serving.ask == LTransition::TRANSITION_CONFIGURE || serving.ask == LTransition::TRANSITION_ACTIVATE)
     for (const Node* m : n.needs) {
       std::lock_guard lock(m->mutex);
-      if (m->active_ns == 0) return kNever;
+      if (m->life.active_ns == 0) serving.ask = -1;
     }
-  if (!fault.empty()) {
-    report(n, FaultKind::Lifecycle, fault, now);
-    return kNever;
-  }
-  if (probe && lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name);
-  if (!ask) return next;
-  const LifecycleLink::Asked sent = lifecycle_.request(n.plan->name, *ask);
-  if (sent == LifecycleLink::Asked::NotYet) return now + kUnmatchedRetryNs;  // its reader not matched yet
-  if (sent == LifecycleLink::Asked::Cyclone) {
+  if (serving.late) {
     {
       std::lock_guard lock(n.mutex);
-      n.steps.clear();
-      n.unresponsive = true;  // it cannot be asked: a reset restarts it (and it says so again)
       n.resetting = false;
     }
     report(n, FaultKind::Lifecycle,
-           fmt::format("node '{}' runs on rmw_cyclonedds (its participant's vendor id is CycloneDDS's), whose "
-                       "service requests keel does not write: run it on rmw_fastrtps_cpp to have keel drive it",
-                       n.profile->fullName()),
+           fmt::format("node '{}': {} not done within {:g} ms: it is {}", name, transitionName(serving.transition),
+                       timeout_ms, stateName(lifecycleStateOf(n.plan->name))),
            now);
-    return kNever;
   }
-  std::lock_guard lock(n.mutex);
-  if (n.asked < 0 && !n.steps.empty() && n.steps.front() == *ask && !n.stopping) {
-    n.asked = *ask;
-    n.asked_from = n.state;
-    n.asked_ns = n.sent_ns = n.probed_ns = now;
+  if (serving.probe && lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name, name);
+  if (serving.ask >= 0) {
+    const auto t = static_cast<std::uint8_t>(serving.ask);
+    const LifecycleLink::Asked sent = lifecycle_.request(n.plan->name, name, t);
+    if (sent == LifecycleLink::Asked::NotYet) {
+      next = std::min(next, now + kUnmatchedRetryNs);  // its reader not matched yet
+    } else if (sent == LifecycleLink::Asked::Cyclone) {
+      {
+        std::lock_guard lock(n.mutex);
+        n.life.steps.clear();
+        n.life.unresponsive = true;  // it cannot be asked: a reset restarts it (and it says so again)
+        n.resetting = false;
+      }
+      report(n, FaultKind::Lifecycle,
+             fmt::format("node '{}' runs on rmw_cyclonedds (its participant's vendor id is CycloneDDS's), whose "
+                         "service requests keel does not write: run it on rmw_fastrtps_cpp to have keel drive it",
+                         name),
+             now);
+    } else {
+      std::lock_guard lock(n.mutex);
+      if (!n.stopping && n.ros_name == name) asked(n.life, t, now);
+      next = std::min(next, now + std::min(kProbeNs, timeout_ns));
+    }
   }
-  const double timeout_ms = n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms;
-  return std::min(now + kProbeNs, now + static_cast<std::int64_t>(timeout_ms * 1e6));
+  for (auto& [standby, step] : standby_steps) {
+    next = std::min(next, step.next);
+    pid_t lost = 0;
+    if (step.late) {  // a standby that does not answer is no standby: ended, another started
+      std::lock_guard lock(n.mutex);
+      for (Standby& b : n.standbys)
+        if (b.name == standby && !b.ending) {
+          b.ending = true;
+          lost = b.pid;
+        }
+    }
+    if (lost != 0) {
+      nlohmann::json record = log::schema::node(n.plan->name, standby, lost, "standby_failed");
+      record[log::schema::field::kDetail] = fmt::format("{} not done within {:g} ms", transitionName(step.transition),
+                                                        timeout_ms);
+      record[log::schema::field::kTime] = log_.sinceStart(now);
+      log_.write(std::move(record));
+      ::killpg(lost, SIGKILL);
+      continue;
+    }
+    if (step.probe && lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name, standby);
+    if (step.ask < 0) continue;
+    const auto t = static_cast<std::uint8_t>(step.ask);
+    const LifecycleLink::Asked sent = lifecycle_.request(n.plan->name, standby, t);
+    if (sent != LifecycleLink::Asked::Written) {
+      next = std::min(next, now + kUnmatchedRetryNs);
+      continue;
+    }
+    std::lock_guard lock(n.mutex);
+    for (Standby& b : n.standbys)
+      if (b.name == standby) asked(b.life, t, now);
+    next = std::min(next, now + std::min(kProbeNs, timeout_ns));
+  }
+  if (start_standby) {
+    if (auto started = startStandby(n); !started) {
+      warn_(started.error().message);
+      std::lock_guard lock(n.mutex);
+      n.standby_due_ns = now + kStandbyRetryNs;
+      next = std::min(next, n.standby_due_ns);
+    } else {
+      next = std::min(next, now + kUnmatchedRetryNs);
+    }
+  }
+  return next;
+}
+
+// A standby started for `n`: its process under the lowest free standby name, configured once its
+// reader is matched (driveLifecycle), promotable once Inactive.
+Result<void> NodeSupervisor::startStandby(Node& n) {
+  std::string name;
+  {
+    std::lock_guard lock(n.mutex);
+    const profile::NodeProfile& p = *n.serving.load(std::memory_order_acquire);
+    for (int k = 1;; ++k) {
+      const std::string candidate = p.inNamespace(p.standbyName(k));
+      const bool taken = candidate == n.ros_name || std::any_of(n.standbys.begin(), n.standbys.end(),
+                                                                [&](const Standby& b) { return b.name == candidate; });
+      if (!taken) {
+        name = candidate;
+        break;
+      }
+    }
+  }
+  if (lifecycle_.renew) lifecycle_.renew(n.plan->name, name);
+  auto pid = spawner_.start(childOf(n, writeParameters(n, name), name));
+  if (!pid) return fail(fmt::format("node '{}': its standby {}: {}", n.plan->name, name, pid.error().message));
+  tellGuard('+', *pid);
+  const std::int64_t now = runtime::steadyNs();
+  {
+    std::lock_guard lock(n.mutex);
+    Standby b;
+    b.pid = *pid;
+    b.name = name;
+    b.started_ns = now;
+    b.life.state = LState::PRIMARY_STATE_UNCONFIGURED;
+    b.life.steps = {LTransition::TRANSITION_CONFIGURE};
+    n.standbys.push_back(std::move(b));
+  }
+  nlohmann::json rec = log::schema::node(n.plan->name, name, *pid, "standby_started");
+  rec[log::schema::field::kOutput] = n.output;
+  rec[log::schema::field::kTime] = log_.sinceStart(now);
+  log_.write(std::move(rec));
+  if (auto watched = watch_.watch(*pid, [this, &n](pid_t p, const Exit& e) { exited(n, p, e); }); !watched) {
+    ::kill(*pid, SIGKILL);
+    return fail(fmt::format("node '{}': its standby {}: {}", n.plan->name, name, watched.error().message));
+  }
+  pokeTimer();
+  return {};
+}
+
+// The exit of a standby: logged, and another started after it (later each time one is lost in
+// a row). No fault: the role is served all along. False: `pid` is no standby of `n`.
+bool NodeSupervisor::standbyExited(Node& n, pid_t pid, const Exit& exit) {
+  std::string name;
+  bool asked = false;
+  {
+    std::lock_guard lock(n.mutex);
+    const auto b = std::find_if(n.standbys.begin(), n.standbys.end(), [&](const Standby& s) { return s.pid == pid; });
+    if (b == n.standbys.end()) return false;
+    name = b->name;
+    asked = b->ending && n.standbys_end;
+    n.standbys.erase(b);
+    if (!asked) {
+      ++n.standby_losses;
+      const std::int64_t backoff = std::min<std::int64_t>(kStandbyBackoffMaxNs,
+                                                          kStandbyBackoffNs << std::min(n.standby_losses - 1, 8));
+      n.standby_due_ns = runtime::steadyNs() + (n.standby_losses > 1 ? backoff : 0);
+    }
+    ++n.exits;
+  }
+  ::killpg(pid, SIGKILL);  // what it forked
+  tellGuard('-', pid);
+  nlohmann::json rec = log::schema::node(n.plan->name, name, pid, asked ? "stopped" : "standby_exited");
+  rec[log::schema::field::kDetail] = describe(exit);
+  rec[log::schema::field::kTime] = log_.sinceStart(exit.at_ns);
+  log_.write(std::move(rec));
+  n.changed.notify_all();
+  pokeTimer();
+  return true;
+}
+
+// The reset of a node with a standby ready: the serving process fenced first — deactivated, or
+// killed when it does not answer (never two active writers) — then the standby activated in its
+// place and another standby started behind it. False: no standby is ready.
+bool NodeSupervisor::promote(Node& n) {
+  if (!n.managed || !lifecycle_.request) return false;
+  const std::int64_t t0 = runtime::steadyNs();
+  pid_t old = 0;
+  std::string old_name;
+  {
+    std::lock_guard lock(n.mutex);
+    const bool ready = std::any_of(n.standbys.begin(), n.standbys.end(), [](const Standby& b) {
+      return b.ready && !b.ending && b.life.asked < 0 && b.life.state == LState::PRIMARY_STATE_INACTIVE;
+    });
+    if (!ready) return false;
+    old = n.pid;
+    old_name = n.ros_name;
+  }
+  std::string fenced = "its process had ended";
+  if (old != 0) fenced = fence(n, old, old_name);
+  Standby b;
+  {
+    std::lock_guard lock(n.mutex);
+    const auto it = std::find_if(n.standbys.begin(), n.standbys.end(), [](const Standby& s) {
+      return s.ready && !s.ending && s.life.asked < 0 && s.life.state == LState::PRIMARY_STATE_INACTIVE;
+    });
+    if (it == n.standbys.end()) return false;  // it went meanwhile: a restart instead
+    b = std::move(*it);
+    n.standbys.erase(it);
+    n.pid = b.pid;
+    n.ros_name = b.name;
+    n.life = b.life;
+    n.life.steps = {LTransition::TRANSITION_ACTIVATE};
+    n.resetting = true;
+    recoversLater(n.proxy);
+    n.stopping = false;
+    n.up = true;  // its request reader is matched: it is in the graph
+    n.late = false;
+    n.left_ns = 0;
+    n.reported = false;
+    n.started_ns = b.started_ns;
+  }
+  // At once, not at the timer's next look.
+  if (lifecycle_.request(n.plan->name, b.name, LTransition::TRANSITION_ACTIVATE) == LifecycleLink::Asked::Written) {
+    std::lock_guard lock(n.mutex);
+    if (n.ros_name == b.name) asked(n.life, LTransition::TRANSITION_ACTIVATE, runtime::steadyNs());
+  }
+  nlohmann::json rec = log::schema::node(n.plan->name, b.name, b.pid, "promoted");
+  rec[log::schema::field::kDetail] = old != 0 ? fmt::format("in place of pid {} ({}), {}", old, old_name, fenced)
+                                              : fenced;
+  rec[log::schema::field::kAfterMs] = static_cast<double>(runtime::steadyNs() - t0) / 1e6;
+  rec[log::schema::field::kTime] = log_.sinceStart(t0);
+  log_.write(std::move(rec));
+  pokeTimer();  // a standby started behind it
+  return true;
+}
+
+// The serving process `pid` made unable to publish before a standby is activated: deactivated
+// (confirmed) and then ended, or killed when it does not answer within its transition timeout.
+// What was done, for the log.
+std::string NodeSupervisor::fence(Node& n, pid_t pid, const std::string& name) {
+  // Its transition timeout, at most a second: the standby waits meanwhile.
+  const double timeout_ms = std::min(1000.0,
+                                     n.serving.load(std::memory_order_acquire)->lifecycle->transition_timeout_ms);
+  const auto until = Clock::now() + std::chrono::microseconds(static_cast<std::int64_t>(timeout_ms * 1e3));
+  bool answers = false;
+  {
+    std::lock_guard lock(n.mutex);
+    n.stopping = true;  // its silence and its exit from here on are keel's doing
+    n.life.steps.clear();
+    n.life.asked = -1;
+    answers = !n.life.unresponsive && n.life.state == LState::PRIMARY_STATE_ACTIVE;
+  }
+  bool deactivated = false;
+  if (answers &&
+      lifecycle_.request(n.plan->name, name, LTransition::TRANSITION_DEACTIVATE) == LifecycleLink::Asked::Written) {
+    std::unique_lock lock(n.mutex);
+    deactivated = n.changed.wait_until(lock, until, [&] {
+      return n.pid != pid || n.life.state == LState::PRIMARY_STATE_INACTIVE;
+    }) && n.pid == pid;
+  }
+  std::unique_lock lock(n.mutex);
+  if (n.pid != pid) return "it ended meanwhile";
+  if (deactivated) {
+    n.retired[pid] = name;  // it ends, its exit no fault
+    n.pid = 0;
+    lock.unlock();
+    ::killpg(pid, SIGINT);  // the rest of its end is the watch's (exited): its group killed then
+    return "deactivated, then ended";
+  }
+  ::killpg(pid, SIGKILL);
+  // The kernel ends a killed process promptly; the bound is against a watch that stopped.
+  if (!n.changed.wait_for(lock, std::chrono::seconds(5), [&] { return n.pid != pid; }))
+    warn_(fmt::format("node '{}' (pid {}): no exit seen 5 s after SIGKILL", n.plan->name, pid));
+  return answers ? "not deactivated in time: killed" : "killed (it was not Active, or did not answer)";
+}
+
+// The role ended (its stop, keel run's end): its standbys too, SIGINT then SIGKILL after `grace`.
+void NodeSupervisor::endStandbys(Node& n, std::chrono::milliseconds grace) {
+  std::vector<pid_t> pids;
+  {
+    std::lock_guard lock(n.mutex);
+    n.standbys_end = true;
+    for (Standby& b : n.standbys) {
+      b.ending = true;
+      pids.push_back(b.pid);
+    }
+  }
+  for (pid_t pid : pids) ::killpg(pid, SIGINT);
+  std::unique_lock lock(n.mutex);
+  auto gone = [&] {
+    return std::none_of(n.standbys.begin(), n.standbys.end(),
+                        [&](const Standby& b) { return std::find(pids.begin(), pids.end(), b.pid) != pids.end(); });
+  };
+  if (n.changed.wait_for(lock, grace, gone)) return;
+  for (pid_t pid : pids) ::killpg(pid, SIGKILL);
+  if (!n.changed.wait_for(lock, std::chrono::seconds(5), gone))
+    warn_(fmt::format("node '{}': a standby's exit not seen 5 s after SIGKILL", n.plan->name));
 }
 
 // A reset of a live managed node that answers: deactivate → cleanup → configure → activate (from
@@ -1064,8 +1498,8 @@ bool NodeSupervisor::resetByTransitions(Node& n) {
   nlohmann::json record;
   {
     std::lock_guard lock(n.mutex);
-    if (n.pid == 0 || n.stopping || n.unresponsive || !n.up) return false;
-    switch (n.state) {
+    if (n.pid == 0 || n.stopping || n.life.unresponsive || !n.life.answered) return false;
+    switch (n.life.state) {
       case LState::PRIMARY_STATE_ACTIVE:
         steps = {LTransition::TRANSITION_DEACTIVATE, LTransition::TRANSITION_CLEANUP, LTransition::TRANSITION_CONFIGURE,
                  LTransition::TRANSITION_ACTIVATE};
@@ -1078,13 +1512,13 @@ bool NodeSupervisor::resetByTransitions(Node& n) {
         break;
       default: return false;  // Finalized, or between states: only a new process comes back
     }
-    n.steps = steps;
-    n.asked = -1;
-    n.resetting = true;  // recovered once Active again, not at the handling's end
-    if (n.proxy) runtime::coreOf(*n.proxy).fault.recovers_later.store(true, std::memory_order_release);
-    record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, "resetting");
+    n.life.steps = steps;
+    n.life.asked = -1;
+    n.resetting = true;
+    recoversLater(n.proxy);
+    record = log::schema::node(n.plan->name, n.ros_name, n.pid, "resetting");
     record[log::schema::field::kDetail] = fmt::format("{}, in the same process (it is {})", stepList(steps),
-                                                      stateName(n.state));
+                                                      stateName(n.life.state));
   }
   record[log::schema::field::kTime] = log_.now();
   log_.write(std::move(record));
@@ -1097,12 +1531,16 @@ bool NodeSupervisor::resetByTransitions(Node& n) {
 void NodeSupervisor::windDown(Node& n, Clock::time_point until) {
   if (!lifecycle_.request) return;
   std::deque<std::uint8_t> steps;
+  std::string name;
+  pid_t pid = 0;
   {
     std::lock_guard lock(n.mutex);
-    n.steps.clear();
-    n.asked = -1;
-    if (n.unresponsive || !n.up) return;  // it did not answer before: the signals speak to it
-    switch (n.state) {
+    n.life.steps.clear();
+    n.life.asked = -1;
+    name = n.ros_name;
+    pid = n.pid;
+    if (n.life.unresponsive || !n.life.answered) return;  // it did not answer: the signals speak to it
+    switch (n.life.state) {
       case LState::PRIMARY_STATE_ACTIVE:
         steps = {LTransition::TRANSITION_DEACTIVATE, LTransition::TRANSITION_INACTIVE_SHUTDOWN};
         break;
@@ -1113,23 +1551,22 @@ void NodeSupervisor::windDown(Node& n, Clock::time_point until) {
   }
   for (std::uint8_t t : steps) {
     const std::int64_t asked_ns = runtime::steadyNs();
-    while (lifecycle_.request(n.plan->name, t) != LifecycleLink::Asked::Written) {
+    while (lifecycle_.request(n.plan->name, name, t) != LifecycleLink::Asked::Written) {
       if (Clock::now() + std::chrono::nanoseconds(kUnmatchedRetryNs) > until) return;
       std::this_thread::sleep_for(std::chrono::nanoseconds(kUnmatchedRetryNs));
     }
     std::unique_lock lock(n.mutex);
-    const std::uint64_t exits = n.exits;
-    auto done = [&] { return n.state == goalOf(t) || n.exits != exits || n.pid == 0; };
+    auto done = [&] { return n.life.state == goalOf(t) || n.pid != pid; };
     while (!done()) {
       const auto slice = std::min(until, Clock::now() + std::chrono::nanoseconds(kProbeNs));
       if (n.changed.wait_until(lock, slice, done)) break;
       if (Clock::now() >= until) return;
       lock.unlock();  // no answer yet: its state, in case the event went missing
-      if (lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name);
+      if (lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name, name);
       lock.lock();
     }
-    if (n.pid == 0 || n.exits != exits) return;
-    nlohmann::json record = log::schema::node(n.plan->name, n.profile->fullName(), n.pid, confirmedPhase(t));
+    if (n.pid != pid) return;
+    nlohmann::json record = log::schema::node(n.plan->name, name, pid, confirmedPhase(t));
     record[log::schema::field::kAfterMs] = static_cast<double>(runtime::steadyNs() - asked_ns) / 1e6;
     lock.unlock();
     record[log::schema::field::kTime] = log_.now();

@@ -71,10 +71,14 @@ struct LifecycleLink {
     NotYet,   // no reader of the node's current process matched yet: ask again later
     Cyclone,  // the node runs on rmw_cyclonedds, whose requests keel does not write
   };
-  /// Asks node `instance` for transition `transition` (a lifecycle_msgs/msg/Transition id).
-  std::function<Asked(const std::string& instance, std::uint8_t transition)> request;
-  /// Asks node `instance` its state, answered to lifecycleState().
-  std::function<Asked(const std::string& instance)> ask_state;
+  /// Asks the process named `name` ("/ns/node", or a standby's) of node `instance` for transition
+  /// `transition` (a lifecycle_msgs/msg/Transition id).
+  std::function<Asked(const std::string& instance, const std::string& name, std::uint8_t transition)> request;
+  /// Asks the process named `name` of node `instance` its state, answered to lifecycleState().
+  std::function<Asked(const std::string& instance, const std::string& name)> ask_state;
+  /// A new process is about to run as `name` of node `instance`: what was asked of an earlier
+  /// process of that name must not reach it (may be empty).
+  std::function<void(const std::string& instance, const std::string& name)> renew;
 };
 
 /// One participant of the ROS 2 graph that lists a node (what keel run's graph watch saw).
@@ -166,11 +170,15 @@ class NodeSupervisor {
   /// The parameter values node `instance` would be restarted with now (empty for no such node).
   ParameterMap parametersOf(std::string_view instance) const;
 
-  /// Managed node `instance` went from state `start` to `goal` (lifecycle_msgs/msg/State ids),
-  /// as its transition event says (any thread).
-  void lifecycleTransition(std::string_view instance, std::uint8_t start, std::uint8_t goal);
-  /// Managed node `instance` said it is in state `state` (a get_state reply; any thread).
-  void lifecycleState(std::string_view instance, std::uint8_t state);
+  /// The process named `name` of managed node `instance` went from state `start` to `goal`
+  /// (lifecycle_msgs/msg/State ids), as its transition event says (any thread).
+  void lifecycleTransition(std::string_view instance, const std::string& name, std::uint8_t start, std::uint8_t goal);
+  /// The process named `name` of managed node `instance` said it is in state `state` (a
+  /// get_state reply; any thread).
+  void lifecycleState(std::string_view instance, const std::string& name, std::uint8_t state);
+  /// Whether process `pid` is the one keel runs as `name` of node `instance` now: its serving
+  /// process under its current name, or one of its standbys (any thread).
+  bool runs(std::string_view instance, const std::string& name, pid_t pid) const;
   /// Managed node `instance`'s state as keel last knew it (0: unknown, or no such node).
   std::uint8_t lifecycleStateOf(std::string_view instance) const;
 
@@ -189,8 +197,8 @@ class NodeSupervisor {
   Result<void> restart(Node& n);
   Result<void> replace(Node& n, const profile::NodeProfile& alternative, Proxy& by);
   void stopNode(Node& n, std::chrono::milliseconds grace);
-  ChildSpec childOf(const Node& n, const std::string& params_file) const;
-  std::string writeParameters(Node& n);
+  ChildSpec childOf(const Node& n, const std::string& params_file, const std::string& ros_name) const;
+  std::string writeParameters(Node& n, std::string ros_name = {});
   Result<void> startGuard();
   void tellGuard(char op, pid_t pgid) const;
   void endGuard();
@@ -200,6 +208,18 @@ class NodeSupervisor {
   std::int64_t driveLifecycle(Node& n, std::int64_t now_ns);
   bool resetByTransitions(Node& n);
   void recoveredAt(Proxy& proxy, std::int64_t t_ns);
+  Node* managedNode(std::string_view instance);
+  void heard(Node& n, const std::string& name, bool from_event, std::uint8_t start, std::uint8_t goal);
+  Result<void> startStandby(Node& n);
+  bool standbyExited(Node& n, pid_t pid, const Exit& exit);
+  bool promote(Node& n);
+  std::string fence(Node& n, pid_t pid, const std::string& name);
+  void endStandbys(Node& n, std::chrono::milliseconds grace);
+
+ public:
+  struct Step;  // one process's next lifecycle step (node_supervisor.cpp)
+
+ private:
   void windDown(Node& n, std::chrono::steady_clock::time_point until);
   void orderManaged(const plan::Plan& plan);
   void report(Node& n, FaultKind kind, const std::string& detail, std::int64_t t_ns);

@@ -37,6 +37,43 @@ def run_managed(test, d, profile=None, policy="<severity>reset</severity>"):
     return peers.KeelRun(test, d, package(ref="managed.xml", policy=policy), files)
 
 
+def standby_package(count=1, policy="<severity>reset</severity>"):
+    """The managed talker as subcomponent `talker`, with `count` standbys."""
+    return ('<?xml version="1.0"?>\n<package_profile><name>standby_test</name><subcomponents><subcomponent>'
+            f'<name>talker</name><reference>managed.xml</reference><process name="talker" standby="{count}"/>'
+            f"<fault_policy>{policy}<restart intensity=\"1000\" period=\"1000\"/></fault_policy>"
+            "</subcomponent></subcomponents></package_profile>\n")
+
+
+def run_with_standby(test, d, profile=None, count=1):
+    files = {"managed.xml": profile or managed(), "lifecycle_talker.py": SCRIPT}
+    return peers.KeelRun(test, d, standby_package(count), files)
+
+
+class Writers:
+    """The pids of the writers a subscriber of /demo/chatter hears, in the order heard; `mixed()`
+    says whether a writer was heard after another had taken over from it (two active at once)."""
+
+    def __init__(self, test, d):
+        self.peer = peers.Ros2Peer(test, d)
+        self.pids = []
+        self.peer.node.create_subscription(String, "/demo/chatter", lambda m: self.pids.append(int(m.data.split()[2])),
+                                           100)
+
+    def spin_until(self, pred, seconds):
+        return self.peer.spin_until(pred, seconds)
+
+    def order(self):
+        order = []
+        for pid in self.pids:
+            if not order or order[-1] != pid:
+                order.append(pid)
+        return order
+
+    def mixed(self):
+        return len(self.order()) != len(set(self.order()))
+
+
 def node_records(run, phase=None, component=None):
     return [r for r in run.records() if r.get("event") == "node" and (phase is None or r.get("phase") == phase)
             and (component is None or r.get("component") == component)]
@@ -207,6 +244,139 @@ class Reset(unittest.TestCase):
                                    30, "its recovery")
         self.assertGreaterEqual(recovered["t_ns"], active["t_ns"])  # once Active, not at its start
         run.stop()
+
+
+class Standby(unittest.TestCase):
+    def test_a_standby_is_started_and_configured_and_stays_silent(self):
+        """With standby="1": a second process, named /demo/managed_standby_1, configured and left
+        Inactive (its own lines: configure, no activate); only the active one is heard. At the
+        end the standby is stopped too, and no process is left."""
+        d = domain()
+        run = run_with_standby(self, d)
+        [active] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30, "active")
+        [ready] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready", 30,
+                               "the standby ready")
+        self.assertEqual(ready["node"], "/demo/managed_standby_1")
+        self.assertNotEqual(ready["pid"], active["pid"])
+        self.assertEqual(sorted(said(run, "configure")), sorted([active["pid"], ready["pid"]]))
+        self.assertEqual(said(run, "activate"), [active["pid"]])
+        writers = Writers(self, d)
+        self.assertTrue(writers.spin_until(lambda: len(writers.pids) >= 10, 30), writers.pids)
+        self.assertEqual(set(writers.pids), {active["pid"]})
+        run.stop()
+        stopped = {r["pid"] for r in node_records(run, "stopped")}
+        self.assertEqual(stopped, {active["pid"], ready["pid"]}, node_records(run))
+        self.assertTrue(gone(active["pid"]) and gone(ready["pid"]))
+        self.assertEqual(faults(run), [])
+
+    def test_a_killed_active_is_taken_over_by_its_standby_and_another_stands_by_behind_it(self):
+        """kill -9 of the active: its `process` fault, then the standby promoted (no restart) and
+        activated, the fault recovered, a fresh standby started and configured behind it; a
+        subscriber hears the old writer, then only the new one."""
+        d = domain()
+        run = run_with_standby(self, d)
+        [active] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30, "active")
+        [ready] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready", 30,
+                               "the standby ready")
+        writers = Writers(self, d)
+        self.assertTrue(writers.spin_until(lambda: len(writers.pids) >= 3, 30), writers.pids)
+        os.kill(active["pid"], signal.SIGKILL)
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected", 20, "the death")
+        self.assertEqual(fault["kind"], "process")
+        [promoted] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "promoted", 20,
+                                  "the standby promoted")
+        self.assertEqual((promoted["pid"], promoted["node"]), (ready["pid"], "/demo/managed_standby_1"))
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated"
+                     and r["pid"] == ready["pid"], 20, "the standby active")
+        run.wait_for(lambda r: r.get("event") == "recovered" and r.get("fault_id") == fault["fault_id"], 20,
+                     "the recovery")
+        fresh = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready"
+                             and r["pid"] not in (active["pid"], ready["pid"]), 30, "a fresh standby")
+        self.assertEqual(fresh[0]["node"], "/demo/managed_standby_2")  # _1 serves now
+        self.assertTrue(writers.spin_until(lambda: writers.pids[-1] == ready["pid"], 30), writers.pids)
+        self.assertEqual(writers.order(), [active["pid"], ready["pid"]])
+        self.assertEqual(node_records(run, "restarted"), [])
+        run.stop()
+
+    def test_a_standby_killed_while_standing_by_is_replaced_without_a_fault(self):
+        """kill -9 of the standby: a `standby_exited` record, another standby started and
+        configured, and no fault: the role was served all along."""
+        d = domain()
+        run = run_with_standby(self, d)
+        [ready] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready", 30,
+                               "the standby ready")
+        os.kill(ready["pid"], signal.SIGKILL)
+        [exited] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_exited", 20,
+                                "its exit")
+        self.assertIn("killed by signal 9", exited["detail"])
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready"
+                     and r["pid"] != ready["pid"], 30, "another standby")
+        self.assertEqual(node_records(run, "promoted"), [])
+        run.stop()
+        self.assertEqual(faults(run), [])
+
+    def test_a_live_faulty_active_is_deactivated_before_its_standby_is_activated(self):
+        """The active's 40th level (4 s after its activation) is out of range: a `range` fault,
+        whose reset is the standby's promotion, the faulty one deactivated first (its own line)
+        and then ended; never two writers heard at once."""
+        d = domain()
+        run = run_with_standby(self, d, managed([("lie_at", "40")]))
+        [active] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30, "active")
+        writers = Writers(self, d)
+        # The standby ready before the lie (its configure may wait a resend, a second): else
+        # the reset is the one without a standby, as it should be, and not this test's.
+        [ready] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready", 30,
+                               "the standby ready")
+        [fault] = run.wait_for(lambda r: r.get("event") == "detected", 30, "the lie")
+        self.assertLess(ready["t_ns"], fault["t_ns"], "the standby was not ready before the lie")
+        self.assertEqual(fault["kind"], "range")
+        [promoted] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "promoted", 20,
+                                  "the standby promoted")
+        self.assertIn(f"in place of pid {active['pid']} (/demo/managed), deactivated, then ended", promoted["detail"])
+        self.assertEqual(said(run, "deactivate"), [active["pid"]])
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "stopped"
+                     and r["pid"] == active["pid"], 20, "the faulty one ended")
+        self.assertTrue(writers.spin_until(lambda: writers.pids and writers.pids[-1] == promoted["pid"], 30),
+                        writers.pids)
+        self.assertFalse(writers.mixed(), writers.order())
+        run.stop()
+
+
+class StandbyCampaign(unittest.TestCase):
+    def test_every_kill_9_of_the_active_is_taken_over_by_a_standby_and_never_two_write(self):
+        """KEEL_NODE_KILL_CAMPAIGN kills (default 100) of the active, each once a standby is
+        ready: every one a `process` fault, a promotion of the ready standby, recovered; the
+        subscriber never hears a writer after the one that took over from it; the log complete
+        (a promotion and a fresh standby per kill)."""
+        kills = int(os.environ.get("KEEL_NODE_KILL_CAMPAIGN", "100"))
+        d = domain()
+        files = {"managed.xml": managed(), "lifecycle_talker.py": SCRIPT}
+        run = peers.KeelRun(self, d, standby_package(), files, duration=60 + 5 * kills)
+        writers = Writers(self, d)
+        serving = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30,
+                               "the first active")[0]["pid"]
+        promoted = set()
+        for i in range(kills):
+            run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready"
+                         and r["pid"] != serving and not gone(r["pid"]), 30, f"kill {i}: a standby ready")
+            self.assertTrue(writers.spin_until(lambda: writers.pids and writers.pids[-1] == serving, 30),
+                            f"kill {i}: the active {serving} not heard")
+            os.kill(serving, signal.SIGKILL)
+            [took] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "promoted"
+                                  and r["pid"] not in promoted, 20, f"kill {i}: the promotion")
+            promoted.add(took["pid"])
+            serving = took["pid"]
+            run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated" and r["pid"] == serving,
+                         20, f"kill {i}: the standby active")
+        run.wait_for(lambda r: r.get("event") == "recovered"
+                     and sum(x.get("event") == "recovered" for x in run.records()) >= kills, 30, "every recovery")
+        self.assertTrue(writers.spin_until(lambda: writers.pids and writers.pids[-1] == serving, 30))
+        run.stop()
+        detected = faults(run)
+        self.assertEqual([f["kind"] for f in detected], ["process"] * kills, detected)
+        self.assertEqual(len(node_records(run, "promoted")), kills)
+        self.assertEqual(node_records(run, "restarted"), [])
+        self.assertFalse(writers.mixed(), writers.order())
 
 
 if __name__ == "__main__":

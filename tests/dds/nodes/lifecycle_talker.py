@@ -2,8 +2,8 @@
 """An ordinary ROS 2 managed (lifecycle) node, written as any rclpy.lifecycle node is and knowing
 nothing of keel. It starts Unconfigured; on_configure makes a lifecycle publisher of
 std_msgs/String on `chatter` (relative: in its namespace) and a 100 ms timer; while Active it
-publishes "<greeting> <n>" (`greeting` a parameter, default "hello"; n counts from 1 in each
-activation) and std_msgs/Float64 1.0 on `level`, while Inactive nothing (a lifecycle publisher
+publishes "<greeting> <n> <pid>" (`greeting` a parameter, default "hello"; n counts from 1 in
+each activation; pid its process's, so that a listener tells the writers apart) and std_msgs/Float64 1.0 on `level`, while Inactive nothing (a lifecycle publisher
 drops what it is given). Each callback
 prints one line on stdout, `lifecycle <transition> <pid>` (configure, activate, deactivate,
 cleanup, shutdown, error), so that a test sees which process went through what.
@@ -89,7 +89,7 @@ class LifecycleTalker(Node):
             return
         self.count += 1
         greeting = self.get_parameter("greeting").value
-        self.publisher.publish(String(data=f"{greeting} {self.count}"))
+        self.publisher.publish(String(data=f"{greeting} {self.count} {os.getpid()}"))
         lie = self.count == self.get_parameter("lie_at").value and not self.lied
         self.lied = self.lied or lie
         self.level.publish(Float64(data=100.0 if lie else 1.0))

@@ -17,9 +17,28 @@ TEST(NodePlan, ANodeTakesNoProcessAndNoDdsBindingOfItsOwnPorts) {
   auto plan = makePlan(*set);
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(relative(plan.error().message),
-            "node/planned_badly.xml:8: <process> of subcomponent 'wander': a ROS 2 node is a process of its own\n"
-            "node/planned_badly.xml:12: <publish> of wander.cmd: 'wander' is a ROS 2 node, whose ports are its own "
+            "node/planned_badly.xml:8: <process> of subcomponent 'wander': a ROS 2 node is a process of its own "
+            "(standby=\"N\" keeps N more of a lifecycle node ready)\n"
+            "node/planned_badly.xml:13: <process standby=\"1\"> of subcomponent 'calm': a standby node waits "
+            "configured and inactive, which only a lifecycle node can: its profile (node/minimal.xml) has no "
+            "<lifecycle/>\n"
+            "node/planned_badly.xml:17: <publish> of wander.cmd: 'wander' is a ROS 2 node, whose ports are its own "
             "topics already (<topic> in its node profile); connect a component to it instead");
+}
+
+TEST(NodePlan, ALifecycleNodesStandbysHaveNamesOfTheirOwn) {
+  auto set = profile::load(dataPath("node/standby.xml"));
+  ASSERT_TRUE(set.ok()) << profile::test::joined(set);
+  auto plan = makePlan(*set);
+  ASSERT_TRUE(plan.ok()) << plan.error().message;
+  const PlannedInstance* wander = plan->find("wander");
+  ASSERT_NE(wander, nullptr);
+  EXPECT_EQ(wander->node_standby, 2);
+  EXPECT_TRUE(wander->process.empty());  // a node is no component process
+  EXPECT_TRUE(plan->processes.empty());
+  // Two standbys, and the one promoted to serve keeps its name: three names.
+  EXPECT_EQ(standbyNodeNames(*wander), (std::vector<std::string>{"/robot/wander_standby_1", "/robot/wander_standby_2",
+                                                                 "/robot/wander_standby_3"}));
 }
 
 TEST(NodePlan, ANodeIsPlannedWithItsProfileAndAnAttachedOneSaysSo) {

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <deque>
@@ -359,15 +360,20 @@ class FakeManagedNode {
   FakeManagedNode& operator=(FakeManagedNode&&) = delete;
 
   LifecycleLink link(NodeSupervisor& sup) {
-    return {[this, &sup](const std::string& instance, std::uint8_t t) {
-              post([this, &sup, instance, t] { perform(sup, instance, t); });
+    return {[this, &sup](const std::string& instance, const std::string& name, std::uint8_t t) {
+              if (!matched_) return LifecycleLink::Asked::NotYet;
+              post([this, &sup, instance, name, t] { perform(sup, instance, name, t); });
               return LifecycleLink::Asked::Written;
             },
-            [this, &sup](const std::string& instance) {
-              post([this, &sup, instance] { sup.lifecycleState(instance, state()); });
+            [this, &sup](const std::string& instance, const std::string& name) {
+              if (!matched_) return LifecycleLink::Asked::NotYet;
+              post([this, &sup, instance, name] { sup.lifecycleState(instance, name, state()); });
               return LifecycleLink::Asked::Written;
-            }};
+            },
+            {}};
   }
+  // Its request readers matched keel's writers: requests reach it from now on.
+  void match() { matched_ = true; }
   // No answer after this: the supervisor may still ask.
   void end() {
     {
@@ -409,7 +415,7 @@ class FakeManagedNode {
       lock.lock();
     }
   }
-  void perform(NodeSupervisor& sup, const std::string& instance, std::uint8_t t) {
+  void perform(NodeSupervisor& sup, const std::string& instance, const std::string& name, std::uint8_t t) {
     std::uint8_t from = 0;
     std::uint8_t through = 0;
     std::uint8_t to = 0;
@@ -438,8 +444,8 @@ class FakeManagedNode {
       wake_.notify_all();
     }
     if (silent) return;
-    sup.lifecycleTransition(instance, from, through);
-    sup.lifecycleTransition(instance, through, to);
+    sup.lifecycleTransition(instance, name, from, through);
+    sup.lifecycleTransition(instance, name, through, to);
   }
 
   const bool lose_first_events_;
@@ -450,6 +456,7 @@ class FakeManagedNode {
   std::uint8_t state_ = State::PRIMARY_STATE_UNCONFIGURED;
   std::vector<std::uint8_t> requests_;
   bool ending_ = false;
+  std::atomic<bool> matched_{false};
   std::thread worker_;  // last: started once the rest is
 };
 
@@ -459,12 +466,38 @@ void managedChatterNode(profile::NodeProfile& node) {
   node.lifecycle = profile::NodeLifecycle{};
 }
 
+TEST(NodeSupervisor, AManagedNodeIsUpWhenListedOrOnceItPublishesItsTopicsThoughItsListingIsLate) {
+  FakeManagedNode managed(/*lose_first_events=*/false, /*fail_configure=*/false);
+  Rig rig("exec sleep 60", 2000, managedChatterNode);
+  rig.sup->setLifecycle(managed.link(*rig.sup));
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t pid = rig.sup->pidOf("talker");
+  auto phases = [&] {
+    std::vector<std::string> out;
+    for (const auto& r : rig.nodeRecords()) out.push_back(r["phase"]);
+    return out;
+  };
+  // Its process in the graph, neither listing it nor publishing: not up, not configured.
+  rig.sup->nodeSeen("talker", {{pid, false, {"/demo/chatter"}}});
+  EXPECT_EQ(phases(), std::vector<std::string>{"started"});
+  // Its writers there (a configured node: a standby promoted), its listing not yet: up.
+  rig.sup->nodeSeen("talker", {{pid, false, {}}});
+  ASSERT_GE(phases().size(), 2u);
+  EXPECT_EQ(phases()[1], "up");
+  // And up it stays while the listing still lags, its writers there.
+  rig.sup->nodeSeen("talker", {{pid + 100000, true, {}}, {pid, false, {}}});
+  const auto now = phases();
+  EXPECT_EQ(std::count(now.begin(), now.end(), "left"), 0);
+  managed.end();
+}
+
 TEST(NodeSupervisor, AManagedNodeWhoseTransitionEventsWentUnseenIsConfirmedByItsState) {
   FakeManagedNode managed(/*lose_first_events=*/true, /*fail_configure=*/false);
   Rig rig("exec sleep 60", 2000, managedChatterNode);
   rig.sup->setLifecycle(managed.link(*rig.sup));
   ASSERT_TRUE(rig.sup->launch());
   rig.sup->nodeSeen("talker", {{rig.sup->pidOf("talker"), true, {"/demo/chatter"}}});
+  managed.match();
   ASSERT_TRUE(managed.waitForState(FakeManagedNode::State::PRIMARY_STATE_ACTIVE));
   // Its state said Inactive while no event came: the configure is confirmed by it, not asked twice.
   std::vector<std::string> phases;
@@ -491,6 +524,7 @@ TEST(NodeSupervisor, AManagedNodeWhoseFailedConfigureWentUnseenIsAskedAgainAndIt
   rig.sup->setLifecycle(managed.link(*rig.sup));
   ASSERT_TRUE(rig.sup->launch());
   rig.sup->nodeSeen("talker", {{rig.sup->pidOf("talker"), true, {"/demo/chatter"}}});
+  managed.match();
   // Its state still Unconfigured: the request was lost, or it failed unseen. Asked again, it fails
   // in sight, well before the 5 s transition timeout.
   ASSERT_TRUE(rig.waitForFault());
