@@ -7,14 +7,17 @@
 # crashing. Last, `ros2`: a ROS 2 node (rclpy, from PyPI), started and supervised by keel, drives
 # the robot over DDS from the sonar ranges keel publishes, is killed with `kill -9` and restarted
 # by keel, then sends one corrupted command (a `range` fault of the node) and is restarted again
-# (robot/ros2/). For each
+# (robot/ros2/); then `ros2_standby`: the same node as a lifecycle node with a hot standby, which
+# takes over from the killed node, and from the one that sent garbage, with the wheels never
+# stopped. For each
 # run keel prints what it detected, how it handled it and the mission's outcome, and for a killed
 # process how soon its standby took over; the fault logs, MCAP recordings and plots (trajectory
 # with the faults marked, Fig. 6's rpm and detection) go to demo/. While each runs, its live
 # monitor is at the address printed (KEEL_DEMO_MONITOR sets it, default 127.0.0.1:8765).
 #   scripts/demo.sh [experiment...]   (default: nominal segfault vision_killed sonar_unplugged
-#                                      sonar_wrong fig6_left_motor_off avoidance_replaced ros2;
-#                                      see robot/scenarios, and robot/ros2.xml for ros2)
+#                                      sonar_wrong fig6_left_motor_off avoidance_replaced ros2
+#                                      ros2_standby; see robot/scenarios, and robot/ros2.xml for
+#                                      the last two)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 
@@ -59,20 +62,27 @@ fi
 monitor=${KEEL_DEMO_MONITOR:-127.0.0.1:8765}  # the live monitor's address (docs/monitor.md)
 experiments=("$@")
 ((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off
-                                       avoidance_replaced ros2)
+                                       avoidance_replaced ros2 ros2_standby)
 for e in "${experiments[@]}"; do
-  if [[ "$e" == ros2 ]]; then
+  if [[ "$e" == ros2 || "$e" == ros2_standby ]]; then
     # A ROS 2 node drives the robot (robot/ros2.xml, robot/ros2/): rclpy from PyPI, in the test
     # peers' venv; without it (no network, no python3-venv) this experiment alone is skipped.
+    # ros2_standby: the same node as a lifecycle node with a standby (ros2/wander_lifecycle.xml).
+    standby=()
     echo
-    echo "=== ros2: a ROS 2 node keel supervises drives the robot; killed with kill -9, then sending garbage, it is restarted ==="
+    if [[ "$e" == ros2 ]]; then
+      echo "=== ros2: a ROS 2 node keel supervises drives the robot; killed with kill -9, then sending garbage, it is restarted ==="
+    else
+      standby=(--standby)
+      echo "=== ros2_standby: the node as a lifecycle node with a hot standby; killed with kill -9, then sending garbage, its standby takes over each time ==="
+    fi
     if ! scripts/peers.sh python; then
-      echo "demo.sh: skipping ros2: rclpy could not be installed (scripts/peers.sh python, above)" >&2
+      echo "demo.sh: skipping $e: rclpy could not be installed (scripts/peers.sh python, above)" >&2
       continue
     fi
-    python3 robot/ros2/experiment.py --keel build/bin/keel --python tests/peers/venv/bin/python --out demo/ros2 \
-      --monitor "$monitor" || echo "demo.sh: the ros2 experiment did not complete (above)" >&2
-    python3 robot/plot_run.py --trace demo/ros2.csv --log demo/ros2.jsonl --out demo/ros2 || true
+    python3 robot/ros2/experiment.py "${standby[@]}" --keel build/bin/keel --python tests/peers/venv/bin/python \
+      --out "demo/$e" --monitor "$monitor" || echo "demo.sh: the $e experiment did not complete (above)" >&2
+    python3 robot/plot_run.py --trace "demo/$e.csv" --log "demo/$e.jsonl" --out "demo/$e" || true
     continue
   fi
   inject=()

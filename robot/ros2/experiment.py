@@ -23,6 +23,7 @@ Exit 1 when a step did not happen."""
 import argparse
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -103,7 +104,7 @@ def environment(args, out):
 class Experiment:
     def __init__(self, args):
         self.args = args
-        self.out = Path(args.out)
+        self.out = Path(args.out).absolute()  # the node runs in its profile's folder: WANDER_STATS must not be relative
         self.out.parent.mkdir(parents=True, exist_ok=True)
         self.env = environment(args, self.out)
         self.log, self.trace = Path(f"{self.out}.jsonl"), Path(f"{self.out}.csv")
@@ -115,6 +116,7 @@ class Experiment:
         self.summary = {"domain": int(self.env["ROS_DOMAIN_ID"])}
         self.keel = None
         self.epoch_ns = None  # the log's t_ns 0 on this script's clock (CLOCK_MONOTONIC)
+        self.profile = ROOT / "robot" / "ros2.xml"
 
     def note(self, text, t=None):
         t = time.monotonic() if t is None else t
@@ -140,7 +142,7 @@ class Experiment:
             time.sleep(0.01)
 
     def start_keel(self):
-        cmd = [self.args.keel, "run", str(ROOT / "robot" / "ros2.xml"), "--duration", "120", "--log", str(self.log),
+        cmd = [self.args.keel, "run", str(self.profile), "--duration", "120", "--log", str(self.log),
                "--set", f"referee.trace={self.trace}", "--record", f"{self.out}.mcap"]
         if self.args.monitor:
             cmd += ["--monitor", self.args.monitor]
@@ -153,7 +155,7 @@ class Experiment:
             for line in Path(f"{self.out}.out").read_text().splitlines():
                 if line.startswith("monitor: "):
                     print(f"  {line}")
-        self.note("keel run robot/ros2.xml: publishes /sonar/a, /sonar/b, /sonar/c and /diagnostics, "
+        self.note(f"keel run {self.profile.name}: publishes /sonar/a, /sonar/b, /sonar/c and /diagnostics, "
                   "subscribes /cmd_vel (deadline 300 ms, lease 600 ms), starts the node wander")
 
     def log_time(self, t_ns):
@@ -283,6 +285,118 @@ class Experiment:
         summary = dict(self.summary, events=[[round(t - self.t0, 3), text] for t, text in self.events])
         Path(f"{self.out}.summary.json").write_text(json.dumps(summary, indent=1))
 
+def standby_profile(out):
+    """robot/ros2.xml with its node a lifecycle node with one standby (ros2/wander_lifecycle.xml,
+    <process standby="1"/>), written to OUT.xml: the same robot, its references made absolute."""
+    robot = ROOT / "robot"
+    text = (robot / "ros2.xml").read_text()
+    text = re.sub(r"(<reference>|reference=\")([^<\"]+)", lambda m: m.group(1) + str((robot / m.group(2)).resolve()),
+                  text)
+    node = f"<reference>{(robot / 'ros2' / 'wander.xml').resolve()}</reference>"
+    if node not in text:
+        raise RuntimeError("robot/ros2.xml has no subcomponent of ros2/wander.xml")
+    text = text.replace(node, f"<reference>{(robot / 'ros2' / 'wander_lifecycle.xml').resolve()}</reference>"
+                              '<process name="wander" standby="1"/>')
+    path = Path(f"{out}.xml")
+    path.write_text(text)
+    return path
+
+
+class StandbyExperiment(Experiment):
+    """The `ros2_standby` experiment: the node a lifecycle node with a standby; its kill -9 and its
+    corrupted command are each taken over by the standby, the wheels never stopped."""
+
+    def __init__(self, args):
+        super().__init__(args)
+        self.profile = standby_profile(self.out)
+        self.summary["standby"] = True
+
+    def ready_standby(self, serving, after_ns=0):
+        return self.watch.first(lambda r: r.get("event") == "node" and r.get("component") == "wander"
+                                and r.get("phase") == "standby_ready" and r["pid"] != serving
+                                and r["t_ns"] >= after_ns, self.watch.records())
+
+    def run(self):
+        w = self.watch
+        self.start_keel()
+        _, active = self.wait("the node active", 40, lambda: self.node_record("activated"))
+        pid = active["pid"]
+        self.note(f"keel: configured and activated /wander (robot/ros2/wander.py --lifecycle), pid {pid}",
+                  self.log_time(active["t_ns"]))
+        _, ready = self.wait("its standby ready", 40, lambda: self.ready_standby(pid))
+        self.note(f"keel: its standby {ready['node']}, pid {ready['pid']}, configured and inactive "
+                  f"{ready['after_ms']:.0f} ms after its start: it hears the sonars, publishes nothing",
+                  self.log_time(ready["t_ns"]))
+        t, _ = self.wait("motion (keel obeying the node's /cmd_vel)", 30,
+                         lambda: w.first(moving, w.rows(), after=self.log_time(active["t_ns"])))
+        self.note("the robot drives on the node's /cmd_vel", t)
+        self.summary.update(moving=t - self.t0, pid=pid, standby_pid=ready["pid"])
+        self.idle(self.args.drive)
+        self.summary["faults_before_kill"] = [r for _, r in w.records() if r.get("event") == "detected"]
+
+        last = w.rows()[-1][1]
+        killed = time.monotonic()
+        os.kill(pid, signal.SIGKILL)
+        self.note(f"kill -9 of the active node, pid {pid} (the wheels at {last['rpm_left']:.0f} / "
+                  f"{last['rpm_right']:.0f} rpm)", killed)
+        self.summary.update(killed=killed - self.t0, rpm_at_kill=[last["rpm_left"], last["rpm_right"]])
+        _, death = self.wait("the node's process fault", 10, lambda: w.first(
+            lambda r: r.get("event") == "detected" and r.get("component") == "wander", w.records()))
+        seen_ms = (self.log_time(death["t_ns"]) - killed) * 1e3
+        self.note(f"keel: {death['detail']} — a `{death['kind']}` fault of wander, {seen_ms:.2f} ms after the kill",
+                  self.log_time(death["t_ns"]))
+        _, promoted = self.wait("the standby's promotion", 10, lambda: self.node_record("promoted", after=pid))
+        _, activated = self.wait("the standby active", 10, lambda: w.first(
+            lambda r: r.get("event") == "node" and r.get("phase") == "activated" and r["pid"] == promoted["pid"],
+            w.records()))
+        took_ms = (self.log_time(activated["t_ns"]) - killed) * 1e3
+        self.note(f"keel: its policy (reset) promoted the standby {promoted['node']} ({promoted['detail']}); "
+                  f"Active {took_ms:.1f} ms after the kill, its commands on /cmd_vel from its next tick (every 50 ms)",
+                  self.log_time(activated["t_ns"]))
+        self.summary.update(death=death, death_seen_ms=seen_ms, promoted=promoted, takeover_ms=took_ms,
+                            pid_again=promoted["pid"])
+        self.idle(1.0)
+        after = [max(abs(r["rpm_left"]), abs(r["rpm_right"])) for t, r in w.rows() if killed < t < killed + 1.0]
+        self.summary["slowest_rpm_after_kill"] = min(after, default=None)
+        remote = [r for _, r in w.records() if r.get("event") == "detected" and r.get("kind") == "remote"]
+        self.summary["remote_after_kill"] = remote
+        self.note(f"in the second after the kill the wheels turned at {min(after, default=0):.0f} rpm at the least "
+                  f"(the deadman: /cmd_vel's 300 ms deadline; {len(remote)} `remote` fault of the teleop)")
+        _, fresh = self.wait("a fresh standby ready", 40,
+                             lambda: self.ready_standby(promoted["pid"], after_ns=promoted["t_ns"]))
+        self.note(f"keel: a fresh standby {fresh['node']}, pid {fresh['pid']}, ready behind it",
+                  self.log_time(fresh["t_ns"]))
+        self.summary["standby_again"] = fresh["pid"]
+        self.idle(self.args.drive / 2)
+
+        sent = time.monotonic()
+        os.kill(promoted["pid"], signal.SIGUSR1)
+        self.note(f"the active node (pid {promoted['pid']}) sends a corrupted command: /cmd_vel 5 m/s ahead", sent)
+        _, fault = self.wait("the node's range fault", 10, lambda: w.first(
+            lambda r: r.get("event") == "detected" and r.get("component") == "wander" and r.get("kind") == "range",
+            w.records()))
+        self.note(f"keel: {fault['detail']} — a `range` fault of wander", self.log_time(fault["t_ns"]))
+        _, second = self.wait("the second promotion", 10, lambda: w.first(
+            lambda r: r.get("event") == "node" and r.get("phase") == "promoted" and r["t_ns"] > fault["t_ns"],
+            w.records()))
+        self.note(f"keel: promoted {second['node']} ({second['detail']})", self.log_time(second["t_ns"]))
+        self.summary.update(range_fault=fault, promoted_again=second, pid_third=second["pid"])
+        self.idle(self.args.after)
+
+        self.keel.send_signal(signal.SIGINT)
+        self.keel.wait(30)
+        self.note(f"keel run stopped (SIGINT), exit {self.keel.returncode}; it stopped the node and its standby")
+        self.watch.poll()
+        records = [r for _, r in w.records()]
+        self.summary.update(keel_exit=self.keel.returncode,
+                            node_faults=[r for r in records if r.get("event") == "detected"
+                                         and r.get("component") == "wander"],
+                            remote_faults=[r for r in records if r.get("event") == "detected"
+                                           and r.get("kind") == "remote"],
+                            node_records=[r for r in records if r.get("event") == "node"],
+                            collisions=max((r["collisions"] for _, r in w.rows()), default=0))
+        return 0
+
 
 def show(out):
     """The node's view and keel's, as the demo prints them after the run."""
@@ -308,8 +422,10 @@ def main():
     p.add_argument("--monitor", default="", help="keel run's --monitor address (none by default)")
     p.add_argument("--drive", type=float, default=5.0, help="s of driving before the kill")
     p.add_argument("--after", type=float, default=5.0, help="s of driving after the restart")
+    p.add_argument("--standby", action="store_true",
+                   help="the node a lifecycle node with a standby, which takes over (robot/ros2/wander_lifecycle.xml)")
     args = p.parse_args()
-    e = Experiment(args)
+    e = StandbyExperiment(args) if args.standby else Experiment(args)
     print(f"  ROS_DOMAIN_ID={e.summary['domain']}; keel on CycloneDDS, the node on rclpy's Fast DDS", flush=True)
     rc = 1
     try:

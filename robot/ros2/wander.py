@@ -2,7 +2,7 @@
 """A ROS 2 node (rclpy) that drives keel's simulated robot (robot/ros2.xml): it wanders the
 room, planning from the robot's sonar ranges that keel publishes, and reads keel's health.
 
-  wander.py [--stats FILE] [--speed M_S] [--turn RAD_S] [--ros-args ...]
+  wander.py [--lifecycle] [--stats FILE] [--speed M_S] [--turn RAD_S] [--ros-args ...]
 
 - subscribes /sonar/a, /sonar/b, /sonar/c (sensor_msgs/msg/Range, sensor-data QoS) and
   /diagnostics (diagnostic_msgs/msg/DiagnosticArray);
@@ -18,6 +18,11 @@ room, planning from the robot's sonar ranges that keel publishes, and reads keel
   FILE, rewritten each second (what a kill -9 leaves is the last second's); `{pid}` in FILE is
   its process id, so that each life has a file of its own.
 
+With --lifecycle it is a managed node (rclpy.lifecycle), as a standby needs: Unconfigured at
+start; on_configure makes its subscriptions, its /cmd_vel (a lifecycle publisher) and its timers,
+so that an Inactive process already has the ranges; it publishes only while Active, and says so
+at each activation.
+
 An ordinary ROS 2 node, named `keel_wander` unless remapped (`--ros-args -r __node:=NAME`):
 `keel run robot/ros2.xml` starts it from robot/ros2/wander.xml with ROS 2's environment
 (ROS_DOMAIN_ID, the rmw's configuration, a python3 with rclpy on PATH); robot/ros2/experiment.py
@@ -30,6 +35,7 @@ import sys
 import time
 
 import rclpy
+import rclpy.lifecycle
 from rclpy.duration import Duration
 from rclpy.qos import LivelinessPolicy, QoSProfile, qos_profile_sensor_data
 from rclpy.signals import SignalHandlerOptions
@@ -51,7 +57,7 @@ def level_of(status):
 
 
 class Wander:
-    def __init__(self, node, args):
+    def __init__(self, node, args, managed=False):
         self.node, self.args = node, args
         self.t0 = time.monotonic()
         self.ranges = {s: None for s in SONARS}  # (metres, arrival)
@@ -68,7 +74,8 @@ class Wander:
         node.create_subscription(DiagnosticArray, "/diagnostics", self.on_diagnostics, 10)
         qos = QoSProfile(depth=10, deadline=Duration(nanoseconds=300_000_000), liveliness=LivelinessPolicy.AUTOMATIC,
                          liveliness_lease_duration=Duration(nanoseconds=600_000_000))
-        self.cmd_vel = node.create_publisher(Twist, "/cmd_vel", qos)
+        self.managed = managed
+        self.cmd_vel = (node.create_lifecycle_publisher if managed else node.create_publisher)(Twist, "/cmd_vel", qos)
         node.create_timer(PERIOD_S, self.tick)
         node.create_timer(1.0, self.report)
         self.say(f"up, pid {os.getpid()}: /cmd_vel at {1 / PERIOD_S:.0f} Hz (deadline 300 ms, lease 600 ms offered); "
@@ -108,7 +115,12 @@ class Wander:
         fresh = [r for r, t in filter(None, self.ranges.values()) if now - t <= FRESH_S]
         return min(fresh) if fresh else None
 
+    def active(self):
+        return not self.managed or self.cmd_vel.is_activated
+
     def tick(self):
+        if not self.active():
+            return  # a standby: it plans nothing and publishes nothing until it is activated
         t = Twist()
         d = self.front()
         if d is not None:
@@ -136,7 +148,8 @@ class Wander:
 
     def report(self):
         d = self.front()
-        what = ("no fresh range: standing still" if d is None else
+        what = ("inactive: publishing nothing" if not self.active() else
+                "no fresh range: standing still" if d is None else
                 f"nearest {d:.2f} m: " + ("turning" if self.turning else f"ahead {self.args.speed:.2f} m/s"))
         worst = sorted(set(self.levels.values()) - {"OK"})
         self.say(f"{sum(self.counts.values())} ranges, {self.arrays} diagnostics, {self.sent} cmd_vel sent; {what}; "
@@ -150,8 +163,34 @@ class Wander:
             os.replace(tmp, self.args.stats)
 
 
+class ManagedWander(rclpy.lifecycle.Node):
+    """Wander as a lifecycle node: made by on_configure, publishing while Active."""
+
+    def __init__(self, args):
+        super().__init__("keel_wander")
+        self.args = args
+        self.wander = None
+
+    def on_configure(self, state):
+        self.wander = Wander(self, self.args, managed=True)
+        self.wander.say("configured: inactive, listening, publishing nothing")
+        return rclpy.lifecycle.TransitionCallbackReturn.SUCCESS
+
+    def on_activate(self, state):
+        result = super().on_activate(state)
+        self.wander.say(f"activated, pid {os.getpid()}: driving")
+        return result
+
+    def on_deactivate(self, state):
+        self.wander.cmd_vel.publish(Twist())  # still active here: its last command stops the wheels
+        result = super().on_deactivate(state)
+        self.wander.say("deactivated")
+        return result
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--lifecycle", action="store_true", help="a managed (lifecycle) node")
     p.add_argument("--stats", default=os.environ.get("WANDER_STATS"),
                    help="write what it saw to this JSON file, each second ({pid}: its pid)")
     p.add_argument("--speed", type=float, default=0.2, help="m/s ahead (default 0.2)")
@@ -160,17 +199,22 @@ def main():
     if args.stats:
         args.stats = args.stats.replace("{pid}", str(os.getpid()))
     rclpy.init(args=sys.argv, signal_handler_options=SignalHandlerOptions.NO)  # SIGINT, SIGTERM: ours, below
-    node = rclpy.create_node("keel_wander")
-    wander = Wander(node, args)
+    if args.lifecycle:
+        node = ManagedWander(args)
+    else:
+        node = rclpy.create_node("keel_wander")
+        node.wander = Wander(node, args)
     stop = []
     for s in (signal.SIGINT, signal.SIGTERM):
         signal.signal(s, lambda *_: stop.append(1))
-    signal.signal(signal.SIGUSR1, lambda *_: setattr(wander, "corrupt", True))
+    signal.signal(signal.SIGUSR1, lambda *_: node.wander and setattr(node.wander, "corrupt", True))
     while not stop:
         rclpy.spin_once(node, timeout_sec=0.1)
-    wander.cmd_vel.publish(Twist())  # a polite node stops what it drives
-    wander.report()
-    wander.say("stopped")
+    if node.wander:
+        if node.wander.active():
+            node.wander.cmd_vel.publish(Twist())  # a polite node stops what it drives
+        node.wander.report()
+        node.wander.say("stopped")
     node.destroy_node()
     rclpy.try_shutdown()
     return 0

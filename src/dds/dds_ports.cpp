@@ -90,6 +90,7 @@ struct DdsPorts::Reader {
   static constexpr std::uint64_t kNoId = std::numeric_limits<std::uint64_t>::max();
 
   void lost(const std::string& why) {
+    if (owner->ending_.load(std::memory_order_acquire)) return;  // keel run's end silenced it
     std::lock_guard lock(mutex);
     if (!serving.load(std::memory_order_relaxed)) {
       held = why;  // the active host reports this outage; the standby only remembers it

@@ -17,6 +17,7 @@
 
 #include <sys/types.h>
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -172,6 +173,9 @@ class DdsPorts {
   void nodeServedBy(const std::string& instance, const std::function<detail::PortBase*(const std::string&)>& port);
   /// Deletes every DDS entity; no listener runs once it returns. Idempotent.
   void close();
+  /// keel run is ending: a reader that goes silent from here on (the nodes keel winds down, the
+  /// writers it closes) is no `remote` fault. Before the run's nodes are wound down; any thread.
+  void stopReporting() { ending_.store(true, std::memory_order_release); }
 
   struct Reader;  // dds_ports.cpp
 
@@ -218,6 +222,7 @@ class DdsPorts {
   std::vector<Endpoint> endpoints_;  // every writer and reader made, for the graph
   std::string graph_name_;           // keel's node name in the graph
   std::vector<Listing> listings_;
+  std::atomic<bool> ending_{false};  // stopReporting() was called
   std::mutex dead_mutex_;
   std::set<pid_t> dead_;  // processes writersDied() was told of: their writers are gone
 };

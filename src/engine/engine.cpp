@@ -204,8 +204,9 @@ void Engine::startDetectors() {
 void Engine::shutdown() {
   if (shut_down_) return;
   shut_down_ = true;
-  side_->windDownNodes();   // its managed nodes' way down goes through DDS
-  if (dds_) dds_->close();  // no sample in, no remote fault, from here on
+  if (dds_) dds_->stopReporting();  // what goes silent from here on is the run's end
+  side_->windDownNodes();           // its managed nodes' way down goes through DDS
+  if (dds_) dds_->close();          // no sample in, no remote fault, from here on
   if (injector_) injector_->stop();
   if (watchdog_) watchdog_->stop();
   fault_manager_.stop();           // handles and logs what is queued; adds no executor after this

@@ -1443,6 +1443,7 @@ std::string NodeSupervisor::fence(Node& n, pid_t pid, const std::string& name) {
     answers = !n.life.unresponsive && n.life.state == LState::PRIMARY_STATE_ACTIVE;
   }
   bool deactivated = false;
+  const std::int64_t asked_ns = runtime::steadyNs();
   if (answers &&
       lifecycle_.request(n.plan->name, name, LTransition::TRANSITION_DEACTIVATE) == LifecycleLink::Asked::Written) {
     std::unique_lock lock(n.mutex);
@@ -1456,6 +1457,10 @@ std::string NodeSupervisor::fence(Node& n, pid_t pid, const std::string& name) {
     n.retired[pid] = name;  // it ends, its exit no fault
     n.pid = 0;
     lock.unlock();
+    nlohmann::json record = log::schema::node(n.plan->name, name, pid, "deactivated");
+    record[log::schema::field::kAfterMs] = static_cast<double>(runtime::steadyNs() - asked_ns) / 1e6;
+    record[log::schema::field::kTime] = log_.now();
+    log_.write(std::move(record));
     ::killpg(pid, SIGINT);  // the rest of its end is the watch's (exited): its group killed then
     return "deactivated, then ended";
   }

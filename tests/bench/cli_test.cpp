@@ -302,8 +302,9 @@ TEST(BenchCli, QuickDdsMeasuresRoundTripsBesideCycloneDdsAndRclpyRemoteFaultsAnd
 }
 
 // A supervised rclpy node's death and restart beside the machine's floor and a respawn loop, a
-// deadline watch, and keel's CPU with idle nodes: every cell measured, none of its kills lost; a
-// death seen by keel long before the deadline that a subscriber alone would wait for.
+// deadline watch, keel's CPU with idle nodes, and a lifecycle node's standby taking over beside
+// its cold restart: every cell measured, none of its kills lost; a death seen by keel long before
+// the deadline that a subscriber alone would wait for.
 TEST(BenchCli, Ros2MeasuresANodesDeathAndRestartBesideTheFloorARespawnLoopAndADeadline) {
   if (::access(KEEL_RCLPY_PYTHON, X_OK) != 0) GTEST_SKIP() << "no rclpy venv (scripts/peers.sh python)";
   int lock = -1;
@@ -342,6 +343,18 @@ TEST(BenchCli, Ros2MeasuresANodesDeathAndRestartBesideTheFloorARespawnLoopAndADe
   EXPECT_FALSE(by["idle_cpu"].contains("note")) << by["idle_cpu"].dump();
   EXPECT_GT(by["idle_cpu"]["nodes_cpu_percent"].get<double>(), 0) << by["idle_cpu"].dump();
   EXPECT_NE(ran.out.find("keel ÷ respawn"), std::string::npos) << ran.out;
+  // The lifecycle node: its standby taking over beside its cold restart, and what a standby costs.
+  for (const char* kills : {"takeover", "cold"}) {
+    ASSERT_TRUE(by.contains(kills)) << kills << " missing: " << ran.out;
+    EXPECT_EQ(by[kills]["n"].get<int>(), 4) << by[kills].dump();
+    EXPECT_EQ(by[kills]["failed"].get<int>(), 0) << by[kills].dump();
+  }
+  EXPECT_LT(by["takeover"]["p50_us"].get<double>(), by["cold"]["p50_us"].get<double>())
+      << "a standby took over no sooner than a cold restart";
+  ASSERT_TRUE(by.contains("standby_cost")) << ran.out;
+  EXPECT_GT(by["standby_cost"]["standby_rss_mib"].get<double>(), 0) << by["standby_cost"].dump();
+  EXPECT_GT(by["standby_cost"]["active_rss_mib"].get<double>(), 0) << by["standby_cost"].dump();
+  EXPECT_NE(ran.out.find("cold ÷ takeover"), std::string::npos) << ran.out;
 }
 
 TEST(BenchCli, QuickScaleHasARowPerSize) {

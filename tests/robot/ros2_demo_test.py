@@ -2,8 +2,9 @@
 """The demo's `ros2` experiment (docs/robot.md), run as scripts/demo.sh runs it
 (robot/ros2/experiment.py): an rclpy node from PyPI, started and supervised by keel from the
 robot's profile, drives keel's simulated robot, is killed with kill -9 and restarted by keel,
-then sends one corrupted command, a `range` fault of it, and is restarted again. One
-run; each test checks one thing it must show, from the files the run leaves — keel's fault log,
+then sends one corrupted command, a `range` fault of it, and is restarted again; and its
+`ros2_standby` experiment (--standby): the node a lifecycle node with a hot standby, which takes
+over from the killed node and from the one that sent garbage. One run each; each test checks one thing it must show, from the files the run leaves — keel's fault log,
 the referee's trace, the node's own stats — and the moments the experiment saw things happen
 (OUT.summary.json, one clock).
 
@@ -151,6 +152,97 @@ class Ros2Demo(unittest.TestCase):
         pid = self.summary["pid_third"]
         self.assertEqual((last["phase"], last["pid"]), ("stopped", pid))
         self.assertFalse(Path(f"/proc/{pid}").exists() and "Z" not in Path(f"/proc/{pid}/stat").read_text().split()[2])
+
+
+def experiment(out, *extra):
+    """robot/ros2/experiment.py run as the demo runs it; its summary, log and trace."""
+    # ROS_DOMAIN_ID unset: the experiment holds a domain of the DDS tests' pool.
+    env = {k: v for k, v in os.environ.items() if k != "ROS_DOMAIN_ID"}
+    run = subprocess.run([sys.executable, str(ROOT / "robot" / "ros2" / "experiment.py"), "--keel", KEEL,
+                          "--python", sys.executable, "--out", str(out), "--drive", "4", "--after", "4", *extra],
+                         env=env, capture_output=True, text=True, timeout=150)
+    if run.returncode != 0:  # a step did not happen: which, and what the run printed
+        raise AssertionError(f"experiment.py failed ({run.returncode}):\n{run.stdout}\n{run.stderr}")
+    summary = json.loads(Path(f"{out}.summary.json").read_text())
+    records = [json.loads(line) for line in Path(f"{out}.jsonl").read_text().splitlines() if line.strip()]
+    with open(f"{out}.csv") as f:
+        rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    return run, summary, records, rows
+
+
+class Ros2StandbyDemo(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.dir = Path(tempfile.mkdtemp(prefix="keel_ros2_standby_demo_"))
+        cls.run_, cls.summary, cls.records, cls.rows = experiment(cls.dir / "ros2_standby", "--standby")
+
+    def context(self):
+        return f"experiment's output:\n{self.run_.stdout}\n{self.run_.stderr}"
+
+    def phases(self):
+        return [(r["phase"], r["pid"]) for r in self.summary["node_records"]]
+
+    def test_the_node_is_configured_and_activated_and_its_standby_waits_configured(self):
+        s = self.summary
+        self.assertEqual(s["keel_exit"], 0, self.context())
+        phases = self.phases()
+        self.assertIn(("activated", s["pid"]), phases)
+        self.assertIn(("standby_ready", s["standby_pid"]), phases)
+        self.assertLess(phases.index(("configured", s["pid"])), phases.index(("activated", s["pid"])))
+        self.assertEqual(s["faults_before_kill"], [])
+        standby = next(r for r in s["node_records"] if r["phase"] == "standby_started")
+        self.assertEqual(standby["node"], "/wander_standby_1")
+
+    def test_the_killed_node_is_taken_over_by_its_standby_before_the_wheels_deadman(self):
+        """kill -9 of the active: its `process` fault, then its standby promoted (no restart) and
+        Active well before /cmd_vel's 300 ms deadline: no `remote` fault of the teleop, and the
+        wheels never slowed to half their speed at the kill."""
+        s = self.summary
+        death = s["death"]
+        self.assertEqual((death["component"], death["kind"]), ("wander", "process"))
+        self.assertLess(s["death_seen_ms"], SOON_MS, self.context())
+        self.assertEqual(s["promoted"]["pid"], s["standby_pid"])
+        self.assertEqual(s["promoted"]["detail"], "its process had ended")
+        self.assertLess(s["takeover_ms"], DEADLINE_MS, self.context())
+        self.assertEqual(s["remote_after_kill"], [], self.context())
+        at_kill = max(abs(r) for r in s["rpm_at_kill"])
+        self.assertGreater(at_kill, 15, s["rpm_at_kill"])
+        self.assertGreater(s["slowest_rpm_after_kill"], at_kill / 2, self.context())
+        self.assertNotIn("restarted", [p for p, _ in self.phases()])
+
+    def test_a_fresh_standby_is_ready_behind_the_promoted_one(self):
+        s = self.summary
+        self.assertNotIn(s["standby_again"], (s["pid"], s["standby_pid"]))
+        self.assertIn(("standby_ready", s["standby_again"]), self.phases())
+
+    def test_a_corrupted_command_is_a_range_fault_and_the_standby_takes_over_after_the_fence(self):
+        """The promoted node's 5 m/s: a `range` fault; the live faulty node is deactivated first,
+        and only then is the fresh standby activated; the faulty one is ended."""
+        s = self.summary
+        fault = s["range_fault"]
+        self.assertEqual((fault["component"], fault["kind"]), ("wander", "range"))
+        second = s["promoted_again"]
+        self.assertEqual(second["pid"], s["standby_again"])
+        self.assertEqual(second["detail"],
+                         f"in place of pid {s['standby_pid']} (/wander_standby_1), deactivated, then ended")
+        records = s["node_records"]
+        deactivated = next(r for r in records if r["phase"] == "deactivated" and r["pid"] == s["standby_pid"])
+        activated = next(r for r in records if r["phase"] == "activated" and r["pid"] == second["pid"])
+        self.assertLess(deactivated["t_ns"], activated["t_ns"])
+        self.assertIn(("stopped", s["standby_pid"]), self.phases())
+
+    def test_two_faults_both_recovered_and_none_of_the_teleop(self):
+        s = self.summary
+        self.assertEqual([f["kind"] for f in s["node_faults"]], ["process", "range"], s["node_faults"])
+        self.assertEqual(s["remote_faults"], [], self.context())
+        recovered = {r["fault_id"] for r in self.records if r.get("event") == "recovered"}
+        self.assertEqual({f["fault_id"] for f in s["node_faults"]} - recovered, set())
+
+    def test_no_node_nor_standby_is_left_when_keel_run_ends(self):
+        pids = {r["pid"] for r in self.summary["node_records"]}
+        for pid in pids:
+            alive = Path(f"/proc/{pid}").exists() and "Z" not in Path(f"/proc/{pid}/stat").read_text().split()[2]
+            self.assertFalse(alive, f"pid {pid} outlived keel run")
 
 
 if __name__ == "__main__":
