@@ -1172,11 +1172,18 @@ NodeSupervisor::Step nextStep(Lifecycle& l, std::int64_t now, std::int64_t timeo
 }
 
 /// After a request of `t` was written: its timeout counts from now.
+// Transition `t` is asked of the process: marked before its request is written, for the
+// process's events can come back before the writer's call returns.
 void asked(Lifecycle& l, std::uint8_t t, std::int64_t now) {
   if (l.asked >= 0 || l.steps.empty() || l.steps.front() != t) return;
   l.asked = t;
   l.asked_from = l.state;
   l.asked_ns = l.sent_ns = l.probed_ns = now;
+}
+
+// Its request was not written after all: asked again later.
+void unasked(Lifecycle& l, std::uint8_t t) {
+  if (l.asked == t) l.asked = -1;
 }
 
 }  // namespace
@@ -1228,7 +1235,15 @@ std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
   if (serving.probe && lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name, name);
   if (serving.ask >= 0) {
     const auto t = static_cast<std::uint8_t>(serving.ask);
+    {
+      std::lock_guard lock(n.mutex);
+      if (!n.stopping && n.ros_name == name) asked(n.life, t, now);
+    }
     const LifecycleLink::Asked sent = lifecycle_.request(n.plan->name, name, t);
+    if (sent != LifecycleLink::Asked::Written) {
+      std::lock_guard lock(n.mutex);
+      if (n.ros_name == name) unasked(n.life, t);
+    }
     if (sent == LifecycleLink::Asked::NotYet) {
       next = std::min(next, now + kUnmatchedRetryNs);  // its reader not matched yet
     } else if (sent == LifecycleLink::Asked::Cyclone) {
@@ -1244,8 +1259,6 @@ std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
                          name),
              now);
     } else {
-      std::lock_guard lock(n.mutex);
-      if (!n.stopping && n.ros_name == name) asked(n.life, t, now);
       next = std::min(next, now + std::min(kProbeNs, timeout_ns));
     }
   }
@@ -1272,14 +1285,18 @@ std::int64_t NodeSupervisor::driveLifecycle(Node& n, std::int64_t now) {
     if (step.probe && lifecycle_.ask_state) (void)lifecycle_.ask_state(n.plan->name, standby);
     if (step.ask < 0) continue;
     const auto t = static_cast<std::uint8_t>(step.ask);
-    const LifecycleLink::Asked sent = lifecycle_.request(n.plan->name, standby, t);
-    if (sent != LifecycleLink::Asked::Written) {
+    const std::string& which = standby;  // a lambda cannot capture a structured binding (clang 14)
+    auto mark = [&](bool written) {
+      std::lock_guard lock(n.mutex);
+      for (Standby& b : n.standbys)
+        if (b.name == which) written ? asked(b.life, t, now) : unasked(b.life, t);
+    };
+    mark(true);
+    if (lifecycle_.request(n.plan->name, standby, t) != LifecycleLink::Asked::Written) {
+      mark(false);
       next = std::min(next, now + kUnmatchedRetryNs);
       continue;
     }
-    std::lock_guard lock(n.mutex);
-    for (Standby& b : n.standbys)
-      if (b.name == standby) asked(b.life, t, now);
     next = std::min(next, now + std::min(kProbeNs, timeout_ns));
   }
   if (start_standby) {
@@ -1412,9 +1429,13 @@ bool NodeSupervisor::promote(Node& n) {
     n.started_ns = b.started_ns;
   }
   // At once, not at the timer's next look.
-  if (lifecycle_.request(n.plan->name, b.name, LTransition::TRANSITION_ACTIVATE) == LifecycleLink::Asked::Written) {
+  {
     std::lock_guard lock(n.mutex);
     if (n.ros_name == b.name) asked(n.life, LTransition::TRANSITION_ACTIVATE, runtime::steadyNs());
+  }
+  if (lifecycle_.request(n.plan->name, b.name, LTransition::TRANSITION_ACTIVATE) != LifecycleLink::Asked::Written) {
+    std::lock_guard lock(n.mutex);  // the timer's next look asks again
+    if (n.ros_name == b.name) unasked(n.life, LTransition::TRANSITION_ACTIVATE);
   }
   nlohmann::json rec = log::schema::node(n.plan->name, b.name, b.pid, "promoted");
   rec[log::schema::field::kDetail] = old != 0 ? fmt::format("in place of pid {} ({}), {}", old, old_name, fenced)

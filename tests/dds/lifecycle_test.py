@@ -37,11 +37,11 @@ def run_managed(test, d, profile=None, policy="<severity>reset</severity>"):
     return peers.KeelRun(test, d, package(ref="managed.xml", policy=policy), files)
 
 
-def standby_package(count=1, policy="<severity>reset</severity>"):
+def standby_package(count=1, policy="<severity>reset</severity>", intensity=1000):
     """The managed talker as subcomponent `talker`, with `count` standbys."""
     return ('<?xml version="1.0"?>\n<package_profile><name>standby_test</name><subcomponents><subcomponent>'
             f'<name>talker</name><reference>managed.xml</reference><process name="talker" standby="{count}"/>'
-            f"<fault_policy>{policy}<restart intensity=\"1000\" period=\"1000\"/></fault_policy>"
+            f"<fault_policy>{policy}<restart intensity=\"{intensity}\" period=\"60000\"/></fault_policy>"
             "</subcomponent></subcomponents></package_profile>\n")
 
 
@@ -314,6 +314,32 @@ class Standby(unittest.TestCase):
         self.assertEqual(node_records(run, "promoted"), [])
         run.stop()
         self.assertEqual(faults(run), [])
+
+    def test_promotions_count_against_the_restart_intensity_and_escalate_past_it(self):
+        """With at most one recovery a minute: the first kill is taken over by the standby; the
+        second, within the minute, escalates past `reset` to a fault stop: no promotion, the
+        node and its standby ended."""
+        d = domain()
+        files = {"managed.xml": managed(), "lifecycle_talker.py": SCRIPT}
+        run = peers.KeelRun(self, d, standby_package(intensity=1), files)
+        [active] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated", 30, "active")
+        [ready] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready", 30,
+                               "the standby ready")
+        os.kill(active["pid"], signal.SIGKILL)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "activated"
+                     and r["pid"] == ready["pid"], 20, "the standby active")
+        [fresh] = run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") == "standby_ready"
+                               and r["pid"] not in (active["pid"], ready["pid"]), 30, "a fresh standby")
+        os.kill(ready["pid"], signal.SIGKILL)
+        [escalated] = run.wait_for(lambda r: r.get("event") == "action" and r.get("fault_id") == 2, 20,
+                                   "the second fault's handling")
+        self.assertEqual((escalated["action"], escalated["detail"]),
+                         ("escalate", "reset → stop: more than 1 recoveries within 60000 ms"), escalated)
+        run.wait_for(lambda r: r.get("event") == "node" and r.get("phase") in ("stopped", "standby_exited")
+                     and r["pid"] == fresh["pid"], 20, "the fresh standby ended")
+        self.assertEqual(len(node_records(run, "promoted")), 1, node_records(run, "promoted"))
+        self.assertTrue(gone(fresh["pid"]))
+        run.stop()
 
     def test_a_live_faulty_active_is_deactivated_before_its_standby_is_activated(self):
         """The active's 40th level (4 s after its activation) is out of range: a `range` fault,
