@@ -135,12 +135,15 @@ class Ros2Demo(unittest.TestCase):
 
     def test_each_outage_is_one_remote_fault_handled_by_a_reset(self):
         """One outage, one fault: the new node's writer is alive before its first sample comes,
-        and the deadline firing meanwhile belongs to the same outage (docs/dds.md). Two outages:
-        the kill's (its writer died) and the restart's after the range fault (its deadline)."""
+        and the deadline firing meanwhile belongs to the same outage (docs/dds.md). The kill's
+        outage is a fault (its writer died); the restart's after the range fault is one when the
+        new node's first command comes more than the 300 ms deadline after the old one's last
+        (its start takes 0.3-0.9 s on this machine): never more than one each."""
         remote = [r for r in self.records if r.get("event") == "detected" and r.get("kind") == "remote"]
-        self.assertEqual([r["component"] for r in remote], ["teleop", "teleop"], remote)
+        self.assertIn([r["component"] for r in remote], (["teleop"], ["teleop", "teleop"]), remote)
         self.assertEqual(remote[0]["fault_id"], self.summary["fault"]["fault_id"])
-        self.assertGreater(remote[1]["t_ns"], self.summary["range_fault"]["t_ns"])
+        if len(remote) == 2:
+            self.assertGreater(remote[1]["t_ns"], self.summary["range_fault"]["t_ns"])
         remote = [r["fault_id"] for r in remote]
         resets = {r["fault_id"] for r in self.records if r.get("event") == "action" and r.get("action") == "reset"}
         self.assertEqual(set(remote) - resets, set(), self.records)
