@@ -488,9 +488,11 @@ Result<void> Engine::connect() {
         for (std::string& s : plan::standbyNodeNames(pi)) names.push_back(std::move(s));
         nodes.push_back({pi.name, std::move(names)});
       }
-    if (!nodes.empty())
+    if (!nodes.empty()) {
       if (auto watching = dds_->watchLifecycles(planned_.plan.rosDomain(), nodes, *lifecycles); !watching)
         errors += watching.error().message + '\n';
+      else side_->lifecyclesReachable();
+    }
   }
   if (dds::ParameterWatch* params = graph ? side_->parameterWatch() : nullptr) {  // the nodes keel restarts
     std::vector<dds::WatchedNode> nodes;

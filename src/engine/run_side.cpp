@@ -163,14 +163,16 @@ Result<void> RunSide::launch() {
       }
     };
     nodes_->setLifecycle({[this, asked](const std::string& instance, const std::string& name, std::uint8_t transition) {
-                            return e_.dds_ ? asked(e_.dds_->requestTransition(instance, name, transition))
-                                           : Asked::NotYet;
+                            dds::DdsPorts* d = lifecycle_dds_.load(std::memory_order_acquire);
+                            return d ? asked(d->requestTransition(instance, name, transition)) : Asked::NotYet;
                           },
                           [this, asked](const std::string& instance, const std::string& name) {
-                            return e_.dds_ ? asked(e_.dds_->askLifecycleState(instance, name)) : Asked::NotYet;
+                            dds::DdsPorts* d = lifecycle_dds_.load(std::memory_order_acquire);
+                            return d ? asked(d->askLifecycleState(instance, name)) : Asked::NotYet;
                           },
                           [this](const std::string& instance, const std::string& name) {
-                            if (e_.dds_) e_.dds_->renewLifecycleRequests(instance, name);
+                            if (dds::DdsPorts* d = lifecycle_dds_.load(std::memory_order_acquire))
+                              d->renewLifecycleRequests(instance, name);
                           }});
     nodes_->setRecovered([this](Component& proxy, std::int64_t t_ns) { e_.fault_manager_.recovered(proxy, t_ns); });
     if (auto r = nodes_->launch(); !r) return r;
@@ -239,8 +241,11 @@ void RunSide::emergencyCleared() {
   if (e_.dds_) e_.dds_->safeCommandsOff();
 }
 
+void RunSide::lifecyclesReachable() { lifecycle_dds_.store(e_.dds_.get(), std::memory_order_release); }
+
 void RunSide::windDownNodes() {
   if (nodes_) nodes_->windDownManaged(e_.options_.stop_timeout);
+  lifecycle_dds_.store(nullptr, std::memory_order_release);  // its DDS side closes next
 }
 
 void RunSide::stopProcesses() {

@@ -8,6 +8,8 @@
 // Thread-safety: as Side's.
 #pragma once
 
+#include <atomic>
+
 #include <map>
 #include <memory>
 #include <mutex>
@@ -19,6 +21,10 @@
 #include "supervision/node_supervisor.hpp"
 #include "supervision/process_supervisor.hpp"
 #include "supervision/spawner.hpp"
+
+namespace keel::dds {
+class DdsPorts;
+}  // namespace keel::dds
 
 namespace keel::engine {
 
@@ -47,6 +53,7 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
   }
   dds::ParameterWatch* parameterWatch() override { return nodes_ ? this : nullptr; }
   dds::LifecycleWatch* lifecycleWatch() override { return nodes_ ? this : nullptr; }
+  void lifecyclesReachable() override;
   bool standingBy() const override { return false; }
   bool injects(const injection::ScheduledFault& f, const plan::PlannedInstance* pi) const override;
   Result<void> launch() override;
@@ -96,6 +103,9 @@ class RunSide final : public Side, private dds::GraphWatch, private dds::Paramet
   bool holds_supervisor_lock_ = false;
   std::unique_ptr<supervision::ProcessSupervisor> supervisor_;
   std::unique_ptr<supervision::NodeSupervisor> nodes_;  // when the plan has ROS 2 nodes
+  /// The engine's DDS side once its lifecycle clients are open: the supervisor's threads reach
+  /// the managed nodes through it (null before, and once the nodes are wound down).
+  std::atomic<dds::DdsPorts*> lifecycle_dds_{nullptr};
   // Composites (plan().composites): OPRoS gives them no state; keel run logs one derived from
   // their members' (compositeStates). Guarded by composite_mutex_ (any component's thread).
   std::mutex composite_mutex_;

@@ -64,6 +64,9 @@ class Side {
   /// Where what the managed (lifecycle) nodes keel runs say goes (keel run's node supervisor,
   /// which drives them through their transitions); null: this side drives no node.
   virtual dds::LifecycleWatch* lifecycleWatch() { return nullptr; }
+  /// The DDS side reaches the managed nodes from now on (its lifecycle clients are open; the
+  /// engine's thread, once, before the run): requests may be written.
+  virtual void lifecyclesReachable() {}
   /// At the engine's shutdown, before its DDS side closes: the managed nodes it runs are
   /// deactivated and shut down while they can still be asked (keel run's).
   virtual void windDownNodes() {}
