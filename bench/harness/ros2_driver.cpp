@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <iostream>
 #include <string>
 #include <tuple>
@@ -92,6 +93,17 @@ int ros2Benchmark(Options o, const Paths& paths) {
                                             r.s.p99_us, r.s.max_us))
                 << '\n';
     };
+    // The rows of the cells `cells` names that were asked for, at achieved load `busy` (%).
+    auto emit = [&](std::initializer_list<std::pair<const char*, DdsCell*>> cells, double busy) {
+      for (auto [what, c] : cells) {
+        if (!wants(what)) continue;
+        Row r = row(what);
+        r.load_achieved = busy;
+        fillRow(std::move(*c), r);
+        report(r);
+        rows.push_back(std::move(r));
+      }
+    };
     // keel's kills and the respawn loop's alternate in five chunks: the machine's drift over the
     // cell weighs on both alike.
     const bool keel = wants("death") || wants("restart"), loop = wants("floor_death") || wants("respawn");
@@ -119,16 +131,8 @@ int ros2Benchmark(Options o, const Paths& paths) {
           add(l.back, std::move(part.back));
         }
       }
-      const double busy = meter.busy() * 100;
-      for (auto [what, c] : {std::pair{"death", &k.death}, std::pair{"restart", &k.back},
-                             std::pair{"floor_death", &l.death}, std::pair{"respawn", &l.back}}) {
-        if (!wants(what)) continue;
-        Row r = row(what);
-        r.load_achieved = busy;
-        fillRow(std::move(*c), r);
-        report(r);
-        rows.push_back(std::move(r));
-      }
+      emit({{"death", &k.death}, {"restart", &k.back}, {"floor_death", &l.death}, {"respawn", &l.back}},
+           meter.busy() * 100);
     }
     // The standby's takeovers and the cold restarts alternate in chunks, as above.
     if (wants("takeover") || wants("cold")) {
@@ -147,15 +151,7 @@ int ros2Benchmark(Options o, const Paths& paths) {
           addNote(to->note, part.back.note);
         }
       }
-      const double busy = meter.busy() * 100;
-      for (auto [what, c] : {std::pair{"takeover", &take}, std::pair{"cold", &cold}}) {
-        if (!wants(what)) continue;
-        Row r = row(what);
-        r.load_achieved = busy;
-        fillRow(std::move(*c), r);
-        report(r);
-        rows.push_back(std::move(r));
-      }
+      emit({{"takeover", &take}, {"cold", &cold}}, meter.busy() * 100);
     }
     if (wants("standby_cost") && standby_cost.is_null() && load == 0) {  // measured without load
       const StandbyCost c = measureStandbyCost(paths, python);

@@ -43,13 +43,18 @@ class Beat(Node):
         self.create_timer(period_ms / 1000.0, self.tick)
 
     def tick(self):
-        t = now_ns()
-        msg = Header()
-        msg.stamp.sec, msg.stamp.nanosec = divmod(t, 1_000_000_000)
-        self.publisher.publish(msg)
-        if self.first:
-            self.first = False
-            print(f"first {t} {os.getpid()}", flush=True)
+        beat(self)
+
+
+def beat(node):
+    """`node`'s message of this tick, stamped now; its first of a life (or an activation) said."""
+    t = now_ns()
+    msg = Header()
+    msg.stamp.sec, msg.stamp.nanosec = divmod(t, 1_000_000_000)
+    node.publisher.publish(msg)
+    if node.first:
+        node.first = False
+        print(f"first {t} {os.getpid()}", flush=True)
 
 
 class LifecycleBeat(rclpy.lifecycle.Node):
@@ -69,15 +74,8 @@ class LifecycleBeat(rclpy.lifecycle.Node):
         return super().on_activate(state)
 
     def tick(self):
-        if self.publisher is None or not self.publisher.is_activated:
-            return
-        t = now_ns()
-        msg = Header()
-        msg.stamp.sec, msg.stamp.nanosec = divmod(t, 1_000_000_000)
-        self.publisher.publish(msg)
-        if self.first:
-            self.first = False
-            print(f"first {t} {os.getpid()}", flush=True)
+        if self.publisher is not None and self.publisher.is_activated:
+            beat(self)
 
 
 def main():
