@@ -18,7 +18,8 @@ the referee's trace as they are written (every 10 ms) and prints the story; keel
 (the log's t_ns, lined up with this script's clock by the log's epoch_ns) say how soon keel saw
 the kill. OUT.summary.json holds it for tests/robot/ros2_demo_test.py. Files: OUT.jsonl (the fault
 log), OUT.csv (the trace), OUT.mcap, OUT.out (keel run's output), OUT.wander.out (the node's
-output, all its lives, as keel keeps it), OUT.wander-PID.json (each life's stats: the node's view).
+output, all its lives under its own name, as keel keeps it; a standby's in
+OUT.wander.<its name>.out), OUT.wander-PID.json (each life's stats: the node's view).
 Exit 1 when a step did not happen."""
 import argparse
 import json
@@ -400,10 +401,13 @@ class StandbyExperiment(Experiment):
 
 def show(out):
     """The node's view and keel's, as the demo prints them after the run."""
-    path = Path(f"{out}.wander.out")
-    if path.exists():
-        print(f"--- the ROS 2 node's view, all its lives ({path}, kept by keel):")
+    out = Path(out)
+    # One file per name the node's processes ran under (a standby's is its own).
+    for path in sorted(out.parent.glob(f"{out.name}.wander*.out")):
         lines = path.read_text().splitlines()
+        if not lines:
+            continue  # a standby started as the run ended
+        print(f"--- the ROS 2 node's view, all its lives under one name ({path}, kept by keel):")
         for line in lines if len(lines) <= 20 else lines[:8] + ["  ..."] + lines[-10:]:
             print(f"  {line}")
     print(f"--- keel's view: detections, actions, recoveries ({out}.jsonl):")

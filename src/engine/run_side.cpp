@@ -95,6 +95,7 @@ Result<void> RunSide::setUpNodes() {
     const fs::path log(o.log_path);
     launch.output_dir = log.has_parent_path() ? log.parent_path().string() : ".";
     launch.output_stem = log.stem().string();
+    launch.fresh_output = !o.log_append;
   } else {
     const char* tmp = std::getenv("TMPDIR");
     launch.output_dir = fmt::format("{}/keel-run-{}", tmp && *tmp ? tmp : "/tmp", ::getpid());

@@ -365,7 +365,7 @@ std::unique_ptr<Component> NodeSupervisor::makeProxy(const plan::PlannedInstance
   return nullptr;
 }
 
-ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file, const std::string& ros_name) const {
+ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file, const std::string& ros_name) {
   const profile::NodeProfile& p = *n.serving.load(std::memory_order_acquire);
   ChildSpec child{p.executable, {}, {}};
   child.args.assign(p.command.begin() + (p.command.empty() ? 0 : 1), p.command.end());
@@ -381,7 +381,8 @@ ChildSpec NodeSupervisor::childOf(const Node& n, const std::string& params_file,
   for (const auto& v : p.environment) child.environment.push_back(v.name + "=" + v.value);
   child.environment.push_back(fmt::format("ROS_DOMAIN_ID={}", launch_.domain));
   child.directory = fs::path(p.file).parent_path().string();
-  child.output = n.output;
+  child.output = fileOf(n, n.output, ros_name, ".out");
+  child.fresh_output = firstUseOf(child.output);
   child.shim = launch_.node_exec;
   return child;
 }
@@ -414,7 +415,7 @@ Result<pid_t> NodeSupervisor::start(Node& n, std::string_view phase, const std::
   }
   pokeTimer();
   nlohmann::json rec = log::schema::node(n.plan->name, ros_name, *pid, phase);
-  rec[log::schema::field::kOutput] = n.output;
+  rec[log::schema::field::kOutput] = fileOf(n, n.output, ros_name, ".out");
   if (!params_file.empty()) rec[log::schema::field::kParams] = params_file;
   rec[log::schema::field::kTime] = log_.now();
   log_.write(std::move(rec));
@@ -456,7 +457,7 @@ void NodeSupervisor::exited(Node& n, pid_t pid, const Exit& exit) {
   rec[log::schema::field::kDetail] = how;
   std::vector<std::string> last;
   if (!asked && !n.output.empty()) {
-    last = lastLines(n.output, 10);
+    last = lastLines(fileOf(n, n.output, name, ".out"), 10);
     rec[log::schema::field::kLastLines] = last;
   }
   rec[log::schema::field::kTime] = log_.sinceStart(exit.at_ns);
@@ -607,6 +608,24 @@ ParameterMap NodeSupervisor::parametersOf(std::string_view instance) const {
 // whose node has no parameters): then the process has the profile's `-p`s, as its first start
 // had. rcl takes a params file's values by node name: a standby's file is keyed by its own name,
 // and is a file of its own (`run.talker.talker_standby_1.params.yaml`).
+// `role_file` ("run.planner.out") for a process under the role's own name; for one under
+// another (a standby's, "/nav/planner_standby_1"), that name's last part before the extension:
+// "run.planner.planner_standby_1.out". One file per process alive at a time: their lines never
+// interleave.
+std::string NodeSupervisor::fileOf(const Node& n, const std::string& role_file, std::string_view ros_name,
+                                   std::string_view extension) {
+  if (ros_name == n.profile->fullName()) return role_file;
+  std::string path = role_file;
+  path.insert(path.size() - extension.size(), "." + std::string(ros_name.substr(ros_name.rfind('/') + 1)));
+  return path;
+}
+
+bool NodeSupervisor::firstUseOf(const std::string& output) {
+  if (!launch_.fresh_output) return false;
+  std::lock_guard lock(outputs_mutex_);
+  return outputs_begun_.insert(output).second;
+}
+
 std::string NodeSupervisor::writeParameters(Node& n, std::string ros_name) {
   ParameterMap values;
   {
@@ -615,11 +634,7 @@ std::string NodeSupervisor::writeParameters(Node& n, std::string ros_name) {
     if (ros_name.empty()) ros_name = n.ros_name;
   }
   if (values.empty()) return {};
-  std::string path = n.params_file;
-  if (ros_name != n.profile->fullName()) {
-    constexpr std::string_view kSuffix = ".params.yaml";
-    path.insert(path.size() - kSuffix.size(), "." + ros_name.substr(ros_name.rfind('/') + 1));
-  }
+  const std::string path = fileOf(n, n.params_file, ros_name, ".params.yaml");
   if (auto written = writeParamsFile(path, ros_name, values); !written) {
     warn_(
         fmt::format("node '{}': {}: it restarts with its profile's parameters", n.plan->name, written.error().message));
@@ -1321,8 +1336,13 @@ Result<void> NodeSupervisor::startStandby(Node& n) {
     const profile::NodeProfile& p = *n.serving.load(std::memory_order_acquire);
     for (int k = 1;; ++k) {
       const std::string candidate = p.inNamespace(p.standbyName(k));
-      const bool taken = candidate == n.ros_name || std::any_of(n.standbys.begin(), n.standbys.end(),
-                                                                [&](const Standby& b) { return b.name == candidate; });
+      // A name of a process still running (a fenced one ending too) is taken: one process of a
+      // name in the graph, and in its output file, at a time.
+      const bool taken = candidate == n.ros_name ||
+                         std::any_of(n.standbys.begin(), n.standbys.end(),
+                                     [&](const Standby& b) { return b.name == candidate; }) ||
+                         std::any_of(n.retired.begin(), n.retired.end(),
+                                     [&](const auto& r) { return r.second == candidate; });
       if (!taken) {
         name = candidate;
         break;
@@ -1345,7 +1365,7 @@ Result<void> NodeSupervisor::startStandby(Node& n) {
     n.standbys.push_back(std::move(b));
   }
   nlohmann::json rec = log::schema::node(n.plan->name, name, *pid, "standby_started");
-  rec[log::schema::field::kOutput] = n.output;
+  rec[log::schema::field::kOutput] = fileOf(n, n.output, name, ".out");
   rec[log::schema::field::kTime] = log_.sinceStart(now);
   log_.write(std::move(rec));
   if (auto watched = watch_.watch(*pid, [this, &n](pid_t p, const Exit& e) { exited(n, p, e); }); !watched) {
@@ -1380,6 +1400,8 @@ bool NodeSupervisor::standbyExited(Node& n, pid_t pid, const Exit& exit) {
   tellGuard('-', pid);
   nlohmann::json rec = log::schema::node(n.plan->name, name, pid, asked ? "stopped" : "standby_exited");
   rec[log::schema::field::kDetail] = describe(exit);
+  if (!asked && !n.output.empty())
+    rec[log::schema::field::kLastLines] = lastLines(fileOf(n, n.output, name, ".out"), 10);
   rec[log::schema::field::kTime] = log_.sinceStart(exit.at_ns);
   log_.write(std::move(rec));
   n.changed.notify_all();

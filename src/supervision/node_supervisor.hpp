@@ -30,6 +30,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -52,9 +53,13 @@ struct NodeLaunch {
   std::string node_exec;   // keel-node-exec
   std::string output_dir;  // where each node's output file is
   /// Each node's output file is `<output_dir>/<output_stem>.<instance>.out` ("run.wander.out"
-  /// beside run.jsonl).
+  /// beside run.jsonl); a process under a standby's name writes to
+  /// `<output_stem>.<instance>.<its node name>.out` ("run.planner.planner_standby_1.out").
   std::string output_stem = "run";
   int domain = 0;  // ROS_DOMAIN_ID of every node: keel run's own domain
+  /// Each output file is emptied when the run first starts a process into it; false: appended to
+  /// (keel soak's later rounds, whose log is appended to too).
+  bool fresh_output = true;
 };
 
 /// keel-node-exec: $KEEL_NODE_EXEC if set, else beside the running executable.
@@ -182,7 +187,7 @@ class NodeSupervisor {
   /// Managed node `instance`'s state as keel last knew it (0: unknown, or no such node).
   std::uint8_t lifecycleStateOf(std::string_view instance) const;
 
-  /// The output file of node `instance` ("" for no such node).
+  /// The output file of node `instance`'s processes under its own name ("" for no such node).
   std::string outputOf(std::string_view instance) const;
   /// The pid of node `instance` now; 0 when it does not run.
   pid_t pidOf(std::string_view instance) const;
@@ -197,7 +202,10 @@ class NodeSupervisor {
   Result<void> restart(Node& n);
   Result<void> replace(Node& n, const profile::NodeProfile& alternative, Proxy& by);
   void stopNode(Node& n, std::chrono::milliseconds grace);
-  ChildSpec childOf(const Node& n, const std::string& params_file, const std::string& ros_name) const;
+  ChildSpec childOf(const Node& n, const std::string& params_file, const std::string& ros_name);
+  static std::string fileOf(const Node& n, const std::string& role_file, std::string_view ros_name,
+                            std::string_view extension);
+  bool firstUseOf(const std::string& output);
   std::string writeParameters(Node& n, std::string ros_name = {});
   Result<void> startGuard();
   void tellGuard(char op, pid_t pgid) const;
@@ -235,7 +243,9 @@ class NodeSupervisor {
   Recovered recovered_;
   std::vector<std::shared_ptr<Node>> nodes_;  // shared with their proxies, which may outlive this
   std::vector<Node*> wind_down_order_;        // the managed nodes, each before those it needs
-  int guard_fd_ = -1;                         // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
+  std::mutex outputs_mutex_;
+  std::set<std::string> outputs_begun_;  // the output files this run started a process into
+  int guard_fd_ = -1;                    // keel run's end of the guard's socket: "+PGID\n", "-PGID\n"
   pid_t guard_pid_ = 0;
   std::mutex guard_mutex_;
   std::condition_variable guard_ended_;

@@ -43,7 +43,8 @@ Result<pid_t> startNow(const ChildSpec& spec) {
   // opened is said as such, not as a failure to start the program.
   int output = -1;
   if (!spec.output.empty()) {
-    output = ::open(spec.output.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+    output = ::open(spec.output.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | (spec.fresh_output ? O_TRUNC : 0),
+                    0644);
     if (output < 0)
       return fail(fmt::format("cannot open '{}' for the output of '{}': {}", spec.output, spec.executable,
                               std::generic_category().message(errno)));

@@ -34,6 +34,8 @@ struct ChildSpec {
   /// A file the child's stdout and stderr are appended to (created if missing); empty: keel
   /// run's own stdout and stderr.
   std::string output{};
+  /// Whether `output` is emptied first rather than appended to.
+  bool fresh_output = false;
   /// keel-node-exec's path: the child is started through it, so that it dies with the spawner's
   /// thread (PR_SET_PDEATHSIG) even if it cannot ask for that itself; empty: started directly.
   std::string shim{};

@@ -83,12 +83,11 @@ def faults(run):
     return [r for r in run.records() if r.get("event") == "detected"]
 
 
-def said(run, what):
-    """The node's own lines `lifecycle <what> <pid>` so far, as pids."""
-    out = run.dir / "log.talker.out"
-    if not out.exists():
-        return []
-    return [int(line.split()[2]) for line in out.read_text().splitlines() if line.startswith(f"lifecycle {what} ")]
+def said(run, what, files="log.talker*.out"):
+    """The node's own lines `lifecycle <what> <pid>` so far, as pids, from each of its processes'
+    output files (a standby's is a file of its own name)."""
+    return [int(line.split()[2]) for out in sorted(run.dir.glob(files))
+            for line in out.read_text().splitlines() if line.startswith(f"lifecycle {what} ")]
 
 
 class StartAndStop(unittest.TestCase):
@@ -260,6 +259,11 @@ class Standby(unittest.TestCase):
         self.assertNotEqual(ready["pid"], active["pid"])
         self.assertEqual(sorted(said(run, "configure")), sorted([active["pid"], ready["pid"]]))
         self.assertEqual(said(run, "activate"), [active["pid"]])
+        # Each process writes to a file of its own name: two processes' lines never interleave.
+        self.assertEqual(said(run, "configure", "log.talker.out"), [active["pid"]])
+        self.assertEqual(said(run, "configure", "log.talker.managed_standby_1.out"), [ready["pid"]])
+        [started] = node_records(run, "standby_started")
+        self.assertEqual(started["output"], str(run.dir / "log.talker.managed_standby_1.out"))
         writers = Writers(self, d)
         self.assertTrue(writers.spin_until(lambda: len(writers.pids) >= 10, 30), writers.pids)
         self.assertEqual(set(writers.pids), {active["pid"]})

@@ -192,6 +192,19 @@ TEST(NodeSupervisor, AResetRestartsALiveNodeAsANewProcessAndAStopEndsItWithoutAF
   EXPECT_TRUE(rig.faults.empty()) << "a stop keel asked for was taken for a fault: " << rig.faults[0].detailText();
 }
 
+TEST(NodeSupervisor, ARunEmptiesItsNodesOutputFileFirstAndItsRestartsAppendToIt) {
+  Rig rig("echo \"life $$\"; exec sleep 60");
+  { std::ofstream(rig.dir / "run.talker.out") << "a line of an earlier run\n"; }
+  ASSERT_TRUE(rig.sup->launch());
+  const pid_t first = rig.sup->pidOf("talker");
+  ASSERT_TRUE(rig.waitForOutput("life " + std::to_string(first)));
+  EXPECT_EQ(rig.proxy->onReset(), ReturnCode::Ok);
+  const pid_t second = rig.sup->pidOf("talker");
+  ASSERT_TRUE(rig.waitForOutput("life " + std::to_string(second)));
+  EXPECT_EQ(rig.output(), fmt::format("life {}\nlife {}\n", first, second));
+  EXPECT_EQ(rig.proxy->onStop(), ReturnCode::Ok);
+}
+
 TEST(NodeSupervisor, ANodeEndsAtSigintAndOneThatIgnoresItIsKilledAfterItsGrace) {
   {
     Rig polite("trap 'echo bye; exit 0' INT; echo ready; while :; do sleep 0.05; done");
