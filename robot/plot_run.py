@@ -20,6 +20,9 @@ Outputs in --out DIR (created):
   trajectory.svg  (with --trace, else from --ports when it has the referee's truth) the world, the path, the body at start and end, each detected
                   fault at the robot's position when it was detected (one marker per kind) and
                   each injected fault (x); the mission's outcome in the title
+  estimation.svg  (with --ports from a run of robot/estimation.xml) the state estimator's test
+                  statistic against its threshold, and each wheel's encoder beside its
+                  estimate, with the injections and the estimator's detections
   fig6.svg        (with --trace, else from --ports when it has the robot's wheel ports) left
                   (and, lighter, right) wheel rpm, measured and reference, raw and filtered
                   (trailing moving average over --window rows), the threshold (--threshold x the
@@ -64,6 +67,11 @@ WHEEL_PORTS = {"measured_left": "actuator/left_rpm", "measured_right": "actuator
 TRUTH_PORT, TRUTH_VALUES = "referee/truth", ("t_s", "x_m", "y_m", "heading_rad", "rpm_left", "rpm_right",
                                              "clearance_m", "collisions")
 WORLD_PORT = "referee/world"  # target x, y, r; start x, y, heading; boxes of 4, null after the last
+# The state estimator's ports (robot/estimation.xml): its test statistic and threshold, and the
+# left wheel as its encoder measures it and as the estimator estimates it.
+ESTIMATION_PORTS = {"statistic": "estimator/statistic", "threshold": "estimator/threshold",
+                    "encoder_left": "encoder_left/rpm", "estimate_left": "estimator/estimate0",
+                    "encoder_right": "encoder_right/rpm", "estimate_right": "estimator/estimate1"}
 TIMELINE_LABELLED = 40  # faults whose latencies are written on the timeline; more would overlap
 
 # One marker per detected kind (fault.hpp's kinds); others cycle through MORE_MARKERS.
@@ -259,6 +267,16 @@ def wheel_trace(ports):
             for c, v in row.items():
                 columns[c].append(v)
     return columns if columns["t_s"] else None
+
+
+def estimation_trace(ports):
+    """The estimator's columns, each its own (t_s, values) on the log's clock; None without its
+    statistic."""
+    series = {c: port_values(ports, p) or [] for c, p in ESTIMATION_PORTS.items()}
+    if not series["statistic"] or not series["threshold"]:
+        return None
+    return {c: ([t / 1e9 for t, _ in v], [x if isinstance(x, float) else math.nan for _, x in v])
+            for c, v in series.items()}
 
 
 # ---- the run, on the trace's clock -----------------------------------------------------------
@@ -523,6 +541,47 @@ def plot_fig6(plt, trace, run, window, threshold, path, clock="simulated time"):
     plt.close(fig)
 
 
+def plot_estimation(plt, est, run, path):
+    fig, (wheels, test) = plt.subplots(2, 1, figsize=(11, 8), sharex=True, gridspec_kw={"height_ratios": [1, 1.2]})
+    for c, style, color, label in (("encoder_right", "-", "tab:blue", "encoder_right (rpm)"),
+                                   ("estimate_right", "--", "tab:cyan", "its estimate"),
+                                   ("encoder_left", "-", "tab:red", "encoder_left (rpm)"),
+                                   ("estimate_left", "--", "tab:orange", "its estimate")):
+        t, v = est[c]
+        if t:
+            wheels.plot([x * 1000 for x in t], v, style, color=color, lw=1.0, label=label)
+    wheels.set_ylabel("wheel speed (rpm)")
+    wheels.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    wheels.grid(True, lw=0.3, alpha=0.5)
+    t, v = est["statistic"]
+    test.semilogy([x * 1000 for x in t], [max(x, 1e-3) for x in v], "-", color="tab:blue", lw=1.0,
+                  label="test statistic: normalised innovations squared, summed over the window")
+    t, v = est["threshold"]
+    test.semilogy([x * 1000 for x in t], v, ":", color="tab:red", lw=1.6, label="threshold (chi-square quantile)")
+    for ax in (wheels, test):
+        trans = ax.get_xaxis_transform()
+        for i in run["injections"]:
+            ax.axvline(i["t"] * 1000.0, color="crimson", ls="--", lw=1.2)
+            if ax is test:
+                ax.text(i["t"] * 1000.0, 0.98, f" {i['kind']}: {i['detail']}"[:48], transform=trans, rotation=90,
+                        va="top", ha="right", fontsize=8, color="crimson")
+        for d in (d for d in run["detections"] if d.get("detector") == "estimator"):
+            ax.axvline(d["t"] * 1000.0, color="black", lw=1.2)
+            if ax is test:
+                label = (f" {d['kind']}@{d['component']}: " +
+                         ("no injection before" if d["delay_ms"] is None else f"{d['delay_ms']:.0f} ms after injection"))
+                ax.text(d["t"] * 1000.0, 0.02, label, transform=trans, rotation=90, va="bottom", ha="left",
+                        fontsize=8)
+    test.set_xlabel("time since the run started (ms)")
+    test.set_ylabel("statistic (log)")
+    test.grid(True, lw=0.3, alpha=0.5)
+    test.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0)
+    wheels.set_title("Diagnosis by state estimation: the wheels as measured and estimated, the test and its threshold",
+                     fontsize=10)
+    fig.savefig(path, format="svg", bbox_inches="tight", metadata={"Date": None})
+    plt.close(fig)
+
+
 def duration_text(us):
     return f"{us:.0f} us" if us < 1000 else f"{us / 1000:.1f} ms"
 
@@ -619,24 +678,26 @@ def read_inputs(args):
     run = build_run(records, trace, args.offset_s if trace else None)
     mission_outcome(run["mission"])  # a malformed mission record is an input error, before plotting
     wheels, clock = (trace, "simulated time") if trace else (None, None)
+    estimation = None
     robot = trace is not None or run["mission"] is not None  # the referee's record
     if not trace and args.ports:  # a recording: everything on the log's clock
         ports = read_ports(args.ports)
         trace, world = truth_trace(ports), (read_world(args.world) if args.world else port_world(ports))
         wheels, clock = wheel_trace(ports), "time since the run started"
+        estimation = estimation_trace(ports)
         robot = robot or trace is not None or any(port_values(ports, p) for p in WHEEL_PORTS.values())
     try:
         os.makedirs(args.out, exist_ok=True)
     except OSError as e:
         raise InputError(f"cannot create the output directory {args.out}: {e.strerror}") from None
-    return trace, world, run, wheels, clock, robot
+    return trace, world, run, wheels, clock, robot, estimation
 
 
 def main(argv=None):
     args = parse_args(argv)
     have_matplotlib = find_matplotlib()
     try:
-        trace, world, run, wheels, clock, robot = read_inputs(args)
+        trace, world, run, wheels, clock, robot, estimation = read_inputs(args)
     except InputError as e:
         print(f"plot_run: {e}", file=sys.stderr)
         return 2
@@ -656,6 +717,8 @@ def main(argv=None):
     elif robot:
         print("plot_run: no fig6.svg: neither a trace (--trace) nor the robot's wheel ports (--ports: "
               + ", ".join(WHEEL_PORTS.values()) + ")", file=sys.stderr)
+    if estimation:
+        plots.append(("estimation.svg", lambda f: plot_estimation(plt, estimation, run, f)))
     for name, draw in plots:
         out = os.path.join(args.out, name)
         try:

@@ -4,7 +4,11 @@
 # without faults, then through the paper's experiments, each injected while it drives: a
 # segmentation fault, the vision's process killed with `kill -9` (twice), an unplugged sonar, a
 # lying sonar, the left wheel's driver losing power (Fig. 6), an obstacle avoider that keeps
-# crashing. Last, `ros2`: a ROS 2 node (rclpy, from PyPI), started and supervised by keel, drives
+# crashing. Then diagnosis by state estimation (robot/estimation.xml), which the paper could not
+# do: the left encoder going dead, which the paper's detector takes for the motor and stops the
+# robot for, accused as the sensor it is while the robot drives on (`estimation_encoder_left_dead`),
+# and Fig. 6's motor off accused as the actuator's (`estimation_fig6_left_motor_off`), each with
+# a plot of the estimator's test against its threshold. Last, `ros2`: a ROS 2 node (rclpy, from PyPI), started and supervised by keel, drives
 # the robot over DDS from the sonar ranges keel publishes, is killed with `kill -9` and restarted
 # by keel, then sends one corrupted command (a `range` fault of the node) and is restarted again
 # (robot/ros2/); then `ros2_standby`: the same node as a lifecycle node with a hot standby, which
@@ -15,8 +19,10 @@
 # with the faults marked, Fig. 6's rpm and detection) go to demo/. While each runs, its live
 # monitor is at the address printed (KEEL_DEMO_MONITOR sets it, default 127.0.0.1:8765).
 #   scripts/demo.sh [experiment...]   (default: nominal segfault vision_killed sonar_unplugged
-#                                      sonar_wrong fig6_left_motor_off avoidance_replaced ros2
-#                                      ros2_standby; see robot/scenarios, and robot/ros2.xml for
+#                                      sonar_wrong fig6_left_motor_off avoidance_replaced
+#                                      estimation_encoder_left_dead estimation_fig6_left_motor_off
+#                                      ros2 ros2_standby; see robot/scenarios; estimation_X runs
+#                                      scenario X with robot/estimation.xml; robot/ros2.xml for
 #                                      the last two)
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
@@ -62,7 +68,8 @@ fi
 monitor=${KEEL_DEMO_MONITOR:-127.0.0.1:8765}  # the live monitor's address (docs/monitor.md)
 experiments=("$@")
 ((${#experiments[@]})) || experiments=(nominal segfault vision_killed sonar_unplugged sonar_wrong fig6_left_motor_off
-                                       avoidance_replaced ros2 ros2_standby)
+                                       avoidance_replaced estimation_encoder_left_dead
+                                       estimation_fig6_left_motor_off ros2 ros2_standby)
 for e in "${experiments[@]}"; do
   if [[ "$e" == ros2 || "$e" == ros2_standby ]]; then
     # A ROS 2 node drives the robot (robot/ros2.xml, robot/ros2/): rclpy from PyPI, in the test
@@ -86,12 +93,18 @@ for e in "${experiments[@]}"; do
     continue
   fi
   inject=()
-  [[ "$e" == nominal ]] || inject=(--inject "robot/scenarios/$e.xml")
+  profile=robot/navigation.xml
+  scenario=$e
+  if [[ "$e" == estimation_* ]]; then  # the same scenario, diagnosed by state estimation
+    profile=robot/estimation.xml
+    scenario=${e#estimation_}
+  fi
+  [[ "$scenario" == nominal ]] || inject=(--inject "robot/scenarios/$scenario.xml")
   echo
   echo "=== $e ==="
   # Live on the monitor's page while it drives (the same port for every experiment: an open
   # page follows from one to the next), and recorded for Foxglove in demo/$e.mcap.
-  build/bin/keel run robot/navigation.xml --duration 60 --log "demo/$e.jsonl" "${inject[@]}" \
+  build/bin/keel run "$profile" --duration 60 --log "demo/$e.jsonl" "${inject[@]}" \
     --set "referee.trace=demo/$e.csv" --monitor "$monitor" --record "demo/$e.mcap" >"demo/$e.out" &
   run=$!
   for _ in $(seq 100); do grep -q '^monitor: ' "demo/$e.out" 2>/dev/null && break; sleep 0.1; done
@@ -105,4 +118,7 @@ for e in "${experiments[@]}"; do
     takeovers "demo/$e.jsonl"
   fi
   python3 robot/plot_run.py --trace "demo/$e.csv" --log "demo/$e.jsonl" --out "demo/$e" || true
+  if [[ "$profile" == robot/estimation.xml ]]; then  # its test and threshold, from the recording
+    build/bin/keel report "demo/$e.mcap" --plots "demo/$e/recorded" | grep estimation.svg || true
+  fi
 done

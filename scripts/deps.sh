@@ -11,7 +11,8 @@ packages=(
   ccache  # the presets compile through it (docs/decisions/0020-ci-time.md)
   libgtest-dev libgmock-dev libpugixml-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libbenchmark-dev
-  libboost-dev  # Beast and Asio (header-only): the monitor's HTTP/WebSocket server
+  libboost-dev  # Beast and Asio (header-only): the monitor's HTTP/WebSocket server; Math: chi-square
+  libeigen3-dev  # the state estimator's linear algebra (components/estimators, decision 0024)
   python3 python3-matplotlib
   stress-ng
   erlang-base

@@ -24,6 +24,8 @@ class InputDataPort final : public detail::QueuedInput<T, detail::InputPortBase>
   /// The value pop() would return, left in the queue.
   std::optional<T> peek() const { return this->queue_.peek(); }
   bool empty() const { return this->queue_.size() == 0; }
+  /// How many values wait in the queue.
+  std::size_t size() const { return this->queue_.size(); }
   bool numeric() const override { return detail::NumericTraits<T>::numeric; }
 
  private:

@@ -54,6 +54,9 @@ struct FaultEvent {
   std::array<char, 64> component{};  // instance name; empty: the sender itself
   std::array<char, 160> detail{};    // human-readable detail (truncated)
   std::int64_t t_ns = 0;             // when detected (steady clock); 0: on arrival
+  /// The measurement a state estimator found inconsistent (a `model` fault of the sensor it
+  /// comes from); empty for every other fault.
+  std::array<char, 32> measurement{};
 
   FaultEvent() = default;
   FaultEvent(FaultKind k, std::string_view who, std::string_view what) : kind(k) {
@@ -62,6 +65,7 @@ struct FaultEvent {
   }
   std::string_view componentName() const { return component.data(); }
   std::string_view detailText() const { return detail.data(); }
+  std::string_view measurementName() const { return measurement.data(); }
 
   template <std::size_t N>
   static void copyInto(std::array<char, N>& dst, std::string_view src) {

@@ -21,6 +21,13 @@ using PropertyValue = std::variant<bool, std::int64_t, double, std::string, std:
 class PropertyError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  PropertyError(const std::string& what, std::string property)
+      : std::runtime_error(what), property_(std::move(property)) {}
+  /// The property refused; empty when the error names none.
+  const std::string& property() const noexcept { return property_; }
+
+ private:
+  std::string property_;
 };
 
 namespace detail {

@@ -63,6 +63,10 @@ ReturnCode ActuatorControl::onExecute() {
 void ActuatorControl::onStatus(const StatusReport& s) {
   sonars.push({static_cast<double>(s.sonar_cm[0]), static_cast<double>(s.sonar_cm[1]),
                static_cast<double>(s.sonar_cm[2]), static_cast<double>(s.sonar_cm[3])});
+  encoders.push({static_cast<double>(s.left_encoder), static_cast<double>(s.right_encoder)});
+  gyro.push(static_cast<double>(s.yaw_rate_mrad_s));
+  left_setpoint.push(static_cast<double>(s.setpoint_rpm[0]));
+  right_setpoint.push(static_cast<double>(s.setpoint_rpm[1]));
   if (last_status_) {
     // Encoders wrap at 32 bits: the difference in unsigned arithmetic is right across a wrap.
     const auto dl = static_cast<std::int32_t>(static_cast<std::uint32_t>(s.left_encoder) -

@@ -37,6 +37,14 @@ class ActuatorControl : public Component, public HardwareDriver {
   OutputDataPort<double> right_rpm{this, "right_rpm"};
   /// The (left, right) wheel targets the command in effect asked for, one per status frame.
   OutputDataPort<std::array<double, 2>> wheel_targets{this, "wheel_targets"};
+  /// The raw odometry of every status frame, for the sensors' own components (WheelEncoder,
+  /// RateGyro): the (left, right) encoder counts, and the gyro's reading in mrad/s.
+  OutputDataPort<std::array<double, 2>> encoders{this, "encoders"};
+  OutputDataPort<double> gyro{this, "gyro"};
+  /// The wheel speeds the board drove toward during each frame (its setpoints, rpm, as it
+  /// reports them): a model's inputs, frame for frame.
+  OutputDataPort<double> left_setpoint{this, "left_setpoint"};
+  OutputDataPort<double> right_setpoint{this, "right_setpoint"};
 
   ReturnCode onInitialize() override;
   ReturnCode onStart() override;

@@ -11,6 +11,7 @@
 #include "robot/components/twist_command.hpp"
 #include "robot/components/ultrasonic_sensor.hpp"
 #include "robot/components/vision/color_blob_detector.hpp"
+#include "robot/components/wheel_encoder.hpp"
 #include "robot/components/wheel_reference_model.hpp"
 
 KEEL_REGISTER_COMPONENT_AS(keel::robot::ActuatorControl, "ActuatorControl")
@@ -26,3 +27,5 @@ KEEL_REGISTER_COMPONENT_AS(keel::robot::MissionReferee, "MissionReferee")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::TwistCommand, "TwistCommand")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::ObstacleGuard, "ObstacleGuard")
 KEEL_REGISTER_COMPONENT_AS(keel::robot::RangeMessage, "RangeMessage")
+KEEL_REGISTER_COMPONENT_AS(keel::robot::WheelEncoder, "WheelEncoder")
+KEEL_REGISTER_COMPONENT_AS(keel::robot::RateGyro, "RateGyro")

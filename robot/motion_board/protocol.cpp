@@ -10,7 +10,7 @@ namespace {
 
 constexpr std::size_t kMotionLength = 3;   // motion_type u8, parameter i16
 constexpr std::size_t kFaultLength = 4;    // kind u8, index u8, value u16
-constexpr std::size_t kStatusLength = 16;  // left i32, right i32, 4 × sonar u16
+constexpr std::size_t kStatusLength = 22;  // left i32, right i32, 4 × sonar u16, gyro i16, 2 × setpoint i16
 
 std::optional<std::size_t> payloadLength(std::uint8_t type) {
   switch (static_cast<FrameType>(type)) {
@@ -56,6 +56,8 @@ void putPayload(std::vector<std::uint8_t>& out, const Frame& frame) {
     put32(out, static_cast<std::uint32_t>(s.left_encoder));
     put32(out, static_cast<std::uint32_t>(s.right_encoder));
     for (std::uint16_t cm : s.sonar_cm) put16(out, cm);
+    put16(out, static_cast<std::uint16_t>(s.yaw_rate_mrad_s));
+    for (std::int16_t rpm : s.setpoint_rpm) put16(out, static_cast<std::uint16_t>(rpm));
   }
 }
 
@@ -64,9 +66,13 @@ bool validFault(const FaultCommand& f) {
     case FaultKind::SensorUnplugged:
     case FaultKind::SensorStuck:
     case FaultKind::SensorOk: return f.index < kSonarCount;
-    case FaultKind::MotorPowerOff: return f.index < 2;
+    case FaultKind::MotorPowerOff:
+    case FaultKind::EncoderDead:
+    case FaultKind::EncoderOk: return f.index < 2;
     case FaultKind::MotorPowerOn:
-    case FaultKind::Noise: return true;
+    case FaultKind::Noise:
+    case FaultKind::GyroDead:
+    case FaultKind::GyroOk: return true;
   }
   return false;
 }
@@ -87,6 +93,8 @@ std::optional<Frame> parsePayload(FrameType type, const std::uint8_t* p) {
       s.left_encoder = static_cast<std::int32_t>(get32(p));
       s.right_encoder = static_cast<std::int32_t>(get32(p + 4));
       for (std::size_t i = 0; i < kSonarCount; ++i) s.sonar_cm[i] = get16(p + 8 + 2 * i);
+      s.yaw_rate_mrad_s = static_cast<std::int16_t>(get16(p + 16));
+      for (std::size_t i = 0; i < 2; ++i) s.setpoint_rpm[i] = static_cast<std::int16_t>(get16(p + 18 + 2 * i));
       return s;
     }
   }
@@ -175,11 +183,15 @@ std::optional<FaultCommand> parseFaultCommand(std::string_view text) {
     long value = -1;
     if (i && (in >> value) && value >= 0 && value <= 0xFFFF)
       out = FaultCommand{FaultKind::SensorStuck, *i, static_cast<std::uint16_t>(value)};
-  } else if (verb == "motor_power_off") {
+  } else if (verb == "motor_power_off" || verb == "encoder_dead" || verb == "encoder_ok") {
     std::string side;
     in >> side;
-    if (side == "left" || side == "right")
-      out = FaultCommand{FaultKind::MotorPowerOff, static_cast<std::uint8_t>(side == "right"), 0};
+    const FaultKind kind = verb == "motor_power_off" ? FaultKind::MotorPowerOff
+                           : verb == "encoder_dead"  ? FaultKind::EncoderDead
+                                                     : FaultKind::EncoderOk;
+    if (side == "left" || side == "right") out = FaultCommand{kind, static_cast<std::uint8_t>(side == "right"), 0};
+  } else if (verb == "gyro_dead" || verb == "gyro_ok") {
+    out = FaultCommand{verb == "gyro_dead" ? FaultKind::GyroDead : FaultKind::GyroOk, 0, 0};
   } else if (verb == "motor_power_on") {
     out = FaultCommand{FaultKind::MotorPowerOn, 0, 0};
   } else if (verb == "noise") {
@@ -200,6 +212,10 @@ std::string toString(const FaultCommand& fault) {
     case FaultKind::SensorOk: return "sensor_ok " + index;
     case FaultKind::MotorPowerOff: return fault.index == 0 ? "motor_power_off left" : "motor_power_off right";
     case FaultKind::MotorPowerOn: return "motor_power_on";
+    case FaultKind::EncoderDead: return fault.index == 0 ? "encoder_dead left" : "encoder_dead right";
+    case FaultKind::EncoderOk: return fault.index == 0 ? "encoder_ok left" : "encoder_ok right";
+    case FaultKind::GyroDead: return "gyro_dead";
+    case FaultKind::GyroOk: return "gyro_ok";
     case FaultKind::Noise: {
       std::ostringstream out;
       out << "noise " << fault.value / 10.0;

@@ -23,7 +23,7 @@ inline constexpr std::size_t kFrameOverhead = 4;  // start, type, length, checks
 enum class FrameType : std::uint8_t {
   MotionCommand = 0x01,  // main → motion: what the wheels should do
   Fault = 0x02,          // test harness → motion: inject a hardware fault (simulator only)
-  Status = 0x81,         // motion → main: encoders and sonars, once per period
+  Status = 0x81,         // motion → main: encoders, sonars, gyro and setpoints, once per period
 };
 
 /// Table 3 `motion_type`.
@@ -46,6 +46,10 @@ struct StatusReport {
   std::int32_t left_encoder = 0;                      // counts, wrapping
   std::int32_t right_encoder = 0;                     // counts, wrapping
   std::array<std::uint16_t, kSonarCount> sonar_cm{};  // 3..3000, 0 = unplugged / no echo
+  std::int16_t yaw_rate_mrad_s = 0;                   // the gyro: mrad/s, counter-clockwise positive
+  /// The (left, right) wheel speeds the board drove toward during the period, rpm: the command's,
+  /// or 0 while its deadman holds the motors. A driver without power does not change them.
+  std::array<std::int16_t, 2> setpoint_rpm{};
   bool operator==(const StatusReport&) const = default;
 };
 
@@ -57,6 +61,10 @@ enum class FaultKind : std::uint8_t {
   MotorPowerOn = 4,     // both drivers powered again (index ignored)
   Noise = 5,            // value = Gaussian sigma in mm (tenths of a cm) on every healthy sonar
   SensorOk = 6,         // index = sonar; clears unplugged / stuck
+  EncoderDead = 7,      // index = 0 left, 1 right; its count stops: it reads 0 rpm while the wheel turns
+  EncoderOk = 8,        // index = 0 left, 1 right; counts again
+  GyroDead = 9,         // it reads 0 (index ignored)
+  GyroOk = 10,          // it reads the yaw rate again (index ignored)
 };
 
 struct FaultCommand {
@@ -75,7 +83,8 @@ using Frame = std::variant<MotionCommand, StatusReport, FaultCommand>;
 [[nodiscard]] std::vector<std::uint8_t> encode(const Frame& frame);
 
 /// The harness's text form: `sensor_unplugged 1`, `sensor_stuck 2 150`, `sensor_ok 1`,
-/// `motor_power_off left|right`, `motor_power_on`, `noise 2.5` (sigma in cm). nullopt if invalid.
+/// `motor_power_off left|right`, `motor_power_on`, `noise 2.5` (sigma in cm),
+/// `encoder_dead left|right`, `encoder_ok left|right`, `gyro_dead`, `gyro_ok`. nullopt if invalid.
 [[nodiscard]] std::optional<FaultCommand> parseFaultCommand(std::string_view text);
 [[nodiscard]] std::string toString(const FaultCommand& fault);
 

@@ -32,7 +32,9 @@ double normaliseAngle(double a) {
 
 }  // namespace
 
-Simulator::Simulator(SimulatorConfig config) : config_(std::move(config)), rng_(config_.seed), pose_(config_.start) {
+Simulator::Simulator(SimulatorConfig config)
+    : config_(std::move(config)), rng_(config_.seed), pose_(config_.start),
+      gyro_rng_(config_.seed ^ 0x9e3779b97f4a7c15ULL) {
   sampleSonars();
 }
 
@@ -64,6 +66,20 @@ void Simulator::applyFault(const FaultCommand& fault) {
       break;
     case FaultKind::MotorPowerOn: powered_ = {true, true}; break;
     case FaultKind::Noise: noise_sigma_cm_ = fault.value / 10.0; break;
+    case FaultKind::EncoderDead:
+      if (i < 2 && !encoder_dead_[i]) {
+        encoder_frozen_[i] = encoder(static_cast<Wheel>(i));
+        encoder_dead_[i] = true;
+      }
+      break;
+    case FaultKind::EncoderOk:
+      if (i < 2) encoder_dead_[i] = false;
+      break;
+    case FaultKind::GyroDead:
+      gyro_dead_ = true;
+      gyro_mrad_s_ = 0;
+      break;
+    case FaultKind::GyroOk: gyro_dead_ = false; break;
   }
   sampleSonars();  // a fault shows in the very next status frame
 }
@@ -114,15 +130,33 @@ void Simulator::step(double dt_s) {
   pose_.x_m += d * std::cos(mid);
   pose_.y_m += d * std::sin(mid);
   pose_.heading_rad = normaliseAngle(pose_.heading_rad + dtheta);
+  std::normal_distribution<double> noise(0.0, config_.gyro_noise_rad_s);
+  const double gyro = yawRate() + (config_.gyro_noise_rad_s > 0 ? noise(gyro_rng_) : 0.0);
+  const long mrad_s = std::clamp(std::lround(gyro * 1000), -32767L, 32767L);
+  gyro_mrad_s_ = gyro_dead_ ? std::int16_t{0} : static_cast<std::int16_t>(mrad_s);
   sampleSonars();
 }
 
+double Simulator::yawRate() const {
+  const double to_m_s = 2 * std::numbers::pi * config_.wheel_radius_m / 60.0;  // rpm → m/s at the rim
+  return (rpm_[1] - rpm_[0]) * to_m_s / config_.track_width_m;
+}
+
 std::int32_t Simulator::encoder(Wheel wheel) const {
+  if (encoder_dead_[index(wheel)]) return encoder_frozen_[index(wheel)];
   const auto counts = static_cast<std::int64_t>(std::floor(encoder_counts_[index(wheel)]));
   return static_cast<std::int32_t>(static_cast<std::uint32_t>(counts));  // a 32-bit counter wraps
 }
 
-StatusReport Simulator::status() const { return StatusReport{encoder(Wheel::Left), encoder(Wheel::Right), sonar_cm_}; }
+StatusReport Simulator::status() const {
+  StatusReport s{encoder(Wheel::Left), encoder(Wheel::Right), sonar_cm_};
+  s.yaw_rate_mrad_s = gyro_mrad_s_;
+  // The board's setpoints: its own, whether or not a driver has power.
+  const std::array<double, 2> wanted = deadman_tripped_ ? std::array<double, 2>{}
+                                                        : wheelTargets(command_, config_.max_rpm);
+  for (std::size_t w = 0; w < 2; ++w) s.setpoint_rpm[w] = static_cast<std::int16_t>(std::lround(wanted[w]));
+  return s;
+}
 
 double Simulator::rawRangeCm(std::size_t sonar) const {
   const Mount& m = kMounts[sonar];

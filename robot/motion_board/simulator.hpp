@@ -45,6 +45,7 @@ struct SimulatorConfig {
   double body_length_m = 0.210;          // front/back sonars sit at ± half of it
   int counts_per_revolution = 360;
   double max_rpm = 300.0;              // commands are clamped to ± this
+  double gyro_noise_rad_s = 0.005;     // the gyro's white noise (sigma), on its own seeded generator
   double sonar_half_angle_rad = 0.26;  // ±15° beam; 0 = a single ray
   int sonar_beam_rays = 7;             // rays spread across the beam (at least 2 when > 0)
   Pose start{};
@@ -67,6 +68,10 @@ class Simulator {
   /// What the driver is asked for after the deadman and driver power are applied.
   [[nodiscard]] double targetRpm(Wheel wheel) const;
   [[nodiscard]] std::int32_t encoder(Wheel wheel) const;
+  /// The robot's true yaw rate (rad/s, counter-clockwise positive) at the end of the last step.
+  [[nodiscard]] double yawRate() const;
+  /// What the gyro reads, mrad/s: the yaw rate with its noise, 0 while it is dead.
+  [[nodiscard]] std::int16_t gyroMradS() const { return gyro_mrad_s_; }
   [[nodiscard]] std::uint16_t sonarCm(SonarId id) const { return sonar_cm_[static_cast<std::size_t>(id)]; }
   [[nodiscard]] StatusReport status() const;
   [[nodiscard]] bool deadmanTripped() const { return deadman_tripped_; }
@@ -97,6 +102,11 @@ class Simulator {
   std::array<double, 2> rpm_{};
   std::array<double, 2> encoder_counts_{};  // fractional; reported floored and wrapped
   std::array<bool, 2> powered_{true, true};
+  std::array<bool, 2> encoder_dead_{};
+  std::array<std::int32_t, 2> encoder_frozen_{};  // a dead encoder's reading: its last count
+  bool gyro_dead_ = false;
+  std::mt19937_64 gyro_rng_;  // the gyro's own: its noise leaves the sonars' draws as they were
+  std::int16_t gyro_mrad_s_ = 0;
   std::array<SensorState, kSonarCount> sensor_state_{};
   std::array<std::uint16_t, kSonarCount> stuck_cm_{};
   std::array<std::uint16_t, kSonarCount> sonar_cm_{};

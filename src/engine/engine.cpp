@@ -172,8 +172,13 @@ Result<void> Engine::start() {
   if (auto r = side_->launch(); !r) return r;
   for (auto& inst : instances_) {
     if (runtime::transition(*inst.component, Transition::Initialize)) continue;
+    const detail::ComponentCore& core = runtime::coreOf(*inst.component);
+    // A property it refused: said at the line that gave the value, in the component's words.
+    if (const auto w = inst.plan->property_where.find(core.refused_property);
+        !core.refused_property.empty() && w != inst.plan->property_where.end() && !w->second.file.empty())
+      return fail(fmt::format("{}: {}", w->second.str(), core.refused_text));
     const auto& w = inst.plan->where;
-    const std::string& why = runtime::coreOf(*inst.component).transition_fault;
+    const std::string& why = core.refused_text.empty() ? core.transition_fault : core.refused_text;
     return fail(fmt::format("{}:{}: component '{}' failed to initialize: {}", w.file, w.line, inst.plan->name,
                             why.empty() ? "onInitialize returned an error" : why));
   }

@@ -24,8 +24,10 @@ void FaultRecords::logDetection(const FaultReport& r) {
   const std::string who(r.event.componentName());
   const std::string kind(toString(r.event.kind));
   if (r.injected_ns != 0) log_.write(log::schema::injected(r.id, who, log_.sinceStart(r.injected_ns)));
-  log_.write(
-      log::schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(), log_.sinceStart(r.event.t_ns)));
+  nlohmann::json detected = log::schema::detected(r.id, who, kind, r.event.detailText(), r.detector.data(),
+                                                  log_.sinceStart(r.event.t_ns));
+  if (!r.event.measurementName().empty()) detected[log::schema::field::kMeasurement] = r.event.measurementName();
+  log_.write(std::move(detected));
   writeChanges(r, FaultReport::kWithDetection);
   log_.write(log::schema::diagnosed(r.id, who, toString(r.severity),
                                     r.has_policy ? "fault_policy" : "none (contained, not recovered)",

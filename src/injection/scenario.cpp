@@ -17,9 +17,11 @@ using profile::Diagnostics;
 
 constexpr const char* kKinds =
     "segfault, divide_by_zero, abort, throw, error_code, hang, stall_heartbeat, out_of_range, kill; "
-    "hardware: sensor_unplugged, sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise";
-constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck",   "sensor_ok",
-                                               "motor_power_off",  "motor_power_on", "noise"};
+    "hardware: sensor_unplugged, sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise, encoder_dead, "
+    "encoder_ok, gyro_dead, gyro_ok";
+constexpr std::string_view kHardwareKinds[] = {"sensor_unplugged", "sensor_stuck", "sensor_ok",    "motor_power_off",
+                                               "motor_power_on",   "noise",        "encoder_dead", "encoder_ok",
+                                               "gyro_dead",        "gyro_ok"};
 
 // Bounds that keep the injector's arithmetic in range: times in ms up to about 11.6 days (in ns
 // they fit an int64 many times over), and a million repetitions of one fault.

@@ -3,7 +3,8 @@
 // Attributes: at (ms after start), component, kind, and optionally port and value
 // (out_of_range), duration (ms; stall_heartbeat, default: for ever), repeat and every (ms)
 // to inject the same fault several times. Hardware faults (sensor_unplugged, sensor_stuck,
-// sensor_ok, motor_power_off, motor_power_on, noise) take `args` and go to the named
+// sensor_ok, motor_power_off, motor_power_on, noise, encoder_dead, encoder_ok, gyro_dead,
+// gyro_ok) take `args` and go to the named
 // component's onHardwareFault as "kind args" (a keel::HardwareDriver: it drives that hardware).
 // Thread-safety: plain values.
 #pragma once

@@ -234,7 +234,10 @@ class Planner {
     inst.name = cp.name;
     inst.profile = &cp;
     inst.node = node;
-    for (const auto& p : cp.properties) inst.properties[p.name] = p.value;
+    for (const auto& p : cp.properties) {
+      inst.properties[p.name] = p.value;
+      inst.property_where[p.name] = p.where;
+    }
     inst.where = cp.where;
     plan_.instances.push_back(std::move(inst));
     return {};
@@ -247,8 +250,14 @@ class Planner {
       PlannedInstance inst;
       inst.name = name;
       inst.profile = &it->second;
-      for (const auto& p : it->second.properties) inst.properties[p.name] = p.value;
-      for (const auto& [k, p] : sub.property_overrides) inst.properties[k] = p.value;
+      for (const auto& p : it->second.properties) {
+        inst.properties[p.name] = p.value;
+        inst.property_where[p.name] = p.where;
+      }
+      for (const auto& [k, p] : sub.property_overrides) {
+        inst.properties[k] = p.value;
+        inst.property_where[k] = p.where;
+      }
       inst.policy = sub.fault_policy;
       inst.application = app;
       inst.redundancy = sub.redundancy;

@@ -36,6 +36,9 @@ struct PlannedInstance {
   /// A lifecycle node's <process standby="N"/>: N more of it kept started, configured and
   /// inactive, one of which takes over when the active one dies or faults.
   int node_standby = 0;
+  /// Where each property's value was written: its default's line in the component profile, or
+  /// its override's in the package profile; none for a value given by `--set`.
+  std::map<std::string, profile::Where, std::less<>> property_where{};
 };
 
 /// The fully qualified names a lifecycle node's standbys may have ("/ns/name_standby_K"): K from 1

@@ -68,7 +68,10 @@ Result<void> applyPropertySettings(Plan& plan, const std::vector<PropertySetting
   if (!errors.empty()) return fail(errors);
   for (std::size_t i = 0; i < settings.size(); ++i) {
     for (auto& inst : plan.instances)
-      if (inst.name == settings[i].instance) inst.properties[settings[i].property] = values[i];
+      if (inst.name == settings[i].instance) {
+        inst.properties[settings[i].property] = values[i];
+        inst.property_where.erase(settings[i].property);  // from the command line: no file
+      }
   }
   return {};
 }

@@ -55,8 +55,14 @@ void readTypeFiles(Ctx& ctx, pugi::xml_node node, const char* child, RootKind ki
 Property readProperty(Ctx& ctx, pugi::xml_node node, const std::string& owner) {
   Property p;
   p.where = ctx.where(node);
-  const std::string text = leafText(ctx, node, {"name", "type", "description"});
+  const std::string text = leafText(ctx, node, {"name", "type", "description", "refers"});
   p.name = requiredAttribute(ctx, node, "name").value_or("");
+  if (const auto refers = attribute(node, "refers")) {
+    if (*refers == "ports") p.refers = *refers;
+    else
+      ctx.error(node,
+                fmt::format("property '{}' of {}: refers=\"{}\" is not known (known: ports)", p.name, owner, *refers));
+  }
   // OPRoS's engine passes every property to the component as a string, whatever its type says
   // (docs/opros.md): without a type, or with one keel does not know, it is a string here too.
   const auto written = attribute(node, "type");

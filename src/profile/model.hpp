@@ -66,6 +66,9 @@ struct Property {
   std::string type;  // as written, normalised: "bool" "int" "double" "string" "double[]"
   PropertyValue value;
   Where where;
+  /// A declaration's `refers="ports"`: a string naming numeric output ports of the assembly,
+  /// each `[name=]subcomponent.port`, checked at load. Empty: a plain value.
+  std::string refers{};
 };
 
 /// How a periodic component shares its thread (OPRoS's execution types; docs/opros.md).

@@ -1,6 +1,7 @@
 // Checks of an assembly (package or composite): unique subcomponent names, property overrides
 // typed against the referenced component, tasks and coordination dependencies.
 #include <algorithm>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -61,6 +62,67 @@ void checkOverrides(const ProfileSet& set, Subcomponent& sub, Diagnostics& diags
   }
 }
 
+/// The data ports of subcomponent `sub`'s component or node; null for a composite (or an
+/// unresolved reference, reported elsewhere).
+const std::vector<DataPort>* dataPortsOf(const ProfileSet& set, const Subcomponent& sub) {
+  if (const auto c = set.components.find(sub.reference); c != set.components.end()) return &c->second.data_ports;
+  if (const auto n = set.nodes.find(sub.reference); n != set.nodes.end()) return &n->second.component.data_ports;
+  return nullptr;
+}
+
+/// A property declared refers="ports" names numeric output ports of the subcomponents beside
+/// `sub`, each `[name=]subcomponent.port`: each must be there.
+void checkPortReferences(const ProfileSet& set, const std::vector<Subcomponent>& subs, const Subcomponent& sub,
+                         Diagnostics& diags) {
+  const auto c = set.components.find(sub.reference);
+  if (c == set.components.end()) return;
+  for (const Property& decl : c->second.properties) {
+    if (decl.refers.empty()) continue;
+    const auto o = sub.property_overrides.find(decl.name);
+    const Property& given = o != sub.property_overrides.end() ? o->second : decl;
+    const auto* text = std::get_if<std::string>(&given.value);
+    if (text == nullptr) continue;  // mistyped: reported
+    std::istringstream words(*text);
+    for (std::string word; words >> word;) {
+      const std::string ref = word.substr(word.find('=') == std::string::npos ? 0 : word.find('=') + 1);
+      const auto dot = ref.find('.');
+      auto say = [&](const std::string& why) {
+        error(diags, given.where,
+              fmt::format("property '{}' of subcomponent '{}': '{}' {}", decl.name, sub.name, word, why));
+      };
+      if (dot == std::string::npos || dot == 0 || dot + 1 == ref.size()) {
+        say("is not [name=]subcomponent.port");
+        continue;
+      }
+      const std::string owner = ref.substr(0, dot), port = ref.substr(dot + 1);
+      const auto other = std::find_if(subs.begin(), subs.end(), [&](const Subcomponent& s) { return s.name == owner; });
+      if (other == subs.end()) {
+        std::vector<std::string> names;
+        names.reserve(subs.size());
+        for (const auto& s : subs) names.push_back(s.name);
+        say(fmt::format("names no subcomponent '{}' (subcomponents: {})", owner, nameList(names)));
+        continue;
+      }
+      const std::vector<DataPort>* ports = dataPortsOf(set, *other);
+      if (ports == nullptr) continue;
+      std::vector<std::string> outputs;
+      const DataPort* found = nullptr;
+      for (const DataPort& d : *ports) {
+        if (d.usage == PortDirection::Output) outputs.push_back(d.name);
+        if (d.name == port) found = &d;
+      }
+      if (found == nullptr || found->usage != PortDirection::Output) {
+        say(fmt::format("names no output port '{}' of subcomponent '{}' (its output ports: {})", port, owner,
+                        outputs.empty() ? std::string("none") : nameList(outputs)));
+        continue;
+      }
+      const auto type = normalisePropertyType(found->data_type);
+      if (!type || (*type != "int" && *type != "double"))
+        say(fmt::format("is not numeric: port '{}' of subcomponent '{}' carries '{}'", port, owner, found->data_type));
+    }
+  }
+}
+
 /// <attach/> watches a node someone else started: only a node can be attached to.
 void checkAttach(const ProfileSet& set, const Subcomponent& sub, Diagnostics& diags) {
   if (!sub.attach || set.nodes.count(sub.reference) > 0) return;
@@ -110,6 +172,7 @@ void checkSubcomponents(ProfileSet& set, std::vector<Subcomponent>& subs, Diagno
       }
     }
     checkOverrides(set, subs[i], diags);
+    checkPortReferences(set, subs, subs[i], diags);
     checkAttach(set, subs[i], diags);
     checkSameNode(set, subs, i, diags);
   }

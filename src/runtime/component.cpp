@@ -71,7 +71,7 @@ void notifyInput(Component& owner, bool is_event) {
 }
 
 void throwPropertyError(std::string_view component, std::string_view name, std::string_view why) {
-  throw PropertyError(fmt::format("component '{}': property '{}' {}", component, name, why));
+  throw PropertyError(fmt::format("component '{}': property '{}' {}", component, name, why), std::string(name));
 }
 
 std::string demangle(const char* mangled) {

@@ -160,6 +160,10 @@ class ComponentCore {
   // Why the last lifecycle callback failed (the fault's detail), for the caller of
   // transition() to report; written and read on the thread that called it.
   std::string transition_fault;
+  // The property the last failed lifecycle callback refused (a PropertyError), and the error's
+  // whole text, untruncated: the caller says where the value was set. Same thread as above.
+  std::string refused_property;
+  std::string refused_text;
 
   // Execution (runtime/executor, runtime/service). The executor is null for a passive
   // component; atomic because an abandoned executor's components move to a new one while

@@ -1,5 +1,6 @@
 #include "runtime/guard.hpp"
 #include "runtime/clock.hpp"
+#include "runtime/component_core.hpp"
 
 #include "runtime/fault_detail.hpp"
 
@@ -91,6 +92,17 @@ void guard_detail::recordException(GuardOutcome& out, const std::exception* e) n
   const char* what = e ? e->what() : "unknown exception (not derived from std::exception)";
   std::strncpy(out.what.data(), what, out.what.size() - 1);
   out.what.back() = '\0';
+  // A refused property: its name and whole message kept on the component (off the hot path).
+  const auto* refused = dynamic_cast<const PropertyError*>(e);
+  Component* owner = t_frame != nullptr ? t_frame->owner : nullptr;
+  if (refused != nullptr && owner != nullptr) {
+    try {
+      detail::ComponentCore& core = coreOf(*owner);
+      core.refused_property = refused->property();
+      core.refused_text = refused->what();
+    } catch (...) {  // out of memory: the truncated message is still in `out`
+    }
+  }
 }
 
 FaultKind GuardOutcome::faultKind() const {

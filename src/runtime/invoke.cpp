@@ -165,6 +165,9 @@ bool transition(Component& c, Transition t) {
     setState(c, State::Destroyed);
     return true;
   }
+  detail::ComponentCore& core = coreOf(c);
+  core.refused_property.clear();  // what an earlier call refused says nothing of this one
+  core.refused_text.clear();
   bool ok = invoke(c, cb);
   if (ok || t == Transition::Destroy) setState(c, target(t));
   return ok;

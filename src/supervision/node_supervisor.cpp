@@ -634,7 +634,7 @@ std::string NodeSupervisor::writeParameters(Node& n, std::string ros_name) {
     if (ros_name.empty()) ros_name = n.ros_name;
   }
   if (values.empty()) return {};
-  const std::string path = fileOf(n, n.params_file, ros_name, ".params.yaml");
+  std::string path = fileOf(n, n.params_file, ros_name, ".params.yaml");
   if (auto written = writeParamsFile(path, ros_name, values); !written) {
     warn_(
         fmt::format("node '{}': {}: it restarts with its profile's parameters", n.plan->name, written.error().message));

@@ -49,6 +49,27 @@ TEST_F(Cli, RunStopsAtTheEndOfTheDurationAndExitsZero) {
   ASSERT_FALSE(stopping.empty());
 }
 
+// A property a component refuses is said where its value was written: the override's line in
+// the package profile, in the component's own words, whole (not cut to a fault's length).
+TEST_F(Cli, APropertyAComponentRefusesIsSaidAtTheLineThatWroteIt) {
+  auto r = test::runProcess({KEEL_CLI, "run", profile("estimator_refused.xml"), "--duration", "0.3", "--log", log_});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(profile("estimator_refused.xml") +
+                       ":14: component 'estimator': property 'R' is not a covariance: it must be symmetric and "
+                       "positive definite"),
+            std::string::npos)
+      << r.err;
+  // Given on the command line instead, it has no line of its own: the subcomponent's.
+  r = test::runProcess({KEEL_CLI, "run", profile("estimator_refused.xml"), "--duration", "0.3", "--log", log_, "--set",
+                        "estimator.R=1 1", "--set", "estimator.Q=-1"});
+  EXPECT_EQ(r.status, 1) << r.err;
+  EXPECT_NE(r.err.find(profile("estimator_refused.xml") +
+                       ":7: component 'estimator' failed to initialize: component 'estimator': property 'Q' is not "
+                       "a covariance: it must be symmetric and positive semi-definite"),
+            std::string::npos)
+      << r.err;
+}
+
 // OPRoS's lifecycle: a component whose onInitialize failed never started, so it is not stopped
 // (its onStop would use what it never set up) nor reset by its rules (contained instead); it is
 // destroyed. One never initialized gets no callback. The run fails, saying why once.

@@ -28,6 +28,7 @@ KEYS = {
     "fmt": "fmt",
     "nlohmann_json": "nlohmann-json-dev",
     "Boost": "libboost-dev",  # the headers alone (Beast, Asio); `boost` would be all of Boost
+    "Eigen3": "eigen",  # the state estimator's linear algebra, header-only
     "CLI11": "cli11",
     "CycloneDDS": "cyclonedds",
     "idlc": "cyclonedds",  # CycloneDDS's IDL compiler, part of ROS 2's cyclonedds package

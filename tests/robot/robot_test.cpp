@@ -253,6 +253,62 @@ TEST_F(Robot, AWheelMonitorFaultWhileMovingStopsTheMotorsInNeutralAndTheRobotSto
   stoppedSafely(r);
 }
 
+// ---- diagnosis by state estimation (robot/estimation.xml) ----------------------------------------
+
+// The paper's process-model detector cannot tell a dead encoder from a dead motor: the left
+// encoder reading 0 while its wheel turns is, to the sliding-window monitor, the actuator's fault,
+// and the robot is stopped although it could drive on. What the estimator below sets right.
+TEST_F(Robot, TheSlidingWindowMonitorTakesADeadEncoderForTheMotorAndStopsTheRobot) {
+  const RobotRun r = run("navigation.xml", "encoder_left_dead.xml");
+  const auto d = r.detected("model", "actuator");
+  ASSERT_EQ(d.size(), 1u) << r.ran.out;
+  EXPECT_EQ(d[0].value(fd::kDetector, ""), "monitor_left");
+  stoppedSafely(r);
+}
+
+// Seeds 1 and 2: right every run, not on average.
+TEST_F(Robot, EstimationADeadLeftEncoderIsAccusedAsSuchAndTheRobotDrivesOnToTheTarget) {
+  for (int seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const RobotRun r = run("estimation.xml", "encoder_left_dead.xml", seed);
+    const auto d = eventsOf(r.log, ev::kDetected);
+    ASSERT_EQ(d.size(), 1u) << r.ran.out;
+    EXPECT_EQ(d[0].value(fd::kComponent, ""), "encoder_left");
+    EXPECT_EQ(d[0].value(fd::kKind, ""), "model");
+    EXPECT_EQ(d[0].value(fd::kMeasurement, ""), "encoder_left");
+    EXPECT_EQ(d[0].value(fd::kDetector, ""), "estimator");
+    const double delay_ms = (d[0].value(fd::kTime, std::int64_t{0}) - r.injectedAt()) / 1e6;
+    EXPECT_GT(delay_ms, 0.0);
+    EXPECT_LT(delay_ms, 1000.0);  // a window of samples and more; generous on a loaded machine
+    EXPECT_EQ(r.actions("stop", "encoder_left").size(), 1u) << r.ran.out;
+    EXPECT_FALSE(r.tookAction("emergency_stop")) << r.ran.out;
+    reachedTheGoal(r);
+  }
+}
+
+TEST_F(Robot, EstimationTheLeftMotorOffIsTheActuatorsFaultAndAnEmergencyStopAsInFig6) {
+  for (int seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const RobotRun r = run("estimation.xml", "fig6_left_motor_off.xml", seed);
+    const auto d = eventsOf(r.log, ev::kDetected);
+    ASSERT_EQ(d.size(), 1u) << r.ran.out;
+    EXPECT_EQ(d[0].value(fd::kComponent, ""), "actuator");
+    EXPECT_EQ(d[0].value(fd::kDetector, ""), "estimator");
+    EXPECT_FALSE(d[0].contains(fd::kMeasurement)) << d[0].dump();
+    emergencyStopped(r, d[0]);
+    stoppedSafely(r);
+  }
+}
+
+TEST_F(Robot, EstimationNominalRunsReachTheTargetWithoutAFault) {
+  for (int seed = 1; seed <= 2; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    const RobotRun r = run("estimation.xml", "", seed);
+    reachedTheGoal(r);
+    EXPECT_EQ(r.detections(), 0u) << r.ran.out;
+  }
+}
+
 // An operator's emergency stop (keel run's console) while the robot drives: no component is at
 // fault, so the actuator keeps running — latched, it holds the motors in neutral on its own
 // commands (never left to the deadman) and the robot stays stopped instead of driving on.

@@ -68,7 +68,8 @@ TEST_F(ScenarioFile, ReportsEveryProblemWithFileAndLine) {
                 f + ":3: <fault>: attribute 'component' is required",
                 f + ":3: <fault>: unknown kind 'explode' (kinds: segfault, divide_by_zero, abort, "
                     "throw, error_code, hang, stall_heartbeat, out_of_range, kill; hardware: sensor_unplugged, "
-                    "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise)",
+                    "sensor_stuck, sensor_ok, motor_power_off, motor_power_on, noise, encoder_dead, encoder_ok, "
+                    "gyro_dead, gyro_ok)",
                 f + ":4: <fault>: unknown attribute 'speed' (known: at, component, kind, port, "
                     "value, duration, repeat, every, args)",
                 f + ":5: unknown element <oops> in <fault_scenario> (expected <fault>)",

@@ -61,6 +61,7 @@ const Constant kFields[] = {
     {"kKind", fd::kKind},
     {"kDetail", fd::kDetail},
     {"kDetector", fd::kDetector},
+    {"kMeasurement", fd::kMeasurement},
     {"kDetected", fd::kDetected},
     {"kSeverity", fd::kSeverity},
     {"kRules", fd::kRules},

@@ -65,6 +65,22 @@ TEST(PackageProfileErrors, RejectsAnOverrideOfAPropertyTheComponentDoesNotHave) 
                           "no property 'gian' (properties: gain, samples, enabled, frame, offsets)"));
 }
 
+// A property declared refers="ports" (the stock state estimator's `measurements`) names numeric
+// output ports of the subcomponents beside it: each one that is not is said at the property.
+TEST(PackageProfileErrors, RejectsAPortReferenceToAnythingButANumericOutputPortBesideIt) {
+  const std::string f = "errors/package/refers_ports.xml";
+  const std::string at = f + ":11: property 'measurements' of subcomponent 'estimator': ";
+  EXPECT_THAT(problems(f),
+              ElementsAre(at + "'near=sonar.threshold' names no output port 'threshold' of subcomponent 'sonar' (its "
+                               "output ports: distance)",
+                          at + "'sonar.range' names no output port 'range' of subcomponent 'sonar' (its output ports: "
+                               "distance)",
+                          at + "'ghost.out' names no subcomponent 'ghost' (subcomponents: sonar, labeller, estimator)",
+                          at + "'labeller.label' is not numeric: port 'label' of subcomponent 'labeller' carries "
+                               "'std::string'",
+                          at + "'sonar' is not [name=]subcomponent.port"));
+}
+
 TEST(PackageProfileErrors, RejectsAnOverrideValueThatDoesNotParseAsTheDeclaredType) {
   EXPECT_THAT(problems("errors/package/override_bad_value.xml"),
               ElementsAre("errors/package/override_bad_value.xml:9: property 'gain' of subcomponent 'sonar' must be a "
