@@ -50,6 +50,7 @@ def observed_profile(tmp):
     text = open(os.path.join(ROOT, "robot/estimation.xml")).read()
     robot = os.path.join(ROOT, "robot")
     text = re.sub(r"<reference>components/", f"<reference>{robot}/components/", text)
+    text = text.replace('reference="components/', f'reference="{robot}/components/')  # an <alternative>
     text = text.replace("<reference>../components/", f"<reference>{ROOT}/components/")
     text = text.replace("    <!-- outside the robot: the experimenter -->", MONITORS.format(c=ROOT) +
                         "    <!-- outside the robot: the experimenter -->", 1)

@@ -163,15 +163,20 @@ class StateEstimator : public Component {
     actuator_ = property<std::string>("actuator", "");
     if (actuator_.empty()) rejectProperty("actuator", "must name the component accused when the model is wrong");
     bank_.configure(model, static_cast<int>(window), false_alarm, static_cast<int>(readmit_after));
+    readmit_after_ = static_cast<int>(readmit_after);
     inputs_ = static_cast<int>(p);
     measurements_ = static_cast<int>(k);
     last_u_ = Vector::Zero(p);
     return ReturnCode::Ok;
   }
 
-  /// Steps once per complete sample (every input and measurement port in use has one). A port
-  /// with two samples waiting while another has none means the other's is not coming: the step
-  /// goes on without it (a measurement unused, an input held at its last value).
+  /// Steps once per complete sample: every input port and every measurement port it waits for
+  /// has one, the samples of one step being each port's oldest. It runs when samples arrive,
+  /// possibly while its producers are still pushing theirs (a late cycle pushes several frames
+  /// at once), so a port running ahead is no sign of another's loss. A measurement it no longer
+  /// trusts is not waited for (its samples are dropped, unless it may be readmitted). A port
+  /// kStalled samples ahead of an empty one means that one's producer stopped: the step goes on
+  /// without it (a measurement unused, an input held at its last value).
   ReturnCode onExecute() override {
     while (ready()) {
       Vector uk = last_u_;
@@ -180,11 +185,17 @@ class StateEstimator : public Component {
       last_u_ = uk;
       Vector yk = Vector::Zero(measurements_);
       std::uint32_t present = 0;
-      for (int i = 0; i < measurements_; ++i)
-        if (auto v = y[static_cast<std::size_t>(i)].pop(); v && std::isfinite(*v)) {
+      for (int i = 0; i < measurements_; ++i) {
+        auto& port = y[static_cast<std::size_t>(i)];
+        if (!waitsFor(i)) {
+          while (port.pop()) {}
+          continue;
+        }
+        if (auto v = port.pop(); v && std::isfinite(*v)) {
           yk(i) = *v;
           present |= 1U << i;
         }
+      }
       const EstimatorBank::Verdict v = bank_.step(uk, yk, present);
       for (int i = 0; i < measurements_; ++i) estimate[static_cast<std::size_t>(i)].push(bank_.estimate(i));
       statistic.push(bank_.statistic());
@@ -254,19 +265,22 @@ class StateEstimator : public Component {
     return *m;
   }
 
+  // Whether a step waits for measurement i: trusted, or excluded but watched for readmission.
+  bool waitsFor(int i) const { return bank_.trusted(i) || readmit_after_ > 0; }
+
   bool ready() const {
     bool all = true;
-    bool backlog = false;
+    bool stalled = false;
     bool any = false;
-    auto look = [&](const InputDataPort<double>& port) {
+    auto look = [&](const InputDataPort<double>& port, bool waited) {
       const std::size_t queued = port.size();
-      all = all && queued > 0;
+      if (waited) all = all && queued > 0;
       any = any || queued > 0;
-      backlog = backlog || queued > 1;
+      stalled = stalled || queued >= kStalled;
     };
-    for (int i = 0; i < inputs_; ++i) look(u[static_cast<std::size_t>(i)]);
-    for (int i = 0; i < measurements_; ++i) look(y[static_cast<std::size_t>(i)]);
-    return any && (all || backlog);
+    for (int i = 0; i < inputs_; ++i) look(u[static_cast<std::size_t>(i)], true);
+    for (int i = 0; i < measurements_; ++i) look(y[static_cast<std::size_t>(i)], waitsFor(i));
+    return any && (all || stalled);
   }
 
   void report(const EstimatorBank::Verdict& v) {
@@ -298,12 +312,17 @@ class StateEstimator : public Component {
     reportFault(ev);
   }
 
+  // Samples a port may run ahead of an empty one before that one counts as stopped: half a
+  // second of 20 ms samples (the queues hold 64).
+  static constexpr std::size_t kStalled = 25;
+
   EstimatorBank bank_;
   std::vector<std::string> names_;       // each measurement's name
   std::vector<std::string> components_;  // the component each comes from (the one accused)
   std::string actuator_;
   int inputs_ = 0;
   int measurements_ = 0;
+  int readmit_after_ = 0;
   Vector last_u_;
 };
 

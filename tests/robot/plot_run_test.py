@@ -132,6 +132,41 @@ class PlotRunTest(unittest.TestCase):
         self.assertIn("time since the run started (ms)", texts)
         self.assertTrue(any("200 ms after injection" in t for t in texts), texts)
 
+    def test_plots_the_state_estimators_test_against_its_threshold_from_a_recording(self):
+        """A recording of robot/estimation.xml: estimation.svg, the estimator's statistic against
+        its threshold (log scale) and each wheel's encoder beside its estimate, with the
+        estimator's detection and its delay."""
+        if not have_matplotlib():
+            self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
+        ports = os.path.join(self.dir, "ports.jsonl")
+        with open(ports, "w") as f:
+            for k in range(100):
+                t_ns = 20_000_000 * k
+                dead = t_ns >= 1_000_000_000
+                for port, value in (("estimator/statistic", 900.0 if dead else 12.0), ("estimator/threshold", 56.5),
+                                    ("encoder_left/rpm", 0.0 if dead else 60.0), ("estimator/estimate0", 60.0),
+                                    ("encoder_right/rpm", 60.0), ("estimator/estimate1", 60.0)):
+                    f.write(json.dumps({"port": port, "t_ns": t_ns, "value": value}) + "\n")
+        log = [{"event": "engine", "phase": "load", "t_ns": 0},
+               {"event": "injected", "kind": "encoder_dead", "component": "actuator", "detail": "left",
+                "fault_id": 1, "hardware": True, "t_ns": 1_000_000_000},
+               {"event": "detected", "kind": "model", "component": "encoder_left", "detector": "estimator",
+                "measurement": "encoder_left", "detail": "measurement 'encoder_left' disagrees", "fault_id": 2,
+                "t_ns": 1_100_000_000}]
+        with open(self.log, "w") as f:
+            f.write("".join(json.dumps(r) + "\n" for r in log))
+        r = self.run_script("--ports", ports, "--log", self.log, "--out", self.out)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        estimation = os.path.join(self.out, "estimation.svg")
+        self.assertIn(estimation, r.stdout.split())
+        texts = svg_texts(estimation)
+        self.assertTrue(any("model@encoder_left: 100 ms after injection" in t for t in texts), texts)
+        self.assertIn("threshold (chi-square quantile)", texts)
+        self.assertIn("encoder_left (rpm)", texts)
+        # Without the estimator's ports (a run of navigation.xml), there is none.
+        r = self.run_script("--ports", self.write_ports(), "--log", self.log, "--out", self.out + "2")
+        self.assertNotIn(os.path.join(self.out + "2", "estimation.svg"), r.stdout.split())
+
     def test_plots_the_trajectory_from_a_recordings_referee(self):
         if not have_matplotlib():
             self.skipTest("matplotlib is not installed (scripts/deps.sh: python3-matplotlib)")
