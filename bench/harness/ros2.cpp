@@ -7,7 +7,9 @@
 #include <unistd.h>
 
 #include <charconv>
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -101,27 +103,37 @@ std::optional<std::pair<std::int64_t, pid_t>> parseFirst(std::string_view line) 
 }
 
 /// The lines a text file gains, read as it is written (whole lines only).
+/// The lines written so far to the files of `dir` whose names start with `prefix` and end in
+/// ".out" — a node's output, one file per process name keel gave it (a standby's is its own) —
+/// each line once, as the files grow.
 class FileLines {
  public:
-  explicit FileLines(std::string path) : path_(std::move(path)) {}
+  FileLines(std::string dir, std::string prefix) : dir_(std::move(dir)), prefix_(std::move(prefix)) {}
   std::vector<std::string> next() {
-    std::ifstream in(path_, std::ios::binary);
     std::vector<std::string> out;
-    if (!in) return out;
-    in.seekg(static_cast<std::streamoff>(read_));
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::size_t start = 0;
-    for (std::size_t end = text.find('\n'); end != std::string::npos; end = text.find('\n', start)) {
-      out.push_back(text.substr(start, end - start));
-      start = end + 1;
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(dir_, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (name.rfind(prefix_, 0) != 0 || name.size() < 4 || name.compare(name.size() - 4, 4, ".out") != 0) continue;
+      std::ifstream in(entry.path(), std::ios::binary);
+      if (!in) continue;
+      std::size_t& read = read_[name];
+      in.seekg(static_cast<std::streamoff>(read));
+      std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+      std::size_t start = 0;
+      for (std::size_t end = text.find('\n'); end != std::string::npos; end = text.find('\n', start)) {
+        out.push_back(text.substr(start, end - start));
+        start = end + 1;
+      }
+      read += start;
     }
-    read_ += start;
     return out;
   }
 
  private:
-  std::string path_;
-  std::size_t read_ = 0;
+  std::string dir_;
+  std::string prefix_;
+  std::map<std::string, std::size_t> read_;  // bytes taken, by file
 };
 
 /// A node's CPU time so far (its /proc stat's utime + stime), in clock ticks; 0 once it is gone.
@@ -229,7 +241,7 @@ Ros2Kills measureSupervised(const Paths& paths, const std::string& python, int n
   if (!engine) return out;
   const std::int64_t epoch = engine->log().epoch();
   LogTail tail(log);
-  FileLines lines(dir.path() + "/fault.bench.out");  // the node's output, as keel keeps it
+  FileLines lines(dir.path(), "fault.bench.");  // the node's output, as keel keeps it
   pid_t gone = 0;
   std::int64_t killed = 0;
   for (int i = 0; i <= n; ++i) {  // kill 0 warms up, uncounted
@@ -379,8 +391,8 @@ Ros2Kills measureManaged(const Paths& paths, const std::string& python, int n, i
                            "app.xml", paths, log, out.back.note, error);
   if (!engine) return out;
   LogTail tail(log);
-  FileLines lines(dir.path() + "/fault.bench.out");  // every process of the node writes there
-  std::set<pid_t> ready;                             // standbys configured, by pid
+  FileLines lines(dir.path(), "fault.bench.");  // the node's processes', a file per name
+  std::set<pid_t> ready;                        // standbys configured, by pid
   auto standbyReady = [&](pid_t serving) {
     for (const auto& r : tail.newRecords())
       if (r.value("event", "") == "node" && r.value("phase", "") == "standby_ready") ready.insert(r.value("pid", 0));

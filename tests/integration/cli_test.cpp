@@ -55,7 +55,7 @@ TEST_F(Cli, APropertyAComponentRefusesIsSaidAtTheLineThatWroteIt) {
   auto r = test::runProcess({KEEL_CLI, "run", profile("estimator_refused.xml"), "--duration", "0.3", "--log", log_});
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find(profile("estimator_refused.xml") +
-                       ":14: component 'estimator': property 'R' is not a covariance: it must be symmetric and "
+                       ":16: component 'estimator': property 'R' is not a covariance: it must be symmetric and "
                        "positive definite"),
             std::string::npos)
       << r.err;
@@ -64,7 +64,7 @@ TEST_F(Cli, APropertyAComponentRefusesIsSaidAtTheLineThatWroteIt) {
                         "estimator.R=1 1", "--set", "estimator.Q=-1"});
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find(profile("estimator_refused.xml") +
-                       ":7: component 'estimator' failed to initialize: component 'estimator': property 'Q' is not "
+                       ":9: component 'estimator' failed to initialize: component 'estimator': property 'Q' is not "
                        "a covariance: it must be symmetric and positive semi-definite"),
             std::string::npos)
       << r.err;
